@@ -1,0 +1,152 @@
+use nalgebra::{SMatrix, SVector};
+use talus_cone::{Projection, Projector, Region, SecondOrderCone, VonMisesCylinder};
+
+/// The elastic domain of one point: a Drucker-Prager cone or, at φ = 0, a von Mises cylinder.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum YieldSet<const D: usize> {
+    Cone(SecondOrderCone<D>),
+    Cylinder(VonMisesCylinder<D>),
+}
+
+impl<const D: usize> YieldSet<D> {
+    /// The axis `n` of the set (pointing into compression for Drucker-Prager).
+    pub fn axis(&self) -> &SVector<f64, D> {
+        match self {
+            YieldSet::Cone(c) => c.axis(),
+            YieldSet::Cylinder(c) => c.axis(),
+        }
+    }
+}
+
+impl<const D: usize> Projector<D> for YieldSet<D> {
+    #[inline]
+    fn project(&self, x: &SVector<f64, D>) -> Projection<D> {
+        match self {
+            YieldSet::Cone(c) => c.project(x),
+            YieldSet::Cylinder(c) => c.project(x),
+        }
+    }
+
+    #[inline]
+    fn project_with_jacobian(&self, x: &SVector<f64, D>) -> (Projection<D>, SMatrix<f64, D, D>) {
+        match self {
+            YieldSet::Cone(c) => c.project_with_jacobian(x),
+            YieldSet::Cylinder(c) => c.project_with_jacobian(x),
+        }
+    }
+
+    fn contains(&self, x: &SVector<f64, D>, tol: f64) -> bool {
+        match self {
+            YieldSet::Cone(c) => c.contains(x, tol),
+            YieldSet::Cylinder(c) => c.contains(x, tol),
+        }
+    }
+}
+
+/// The flow rule of one point in natural-map form (eq. 20, signs of the notes §3):
+/// `σ = P_K(σ − ρ y(z))` with `y(z) = z + κ ‖z_t‖ n`, `z = −ε̇ᵖ`, `z_t = z − (z·n) n`.
+///
+/// `κ = k_d (tan φ − tan θ) / √3` for Drucker-Prager in Mandel notation; `κ = 0` is
+/// associative. In a cone's own axis coordinates (the Siconos files) `κ` is eq. 20's `α`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FlowRule<const D: usize> {
+    set: YieldSet<D>,
+    kappa: f64,
+}
+
+/// `F(σ) = σ − P_K(σ − ρ y(z))` at one point and the blocks of its generalized Jacobian:
+/// `dF = (I − D) dσ + ρ G dz` with `D ∈ ∂P_K`, `G = D J_y`, `J_y = I + κ n uᵀ`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NaturalMapLinearization<const D: usize> {
+    pub residual: SVector<f64, D>,
+    /// `D`, the Clarke Jacobian of the projection at `σ − ρ y(z)`.
+    pub projection_jacobian: SMatrix<f64, D, D>,
+    /// `G = D J_y`; equals `D` when the rule is associative.
+    pub coupling: SMatrix<f64, D, D>,
+    pub region: Region,
+}
+
+impl<const D: usize> FlowRule<D> {
+    /// A rule on a second-order cone with non-associative shift `kappa ≥ 0`.
+    pub fn cone(cone: SecondOrderCone<D>, kappa: f64) -> Self {
+        Self {
+            set: YieldSet::Cone(cone),
+            kappa,
+        }
+    }
+
+    /// The von Mises rule: associative, plastically incompressible.
+    pub fn cylinder(cylinder: VonMisesCylinder<D>) -> Self {
+        Self {
+            set: YieldSet::Cylinder(cylinder),
+            kappa: 0.0,
+        }
+    }
+
+    pub fn yield_set(&self) -> &YieldSet<D> {
+        &self.set
+    }
+
+    pub fn kappa(&self) -> f64 {
+        self.kappa
+    }
+
+    pub fn is_associative(&self) -> bool {
+        self.kappa == 0.0
+    }
+
+    /// `y(z) = z + κ ‖z_t‖ n` (eq. 20's `(z^h + α‖dev z‖, dev z)` in axis coordinates).
+    #[inline]
+    pub fn shifted(&self, z: &SVector<f64, D>) -> SVector<f64, D> {
+        if self.kappa == 0.0 {
+            return *z;
+        }
+        let n = self.set.axis();
+        let zt = z - n * z.dot(n);
+        z + n * (self.kappa * zt.norm())
+    }
+
+    /// `F(σ) = σ − P_K(σ − ρ y(z))`; zero exactly when (σ, −z) satisfy the flow rule.
+    #[inline]
+    pub fn natural_map_residual(
+        &self,
+        sigma: &SVector<f64, D>,
+        z: &SVector<f64, D>,
+        rho: f64,
+    ) -> SVector<f64, D> {
+        sigma - self.set.project(&(sigma - self.shifted(z) * rho)).point
+    }
+
+    /// The residual and its Jacobian blocks. At `z_t = 0` the gradient of `‖z_t‖` is taken
+    /// as 0, an element of its Clarke subdifferential (notes §4).
+    #[inline]
+    pub fn natural_map_linearization(
+        &self,
+        sigma: &SVector<f64, D>,
+        z: &SVector<f64, D>,
+        rho: f64,
+    ) -> NaturalMapLinearization<D> {
+        let n = *self.set.axis();
+        let (y, jy) = if self.kappa == 0.0 {
+            (*z, None)
+        } else {
+            let zt = z - n * z.dot(&n);
+            let r = zt.norm();
+            let y = z + n * (self.kappa * r);
+            let jy = (r > 0.0).then(|| n * (zt / r).transpose() * self.kappa);
+            (y, jy)
+        };
+        let (p, d) = self.set.project_with_jacobian(&(sigma - y * rho));
+        // G = D (I + κ n uᵀ) = D + (D n)(κ u)ᵀ.
+        let coupling = match jy {
+            Some(extra) => d + d * extra,
+            None => d,
+        };
+        NaturalMapLinearization {
+            residual: sigma - p.point,
+            projection_jacobian: d,
+            coupling,
+            region: p.region,
+        }
+    }
+}

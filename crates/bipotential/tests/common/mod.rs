@@ -1,0 +1,40 @@
+//! Shared by the flow-rule tests: a one-point implicit return by the natural map.
+use talus_bipotential::{DruckerPrager, FlowRule, SMatrix, SVector};
+
+/// Solves `F(σ) = σ − P_K(σ − ρ y(z)) = 0` with `z = S (σ − σ_trial)` (one material point,
+/// `W = S`, `q = −S σ_trial`) by semi-smooth Newton, as `talus-ssn` does globally.
+/// Returns `(σ, z)`; `−z` is the plastic strain increment.
+pub fn return_map<const D: usize>(
+    material: &DruckerPrager,
+    rule: &FlowRule<D>,
+    sigma_trial: &SVector<f64, D>,
+) -> (SVector<f64, D>, SVector<f64, D>) {
+    let s: SMatrix<f64, D, D> = material.compliance();
+    let rho = 2.0 * material.shear_modulus();
+    let mut sigma = *sigma_trial;
+    for _ in 0..100 {
+        let z = s * (sigma - sigma_trial);
+        let lin = rule.natural_map_linearization(&sigma, &z, rho);
+        let scale = sigma_trial.norm().max(material.parameters().cohesion);
+        if lin.residual.amax() <= 1e-15 * scale {
+            return (sigma, z);
+        }
+        let jac =
+            SMatrix::<f64, D, D>::identity() - lin.projection_jacobian + lin.coupling * s * rho;
+        // Dynamic LU: nalgebra's fixed-size LU needs typenum bounds on a generic D.
+        let step = nalgebra::DMatrix::from_column_slice(D, D, jac.as_slice())
+            .lu()
+            .solve(&nalgebra::DVector::from_column_slice(
+                (-lin.residual).as_slice(),
+            ))
+            .expect("local Jacobian is regular");
+        sigma += SVector::<f64, D>::from_column_slice(step.as_slice());
+    }
+    let z = s * (sigma - sigma_trial);
+    let res = rule.natural_map_residual(&sigma, &z, rho).amax();
+    assert!(
+        res <= 1e-10 * sigma_trial.norm(),
+        "local return did not converge: {res:e}"
+    );
+    (sigma, z)
+}

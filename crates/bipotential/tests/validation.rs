@@ -1,0 +1,166 @@
+//! Construction rejects every parameter outside its domain, naming it.
+use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters, MaterialError};
+
+fn base() -> DruckerPragerParameters {
+    DruckerPragerParameters {
+        young_modulus: 1e9,
+        poisson_ratio: 0.3,
+        friction_angle: 27.0,
+        cohesion: 2e3,
+        dilatancy_angle: 10.0,
+        cone_fit: ConeFit::PlaneStrain,
+    }
+}
+
+fn rejected(p: DruckerPragerParameters, name: &str) {
+    match DruckerPrager::try_new(p) {
+        Err(e @ MaterialError::InvalidParameter { .. }) => {
+            let msg = e.to_string();
+            assert!(msg.contains(name), "message `{msg}` should name {name}");
+        }
+        Ok(_) => panic!("{name}: accepted {p:?}"),
+    }
+}
+
+#[test]
+fn rejects_out_of_domain_parameters() {
+    rejected(
+        DruckerPragerParameters {
+            friction_angle: 90.0,
+            ..base()
+        },
+        "friction_angle",
+    );
+    rejected(
+        DruckerPragerParameters {
+            friction_angle: -1.0,
+            ..base()
+        },
+        "friction_angle",
+    );
+    rejected(
+        DruckerPragerParameters {
+            dilatancy_angle: 28.0,
+            ..base()
+        },
+        "dilatancy_angle",
+    );
+    rejected(
+        DruckerPragerParameters {
+            dilatancy_angle: -0.1,
+            ..base()
+        },
+        "dilatancy_angle",
+    );
+    rejected(
+        DruckerPragerParameters {
+            poisson_ratio: 0.5,
+            ..base()
+        },
+        "poisson_ratio",
+    );
+    rejected(
+        DruckerPragerParameters {
+            poisson_ratio: -1.0,
+            ..base()
+        },
+        "poisson_ratio",
+    );
+    rejected(
+        DruckerPragerParameters {
+            young_modulus: 0.0,
+            ..base()
+        },
+        "young_modulus",
+    );
+    rejected(
+        DruckerPragerParameters {
+            young_modulus: -5.0,
+            ..base()
+        },
+        "young_modulus",
+    );
+    rejected(
+        DruckerPragerParameters {
+            cohesion: -1.0,
+            ..base()
+        },
+        "cohesion",
+    );
+    rejected(
+        DruckerPragerParameters {
+            cohesion: f64::NAN,
+            ..base()
+        },
+        "cohesion",
+    );
+    rejected(
+        DruckerPragerParameters {
+            young_modulus: f64::INFINITY,
+            ..base()
+        },
+        "young_modulus",
+    );
+    rejected(
+        DruckerPragerParameters {
+            friction_angle: f64::NAN,
+            ..base()
+        },
+        "friction_angle",
+    );
+    rejected(
+        DruckerPragerParameters {
+            cone_fit: ConeFit::Explicit { k_d: 0.0 },
+            ..base()
+        },
+        "k_d",
+    );
+    rejected(
+        DruckerPragerParameters {
+            cone_fit: ConeFit::Explicit { k_d: f64::NAN },
+            ..base()
+        },
+        "k_d",
+    );
+    rejected(
+        DruckerPragerParameters {
+            friction_angle: 0.0,
+            dilatancy_angle: 0.0,
+            cohesion: 0.0,
+            ..base()
+        },
+        "cohesion",
+    );
+}
+
+#[test]
+fn accepts_the_extremes_of_each_domain() {
+    for p in [
+        DruckerPragerParameters {
+            friction_angle: 0.0,
+            dilatancy_angle: 0.0,
+            ..base()
+        },
+        DruckerPragerParameters {
+            friction_angle: 89.9,
+            dilatancy_angle: 89.9,
+            ..base()
+        },
+        DruckerPragerParameters {
+            cohesion: 0.0,
+            ..base()
+        },
+        DruckerPragerParameters {
+            poisson_ratio: 0.4999,
+            ..base()
+        },
+        DruckerPragerParameters {
+            dilatancy_angle: 27.0,
+            ..base()
+        },
+    ] {
+        let m = DruckerPrager::try_new(p).unwrap();
+        let rule = m.flow_rule::<4>();
+        assert!(rule.kappa().is_finite() && rule.kappa() >= 0.0);
+    }
+}
