@@ -1,0 +1,10 @@
+//! The linear system of one Newton step, `J_F d = r` with `J_F = I − D + R G W` (eq. 25
+//! generalised by the notes §5: `D`, `G` block diagonal, `R = diag(ρ_i)`).
+mod dense;
+pub(crate) mod schur;
+
+mod stress_sized;
+
+pub(crate) use dense::DenseSystem;
+pub(crate) use schur::SchurSystem;
+pub(crate) use stress_sized::StressSizedSystem;

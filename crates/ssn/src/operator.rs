@@ -1,0 +1,326 @@
+use faer::sparse::{SparseColMat, Triplet};
+use faer::Mat;
+use nalgebra::{SMatrix, SVector};
+
+use crate::error::invalid;
+use crate::SolveError;
+
+/// `W = S + h² B M⁻¹ Bᵀ` kept in factors: per-point compliance blocks `S_i` (already
+/// multiplied by the point's volume), `B` (stress rows × free velocity columns, rows
+/// weighted by the volume, so that `Bᵀσ` is the internal force), the lumped mass `M`
+/// (diagonal, one entry per free velocity) and the time step `h`.
+#[derive(Debug, Clone)]
+pub struct Structured<const D: usize> {
+    pub compliance: Vec<SMatrix<f64, D, D>>,
+    pub b: SparseColMat<usize, f64>,
+    pub lumped_mass: Vec<f64>,
+    pub h: f64,
+}
+
+/// The operator `W` of `z = Wσ + q`.
+#[derive(Debug, Clone)]
+pub enum Operator<const D: usize> {
+    Dense(Mat<f64>),
+    Sparse(SparseColMat<usize, f64>),
+    Structured(Structured<D>),
+}
+
+/// Per-point dense pieces of a structured `B`: the velocity columns a point touches and
+/// its D × n_i block, so that `Bu`, `Bᵀσ` and `Bᵀ C B` run point by point.
+#[derive(Debug, Clone)]
+pub(crate) struct PointBlocks<const D: usize> {
+    pub dof_ptr: Vec<usize>,
+    pub dofs: Vec<usize>,
+    /// Row-major `D × n_i` per point, concatenated.
+    pub values: Vec<f64>,
+}
+
+impl<const D: usize> PointBlocks<D> {
+    pub(crate) fn new(b: &SparseColMat<usize, f64>, n_points: usize) -> Self {
+        // Transpose to rows: for each point, gather (column, local row, value).
+        let mut per_point: Vec<Vec<(usize, usize, f64)>> = vec![Vec::new(); n_points];
+        let col_ptr = b.symbolic().col_ptr();
+        let row_idx = b.symbolic().row_idx();
+        let val = b.val();
+        for j in 0..b.ncols() {
+            for k in col_ptr[j]..col_ptr[j + 1] {
+                let r = row_idx[k];
+                per_point[r / D].push((j, r % D, val[k]));
+            }
+        }
+        let mut dof_ptr = vec![0];
+        let mut dofs = Vec::new();
+        let mut values = Vec::new();
+        for entries in per_point {
+            let mut cols: Vec<usize> = entries.iter().map(|e| e.0).collect();
+            cols.sort_unstable();
+            cols.dedup();
+            let n_i = cols.len();
+            let mut local = vec![0.0; D * n_i];
+            for (j, row, v) in entries {
+                let a = cols.binary_search(&j).unwrap_or(0);
+                local[row * n_i + a] += v;
+            }
+            dofs.extend_from_slice(&cols);
+            values.extend_from_slice(&local);
+            dof_ptr.push(dofs.len());
+        }
+        Self {
+            dof_ptr,
+            dofs,
+            values,
+        }
+    }
+
+    pub(crate) fn point(&self, i: usize) -> (&[usize], &[f64]) {
+        let (a, b) = (self.dof_ptr[i], self.dof_ptr[i + 1]);
+        (&self.dofs[a..b], &self.values[D * a..D * b])
+    }
+
+    /// `(B u)_i` for one point.
+    #[inline]
+    pub(crate) fn apply_point(&self, i: usize, u: &[f64]) -> SVector<f64, D> {
+        let (dofs, vals) = self.point(i);
+        let n_i = dofs.len();
+        SVector::from_fn(|r, _| (0..n_i).map(|a| vals[r * n_i + a] * u[dofs[a]]).sum())
+    }
+
+    /// `out += Bᵀ s` for a flat `s` (points in order: the sum does not depend on threads).
+    pub(crate) fn add_transpose(&self, s: &[f64], out: &mut [f64]) {
+        for i in 0..self.dof_ptr.len() - 1 {
+            let si = &s[D * i..D * i + D];
+            let (dofs, vals) = self.point(i);
+            let n_i = dofs.len();
+            for (a, &j) in dofs.iter().enumerate() {
+                out[j] += (0..D).map(|r| vals[r * n_i + a] * si[r]).sum::<f64>();
+            }
+        }
+    }
+}
+
+impl<const D: usize> Operator<D> {
+    /// Side length of `W`.
+    pub fn size(&self) -> usize {
+        match self {
+            Operator::Dense(m) => m.nrows(),
+            Operator::Sparse(m) => m.nrows(),
+            Operator::Structured(s) => D * s.compliance.len(),
+        }
+    }
+
+    pub(crate) fn validate(&self) -> Result<(), SolveError> {
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        match self {
+            Operator::Dense(m) => {
+                if m.nrows() != m.ncols() {
+                    return Err(invalid(
+                        "W",
+                        format!("dense W is {}×{}, not square", m.nrows(), m.ncols()),
+                    ));
+                }
+                for j in 0..m.ncols() {
+                    if !(0..m.nrows()).all(|i| m[(i, j)].is_finite()) {
+                        return Err(invalid("W", format!("non-finite entry in column {j}")));
+                    }
+                }
+            }
+            Operator::Sparse(m) => {
+                if m.nrows() != m.ncols() {
+                    return Err(invalid(
+                        "W",
+                        format!("sparse W is {}×{}, not square", m.nrows(), m.ncols()),
+                    ));
+                }
+                if !finite(m.val()) {
+                    return Err(invalid("W", "non-finite entry"));
+                }
+            }
+            Operator::Structured(s) => {
+                if !(s.h.is_finite() && s.h > 0.0) {
+                    return Err(invalid(
+                        "h",
+                        format!("time step {} must be finite and > 0", s.h),
+                    ));
+                }
+                if s.b.nrows() != D * s.compliance.len() {
+                    return Err(invalid(
+                        "B",
+                        format!(
+                            "B has {} rows for {} points of {D} components",
+                            s.b.nrows(),
+                            s.compliance.len()
+                        ),
+                    ));
+                }
+                if s.b.ncols() != s.lumped_mass.len() {
+                    return Err(invalid(
+                        "lumped_mass",
+                        format!(
+                            "{} masses for {} velocity columns of B",
+                            s.lumped_mass.len(),
+                            s.b.ncols()
+                        ),
+                    ));
+                }
+                if let Some((j, m)) = s
+                    .lumped_mass
+                    .iter()
+                    .enumerate()
+                    .find(|(_, m)| !(m.is_finite() && **m > 0.0))
+                {
+                    return Err(invalid(
+                        "lumped_mass",
+                        format!("mass {m} at velocity {j} must be finite and > 0"),
+                    ));
+                }
+                if !finite(s.b.val()) {
+                    return Err(invalid("B", "non-finite entry"));
+                }
+                if let Some(i) = s
+                    .compliance
+                    .iter()
+                    .position(|c| !c.iter().all(|x| x.is_finite()))
+                {
+                    return Err(invalid(
+                        "compliance",
+                        format!("non-finite block at point {i}"),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The diagonal of `W`.
+    pub(crate) fn diagonal(&self) -> Vec<f64> {
+        match self {
+            Operator::Dense(m) => (0..m.nrows()).map(|i| m[(i, i)]).collect(),
+            Operator::Sparse(m) => {
+                let mut d = vec![0.0; m.nrows()];
+                let (cp, ri, v) = (m.symbolic().col_ptr(), m.symbolic().row_idx(), m.val());
+                for j in 0..m.ncols() {
+                    for k in cp[j]..cp[j + 1] {
+                        if ri[k] == j {
+                            d[j] += v[k];
+                        }
+                    }
+                }
+                d
+            }
+            Operator::Structured(s) => {
+                let mut d: Vec<f64> = s
+                    .compliance
+                    .iter()
+                    .flat_map(|c| (0..D).map(|k| c[(k, k)]))
+                    .collect();
+                let (cp, ri, v) = (
+                    s.b.symbolic().col_ptr(),
+                    s.b.symbolic().row_idx(),
+                    s.b.val(),
+                );
+                for j in 0..s.b.ncols() {
+                    for k in cp[j]..cp[j + 1] {
+                        d[ri[k]] += s.h * s.h * v[k] * v[k] / s.lumped_mass[j];
+                    }
+                }
+                d
+            }
+        }
+    }
+
+    /// `W` as a sparse matrix (for the stress-sized Newton system).
+    pub(crate) fn to_sparse(&self) -> SparseColMat<usize, f64> {
+        let n = self.size();
+        let mut triplets = Vec::new();
+        match self {
+            Operator::Dense(m) => {
+                for j in 0..n {
+                    for i in 0..n {
+                        if m[(i, j)] != 0.0 {
+                            triplets.push(Triplet::new(i, j, m[(i, j)]));
+                        }
+                    }
+                }
+            }
+            Operator::Sparse(m) => return m.clone(),
+            Operator::Structured(s) => {
+                for (p, c) in s.compliance.iter().enumerate() {
+                    for a in 0..D {
+                        for b in 0..D {
+                            triplets.push(Triplet::new(D * p + a, D * p + b, c[(a, b)]));
+                        }
+                    }
+                }
+                let (cp, ri, v) = (
+                    s.b.symbolic().col_ptr(),
+                    s.b.symbolic().row_idx(),
+                    s.b.val(),
+                );
+                for j in 0..s.b.ncols() {
+                    let w = s.h * s.h / s.lumped_mass[j];
+                    for k in cp[j]..cp[j + 1] {
+                        for l in cp[j]..cp[j + 1] {
+                            triplets.push(Triplet::new(ri[k], ri[l], w * v[k] * v[l]));
+                        }
+                    }
+                }
+            }
+        }
+        SparseColMat::try_new_from_triplets(n, n, &triplets)
+            .expect("indices are within the operator's size")
+    }
+}
+
+/// Point `i` of a flat vector of D-blocks.
+#[inline]
+pub(crate) fn block<const D: usize>(v: &[f64], i: usize) -> SVector<f64, D> {
+    SVector::from_column_slice(&v[D * i..D * i + D])
+}
+
+/// `z = Wσ + q` into `z` (flat vectors of length `D × points`); `scratch` holds the
+/// velocity-sized intermediate of the structured form.
+pub(crate) fn apply<const D: usize>(
+    op: &Operator<D>,
+    blocks: Option<&PointBlocks<D>>,
+    sigma: &[f64],
+    q: &[f64],
+    z: &mut [f64],
+    scratch: &mut Vec<f64>,
+) {
+    z.copy_from_slice(q);
+    match op {
+        Operator::Dense(m) => {
+            for (j, s) in sigma.iter().enumerate() {
+                if *s != 0.0 {
+                    for (i, zi) in z.iter_mut().enumerate() {
+                        *zi += m[(i, j)] * s;
+                    }
+                }
+            }
+        }
+        Operator::Sparse(m) => {
+            let (cp, ri, v) = (m.symbolic().col_ptr(), m.symbolic().row_idx(), m.val());
+            for (j, s) in sigma.iter().enumerate() {
+                for k in cp[j]..cp[j + 1] {
+                    z[ri[k]] += v[k] * s;
+                }
+            }
+        }
+        Operator::Structured(s) => {
+            let blocks = blocks.expect("structured operators carry point blocks");
+            scratch.clear();
+            scratch.resize(s.lumped_mass.len(), 0.0);
+            blocks.add_transpose(sigma, scratch);
+            let h2 = s.h * s.h;
+            for (u, m) in scratch.iter_mut().zip(&s.lumped_mass) {
+                *u *= h2 / m;
+            }
+            for (i, c) in s.compliance.iter().enumerate() {
+                let zi = c * block::<D>(sigma, i) + blocks.apply_point(i, scratch);
+                for r in 0..D {
+                    z[D * i + r] += zi[r];
+                }
+            }
+        }
+    }
+}

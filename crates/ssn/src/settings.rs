@@ -1,0 +1,76 @@
+/// How ρ of the natural map `σ = P_K(σ − ρ y)` is chosen. ρ has units of stress per
+/// strain; any ρ > 0 (per point) keeps the same solution but changes the iteration count.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Rho {
+    /// `ρ_i = factor / max_{k ∈ point i} W_kk`: normalised per point (notes §4), so graded
+    /// meshes and particle volumes spanning decades get comparable steps.
+    PerPointDiagonal { factor: f64 },
+    /// `ρ = factor / max_k W_kk`, one value for every point.
+    GlobalDiagonal { factor: f64 },
+    /// The value given, for every point.
+    Fixed(f64),
+}
+
+/// Backtracking (Armijo) line search on the merit `½‖F‖²`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LineSearch {
+    /// Sufficient decrease `‖F(σ + t d)‖² ≤ (1 − 2 c t) ‖F(σ)‖²`.
+    pub armijo: f64,
+    /// Step reduction per backtrack.
+    pub shrink: f64,
+    /// Backtracks before the step is declared failed.
+    pub max_backtracks: usize,
+}
+
+impl Default for LineSearch {
+    fn default() -> Self {
+        Self {
+            armijo: 1e-4,
+            shrink: 0.5,
+            max_backtracks: 40,
+        }
+    }
+}
+
+/// Which linear system gives the Newton direction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum LinearSolver {
+    /// Velocity-sized Schur complement for structured operators (notes §5), stress-sized
+    /// otherwise.
+    #[default]
+    Auto,
+    /// Always the stress-sized system `J_F d = −F` (for checking the Schur path).
+    StressSized,
+}
+
+/// Solver settings; `Settings::default()` documents the defaults.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settings {
+    /// Converged when `‖F‖∞ ≤ tolerance · max(1, ‖σ‖∞)`. Default `1e-12`.
+    pub tolerance: f64,
+    /// Newton iterations before giving up. Default 100.
+    pub max_iterations: usize,
+    /// Default `PerPointDiagonal { factor: 10.0 }` (see `docs/solver.md` for measurements).
+    pub rho: Rho,
+    /// Default: Armijo 1e-4, halving, 40 backtracks. `None`: full Newton steps.
+    pub line_search: Option<LineSearch>,
+    /// Start from the σ passed to `solve` (true, default) or from σ = 0.
+    pub warm_start: bool,
+    pub linear_solver: LinearSolver,
+    /// Spread per-point work over rayon's pool; results do not depend on it.
+    pub parallel: bool,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            tolerance: 1e-12,
+            max_iterations: 100,
+            rho: Rho::PerPointDiagonal { factor: 10.0 },
+            line_search: Some(LineSearch::default()),
+            warm_start: true,
+            linear_solver: LinearSolver::Auto,
+            parallel: true,
+        }
+    }
+}

@@ -1,0 +1,430 @@
+use std::time::Instant;
+
+use rayon::prelude::*;
+use talus_bipotential::NaturalMapLinearization;
+
+use crate::error::invalid;
+use crate::newton::schur::SchurFailure;
+use crate::newton::{DenseSystem, SchurSystem, StressSizedSystem};
+use crate::operator::{apply, block, PointBlocks};
+use crate::{LinearSolver, Operator, ReducedSystem, Report, Rho, Settings, SolveError, Status};
+
+/// A linearization that is never read (placeholder before the first evaluation).
+fn blank<const D: usize>() -> NaturalMapLinearization<D> {
+    NaturalMapLinearization {
+        residual: nalgebra::SVector::zeros(),
+        projection_jacobian: nalgebra::SMatrix::zeros(),
+        coupling: nalgebra::SMatrix::zeros(),
+        region: talus_bipotential::Region::Interior,
+    }
+}
+
+/// Semi-smooth Newton (eqs. 21–25) on `F(σ) = σ − P_C(σ − ρ y(Wσ + q)) = 0`.
+///
+/// Built once per operator (the symbolic factorization happens here), then `solve` is called
+/// per right-hand side; workspaces are reused across iterations and solves.
+pub struct Solver<const D: usize> {
+    problem: ReducedSystem<D>,
+    settings: Settings,
+    blocks: Option<PointBlocks<D>>,
+    rho: Vec<f64>,
+    dense: Option<DenseSystem>,
+    stress_sized: Option<StressSizedSystem>,
+    schur: Option<SchurSystem<D>>,
+    z: Vec<f64>,
+    f: Vec<f64>,
+    lin: Vec<NaturalMapLinearization<D>>,
+    trial_sigma: Vec<f64>,
+    trial_z: Vec<f64>,
+    trial_lin: Vec<NaturalMapLinearization<D>>,
+    direction: Vec<f64>,
+    check: Vec<f64>,
+    scratch: Vec<f64>,
+}
+
+/// Dense Newton matrices up to this size; sparse beyond.
+const DENSE_LIMIT: usize = 600;
+
+fn validate(settings: &Settings) -> Result<(), SolveError> {
+    if !(settings.tolerance.is_finite() && settings.tolerance > 0.0) {
+        return Err(invalid(
+            "settings.tolerance",
+            format!("{} must be finite and > 0", settings.tolerance),
+        ));
+    }
+    if settings.max_iterations == 0 {
+        return Err(invalid("settings.max_iterations", "must be at least 1"));
+    }
+    let rho = match settings.rho {
+        Rho::PerPointDiagonal { factor } | Rho::GlobalDiagonal { factor } | Rho::Fixed(factor) => {
+            factor
+        }
+    };
+    if !(rho.is_finite() && rho > 0.0) {
+        return Err(invalid(
+            "settings.rho",
+            format!("{rho} must be finite and > 0"),
+        ));
+    }
+    if let Some(ls) = settings.line_search {
+        if !(ls.armijo > 0.0 && ls.armijo < 0.5 && ls.shrink > 0.0 && ls.shrink < 1.0) {
+            return Err(invalid(
+                "settings.line_search",
+                format!("{ls:?}: need 0 < armijo < 0.5, 0 < shrink < 1"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+impl<const D: usize> Solver<D> {
+    /// Validates the settings, chooses ρ per point and analyses the Newton system's pattern.
+    pub fn new(problem: ReducedSystem<D>, settings: Settings) -> Result<Self, SolveError> {
+        validate(&settings)?;
+        let n = problem.operator.size();
+        let n_points = problem.n_points();
+        let diagonal = problem.operator.diagonal();
+        let rho = choose_rho::<D>(&settings.rho, &diagonal)?;
+        let blocks = match &problem.operator {
+            Operator::Structured(s) => Some(PointBlocks::new(&s.b, n_points)),
+            _ => None,
+        };
+        let mut solver = Self {
+            settings,
+            blocks,
+            rho,
+            dense: None,
+            stress_sized: None,
+            schur: None,
+            z: vec![0.0; n],
+            f: vec![0.0; n],
+            lin: vec![blank(); n_points],
+            trial_sigma: vec![0.0; n],
+            trial_z: vec![0.0; n],
+            trial_lin: vec![blank(); n_points],
+            direction: vec![0.0; n],
+            check: vec![0.0; n],
+            scratch: Vec::new(),
+            problem,
+        };
+        let symmetric = solver.problem.is_associative();
+        match (&solver.problem.operator, settings.linear_solver) {
+            (Operator::Dense(_), _) if n <= DENSE_LIMIT => solver.dense = Some(DenseSystem::new(n)),
+            (Operator::Structured(s), LinearSolver::Auto) => {
+                let blocks = solver
+                    .blocks
+                    .as_ref()
+                    .expect("structured operators carry point blocks");
+                solver.schur =
+                    Some(SchurSystem::new(s, blocks, symmetric).map_err(|e| invalid("B", e))?);
+            }
+            _ => solver.ensure_stress_sized()?,
+        }
+        Ok(solver)
+    }
+
+    fn ensure_stress_sized(&mut self) -> Result<(), SolveError> {
+        if self.stress_sized.is_none() {
+            let w = self.problem.operator.to_sparse();
+            self.stress_sized = Some(StressSizedSystem::new::<D>(&w).map_err(|e| invalid("W", e))?);
+        }
+        Ok(())
+    }
+
+    pub fn problem(&self) -> &ReducedSystem<D> {
+        &self.problem
+    }
+
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    /// ρ of every point.
+    pub fn rho(&self) -> &[f64] {
+        &self.rho
+    }
+
+    /// Replaces `q`, keeping the operator, its analysis and ρ.
+    pub fn set_q(&mut self, q: Vec<f64>) -> Result<(), SolveError> {
+        self.problem.set_q(q)
+    }
+
+    /// `z = Wσ + q` at the last iterate of the last solve.
+    pub fn z(&self) -> &[f64] {
+        &self.z
+    }
+
+    /// Solves from `sigma` (or from 0 without warm start) and leaves the last iterate in it.
+    /// `Err(NotConverged)` carries the report; `sigma` is then not a solution.
+    pub fn solve(&mut self, sigma: &mut [f64]) -> Result<Report, SolveError> {
+        let start = Instant::now();
+        let n = self.problem.operator.size();
+        if sigma.len() != n {
+            return Err(invalid(
+                "sigma",
+                format!("length {} for an operator of size {n}", sigma.len()),
+            ));
+        }
+        if !self.settings.warm_start {
+            sigma.fill(0.0);
+        } else if let Some(i) = sigma.iter().position(|v| !v.is_finite()) {
+            return Err(invalid(
+                "sigma",
+                format!("non-finite initial value {} at index {i}", sigma[i]),
+            ));
+        }
+        let mut report = Report {
+            status: Status::MaxIterations,
+            iterations: 0,
+            residual: f64::NAN,
+            residual_history: Vec::new(),
+            seconds: 0.0,
+            backtracks: 0,
+            schur_steps: 0,
+            stress_sized_steps: 0,
+            rho_range: self
+                .rho
+                .iter()
+                .fold((f64::INFINITY, 0.0), |(lo, hi), &r| (lo.min(r), hi.max(r))),
+        };
+        let mut merit = self.evaluate(sigma, false);
+        let mut residual = self.residual_norm();
+        report.residual_history.push(residual);
+        loop {
+            if !residual.is_finite() {
+                report.status = Status::NonFinite;
+                break;
+            }
+            if residual <= self.settings.tolerance * inf_norm(sigma).max(1.0) {
+                report.status = Status::Converged;
+                break;
+            }
+            if report.iterations == self.settings.max_iterations {
+                report.status = Status::MaxIterations;
+                break;
+            }
+            if let Err(status) = self.newton_direction(&mut report) {
+                report.status = status;
+                break;
+            }
+            match self.line_search(sigma, merit, &mut report) {
+                Some(m) => merit = m,
+                None => {
+                    report.status = Status::LineSearchFailed;
+                    break;
+                }
+            }
+            report.iterations += 1;
+            residual = self.residual_norm();
+            report.residual_history.push(residual);
+            tracing::trace!(iteration = report.iterations, residual, "ssn step");
+        }
+        report.residual = residual;
+        report.seconds = start.elapsed().as_secs_f64();
+        tracing::debug!(status = %report.status, iterations = report.iterations, residual, "ssn solve");
+        if report.is_converged() {
+            Ok(report)
+        } else {
+            Err(SolveError::NotConverged(Box::new(report)))
+        }
+    }
+
+    /// `z`, `F` and the linearization at `sigma` (into the trial buffers when `trial`);
+    /// returns `‖F‖²`.
+    fn evaluate(&mut self, sigma: &[f64], trial: bool) -> f64 {
+        let (z, lin) = if trial {
+            (&mut self.trial_z, &mut self.trial_lin)
+        } else {
+            (&mut self.z, &mut self.lin)
+        };
+        apply(
+            &self.problem.operator,
+            self.blocks.as_ref(),
+            sigma,
+            &self.problem.q,
+            z,
+            &mut self.scratch,
+        );
+        let rules = &self.problem.rules;
+        let rho = &self.rho;
+        let z = &*z;
+        let one = |(i, l): (usize, &mut NaturalMapLinearization<D>)| {
+            *l = rules[i].natural_map_linearization(
+                &block::<D>(sigma, i),
+                &block::<D>(z, i),
+                rho[i],
+            );
+        };
+        if self.settings.parallel {
+            lin.par_iter_mut()
+                .enumerate()
+                .with_min_len(256)
+                .for_each(one);
+        } else {
+            lin.iter_mut().enumerate().for_each(one);
+        }
+        // Sequential sum: the merit must not depend on the thread count.
+        lin.iter().map(|l| l.residual.norm_squared()).sum()
+    }
+
+    /// `‖F‖∞` at the current iterate (NaN if any entry is).
+    fn residual_norm(&self) -> f64 {
+        self.lin.iter().fold(0.0, |m: f64, l| {
+            let a = l.residual.iter().fold(0.0, |m: f64, x| if x.is_nan() { f64::NAN } else { m.max(x.abs()) });
+            if a.is_nan() || m.is_nan() { f64::NAN } else { m.max(a) }
+        })
+    }
+
+    /// Solves `J_F d = −F` into `self.direction`.
+    fn newton_direction(&mut self, report: &mut Report) -> Result<(), Status> {
+        for (i, l) in self.lin.iter().enumerate() {
+            for a in 0..D {
+                self.f[D * i + a] = -l.residual[a];
+            }
+        }
+        let mut used_schur = false;
+        if let (Some(schur), Operator::Structured(s)) =
+            (self.schur.as_mut(), &self.problem.operator)
+        {
+            let blocks = self
+                .blocks
+                .as_ref()
+                .expect("structured operators carry point blocks");
+            match schur.solve(
+                s,
+                blocks,
+                &self.lin,
+                &self.rho,
+                &self.f,
+                &mut self.direction,
+            ) {
+                Ok(()) => used_schur = true,
+                Err(SchurFailure::SingularBlock(i)) => {
+                    tracing::debug!(point = i, "singular local block: stress-sized step");
+                }
+                Err(SchurFailure::Factorization(e)) => {
+                    tracing::debug!(error = %e, "Schur factorization failed: stress-sized step");
+                }
+            }
+        }
+        if used_schur {
+            report.schur_steps += 1;
+        } else if let (Some(dense), Operator::Dense(w)) =
+            (self.dense.as_mut(), &self.problem.operator)
+        {
+            dense.solve(w, &self.lin, &self.rho, &self.f, &mut self.direction);
+            report.stress_sized_steps += 1;
+        } else {
+            self.ensure_stress_sized()
+                .map_err(|_| Status::SingularJacobian)?;
+            let sys = self.stress_sized.as_mut().expect("just built");
+            sys.solve(&self.lin, &self.rho, &self.f, &mut self.direction)
+                .map_err(|e| {
+                    tracing::warn!(error = %e, "sparse LU failed");
+                    Status::SingularJacobian
+                })?;
+            report.stress_sized_steps += 1;
+        }
+        // faer returns finite garbage on a numerically singular matrix: check J d = −F.
+        if !self.direction.iter().all(|v| v.is_finite()) {
+            return Err(Status::SingularJacobian);
+        }
+        let zero = vec![0.0; self.direction.len()];
+        apply(
+            &self.problem.operator,
+            self.blocks.as_ref(),
+            &self.direction,
+            &zero,
+            &mut self.check,
+            &mut self.scratch,
+        );
+        let mut worst: f64 = 0.0;
+        for (i, l) in self.lin.iter().enumerate() {
+            let d = block::<D>(&self.direction, i);
+            let wd = block::<D>(&self.check, i);
+            let jd = d - l.projection_jacobian * d + l.coupling * wd * self.rho[i];
+            worst = worst.max((jd - block::<D>(&self.f, i)).amax());
+        }
+        let scale = inf_norm(&self.f);
+        if !(worst <= 1e-6 * scale) {
+            tracing::warn!(
+                linear_residual = worst,
+                rhs = scale,
+                "inaccurate Newton direction"
+            );
+            return Err(Status::SingularJacobian);
+        }
+        Ok(())
+    }
+
+    /// Armijo backtracking on `‖F‖²` along `self.direction`; moves `sigma` and returns the
+    /// new merit, or `None` when no step length is accepted.
+    fn line_search(&mut self, sigma: &mut [f64], merit: f64, report: &mut Report) -> Option<f64> {
+        let ls = self.settings.line_search;
+        let mut t = 1.0;
+        let mut backtracks = 0;
+        loop {
+            let mut trial = std::mem::take(&mut self.trial_sigma);
+            for ((x, s), d) in trial.iter_mut().zip(sigma.iter()).zip(&self.direction) {
+                *x = s + t * d;
+            }
+            let trial_merit = self.evaluate(&trial, true);
+            self.trial_sigma = trial;
+            let accept = match ls {
+                None => trial_merit.is_finite(),
+                Some(ls) => trial_merit <= (1.0 - 2.0 * ls.armijo * t) * merit,
+            };
+            if accept {
+                sigma.copy_from_slice(&self.trial_sigma);
+                std::mem::swap(&mut self.z, &mut self.trial_z);
+                std::mem::swap(&mut self.lin, &mut self.trial_lin);
+                report.backtracks += backtracks;
+                return Some(trial_merit);
+            }
+            match ls {
+                Some(ls) if backtracks < ls.max_backtracks => {
+                    t *= ls.shrink;
+                    backtracks += 1;
+                }
+                _ => {
+                    report.backtracks += backtracks;
+                    return None;
+                }
+            }
+        }
+    }
+}
+
+fn inf_norm(v: &[f64]) -> f64 {
+    v.iter().fold(
+        0.0,
+        |m: f64, x| if x.is_nan() { f64::NAN } else { m.max(x.abs()) },
+    )
+}
+
+fn choose_rho<const D: usize>(rule: &Rho, diagonal: &[f64]) -> Result<Vec<f64>, SolveError> {
+    let n_points = diagonal.len() / D;
+    let point_max = |i: usize| {
+        diagonal[D * i..D * i + D]
+            .iter()
+            .fold(0.0f64, |m, v| m.max(*v))
+    };
+    let rho: Vec<f64> = match *rule {
+        Rho::Fixed(r) => vec![r; n_points],
+        Rho::GlobalDiagonal { factor } => {
+            let m = diagonal.iter().fold(0.0f64, |m, v| m.max(*v));
+            vec![factor / m; n_points]
+        }
+        Rho::PerPointDiagonal { factor } => (0..n_points).map(|i| factor / point_max(i)).collect(),
+    };
+    if let Some(i) = rho.iter().position(|r| !(r.is_finite() && *r > 0.0)) {
+        return Err(invalid(
+            "W",
+            format!(
+                "diagonal block of point {i} has no positive entry (max {}): ρ cannot be scaled",
+                point_max(i)
+            ),
+        ));
+    }
+    Ok(rho)
+}

@@ -1,0 +1,113 @@
+//! `talus reduced FILE`: one Siconos plasticity problem, solved and reported.
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use talus_ssn::siconos::SiconosProblem;
+use talus_ssn::{reduced_system_from_siconos, Report, Rho, Settings, SolveError, Solver};
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The problem file (Siconos plasticity text format).
+    file: PathBuf,
+    /// Stop when ‖F‖∞ ≤ tol · max(1, ‖σ‖∞).
+    #[arg(long, default_value_t = 1e-12)]
+    tol: f64,
+    /// Print the report as one JSON object.
+    #[arg(long)]
+    json: bool,
+    /// Write the solution σ, one number per line, in the file's ordering.
+    #[arg(long)]
+    solution: Option<PathBuf>,
+    /// ρ = factor / max diag W (per point unless --global-rho).
+    #[arg(long, default_value_t = 10.0)]
+    rho_factor: f64,
+    /// One ρ for all points, scaled by the largest diagonal entry of W.
+    #[arg(long)]
+    global_rho: bool,
+    /// Newton iterations before giving up.
+    #[arg(long, default_value_t = 10.0)]
+    max_iterations: usize,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum ReducedError {
+    #[error(transparent)]
+    Read(#[from] talus_ssn::siconos::SiconosError),
+    #[error("{0}")]
+    Solve(SolveError),
+    #[error("cannot write {path}: {source}")]
+    Write {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+}
+
+pub fn run(args: &Args) -> Result<ExitCode, ReducedError> {
+    let problem = SiconosProblem::from_path(&args.file)?;
+    let system = reduced_system_from_siconos::<3>(&problem).map_err(ReducedError::Solve)?;
+    let rho = if args.global_rho {
+        Rho::GlobalDiagonal {
+            factor: args.rho_factor,
+        }
+    } else {
+        Rho::PerPointDiagonal {
+            factor: args.rho_factor,
+        }
+    };
+    let settings = Settings {
+        tolerance: args.tol,
+        rho,
+        max_iterations: args.max_iterations,
+        ..Settings::default()
+    };
+    let mut solver = Solver::new(system, settings).map_err(ReducedError::Solve)?;
+    let mut sigma = vec![0.0; problem.n()];
+    let (report, converged) = match solver.solve(&mut sigma) {
+        Ok(r) => (r, true),
+        Err(SolveError::NotConverged(r)) => (*r, false),
+        Err(e) => return Err(ReducedError::Solve(e)),
+    };
+    print_report(args, &report);
+    if let Some(path) = &args.solution {
+        write_solution(path, &sigma).map_err(|source| ReducedError::Write {
+            path: path.clone(),
+            source,
+        })?;
+    }
+    Ok(if converged {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(2)
+    })
+}
+
+fn print_report(args: &Args, report: &Report) {
+    if args.json {
+        let json = serde_json::json!({
+            "file": args.file.display().to_string(),
+            "status": report.status.as_str(),
+            "iterations": report.iterations,
+            "residual": report.residual,
+            "seconds": report.seconds,
+            "residual_history": report.residual_history,
+            "backtracks": report.backtracks,
+            "rho_min": report.rho_range.0,
+            "rho_max": report.rho_range.1,
+        });
+        println!("{json}");
+    } else {
+        println!("status: {}", report.status);
+        println!("iterations: {}", report.iterations);
+        println!("residual: {:.3e}", report.residual);
+        println!("seconds: {:.6}", report.seconds);
+    }
+}
+
+fn write_solution(path: &PathBuf, sigma: &[f64]) -> std::io::Result<()> {
+    let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
+    for v in sigma {
+        writeln!(out, "{v:.17e}")?;
+    }
+    out.flush()
+}
