@@ -26,7 +26,7 @@ pub struct Args {
     #[arg(long)]
     global_rho: bool,
     /// Newton iterations before giving up.
-    #[arg(long, default_value_t = 10.0)]
+    #[arg(long, default_value_t = 100)]
     max_iterations: usize,
 }
 

@@ -1,0 +1,149 @@
+//! The velocity-sized Schur-complement Newton step (notes §5) equals the stress-sized step
+//! `J_F d = −F` on random structured problems, associative (Cholesky) and not (LU).
+use nalgebra::{SMatrix, SVector};
+use talus_bipotential::FlowRule;
+use talus_cone::SecondOrderCone;
+use talus_ssn::faer::sparse::{SparseColMat, Triplet};
+use talus_ssn::{LinearSolver, Operator, ReducedSystem, Settings, SolveError, Solver, Structured};
+
+/// Tiny deterministic generator (no dependency): xorshift64*.
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn signed(&mut self) -> f64 {
+        2.0 * self.next() - 1.0
+    }
+}
+
+const D: usize = 4;
+
+fn random_problem(seed: u64, associative: bool) -> (ReducedSystem<D>, Vec<f64>) {
+    let mut rng = Rng(seed);
+    let (n_points, n_v) = (30, 24);
+    let mut triplets = Vec::new();
+    for p in 0..n_points {
+        // Each point touches 6 velocity columns, like a linear triangle in 2D.
+        let first = (p * 5) % (n_v - 6);
+        for r in 0..D {
+            for c in first..first + 6 {
+                if r < 3 || rng.next() < 0.5 {
+                    triplets.push(Triplet::new(D * p + r, c, rng.signed()));
+                }
+            }
+        }
+    }
+    let b = SparseColMat::try_new_from_triplets(D * n_points, n_v, &triplets).unwrap();
+    let compliance = (0..n_points)
+        .map(|_| {
+            let a = SMatrix::<f64, D, D>::from_fn(|_, _| rng.signed());
+            a * a.transpose() * 0.1 + SMatrix::identity() * (0.5 + rng.next())
+        })
+        .collect();
+    let lumped_mass = (0..n_v).map(|_| 0.5 + rng.next()).collect();
+    let op = Operator::Structured(Structured {
+        compliance,
+        b,
+        lumped_mass,
+        h: 0.3,
+    });
+    let axis = SVector::<f64, D>::from_fn(|i, _| if i == 0 { 1.0 } else { 0.0 });
+    let rules = (0..n_points)
+        .map(|_| {
+            let apex = SVector::<f64, D>::from_fn(|_, _| 0.2 * rng.signed());
+            let cone = SecondOrderCone::try_new(axis, apex, 0.2 + rng.next()).unwrap();
+            FlowRule::cone(cone, if associative { 0.0 } else { 0.5 * rng.next() })
+        })
+        .collect();
+    let q: Vec<f64> = (0..D * n_points).map(|_| 2.0 * rng.signed()).collect();
+    let sigma0: Vec<f64> = (0..D * n_points).map(|_| rng.signed()).collect();
+    (ReducedSystem::try_new(op, q, rules).unwrap(), sigma0)
+}
+
+/// σ after exactly one full Newton step from `sigma0`.
+fn one_step(
+    problem: ReducedSystem<D>,
+    sigma0: &[f64],
+    linear_solver: LinearSolver,
+) -> (Vec<f64>, usize, usize) {
+    let settings = Settings {
+        max_iterations: 1,
+        line_search: None,
+        linear_solver,
+        ..Settings::default()
+    };
+    let mut solver = Solver::new(problem, settings).unwrap();
+    let mut sigma = sigma0.to_vec();
+    let report = match solver.solve(&mut sigma) {
+        Ok(r) => r,
+        Err(SolveError::NotConverged(r)) => *r,
+        Err(e) => panic!("{e}"),
+    };
+    assert_eq!(report.iterations, 1);
+    (sigma, report.schur_steps, report.stress_sized_steps)
+}
+
+fn compare(associative: bool) {
+    let mut schur_steps = 0;
+    for seed in 1..=20u64 {
+        let (problem, sigma0) = random_problem(seed * 7919, associative);
+        let (a, schur, _) = one_step(problem.clone(), &sigma0, LinearSolver::Auto);
+        let (b, s2, stress) = one_step(problem, &sigma0, LinearSolver::StressSized);
+        assert_eq!((s2, stress), (0, 1));
+        schur_steps += schur;
+        let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let diff = a
+            .iter()
+            .zip(&b)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+        assert!(
+            diff <= 1e-12 * scale,
+            "seed {seed}: Schur and stress-sized steps differ by {diff:e} (scale {scale:e})"
+        );
+    }
+    assert!(
+        schur_steps >= 18,
+        "the Schur path must be the one exercised ({schur_steps}/20)"
+    );
+}
+
+#[test]
+fn schur_step_equals_stress_sized_step_associative() {
+    compare(true);
+}
+
+#[test]
+fn schur_step_equals_stress_sized_step_non_associative() {
+    compare(false);
+}
+
+#[test]
+fn structured_and_assembled_operators_give_the_same_solution() {
+    for associative in [true, false] {
+        let (problem, sigma0) = random_problem(4242, associative);
+        let solve = |ls: LinearSolver| {
+            let mut solver = Solver::new(
+                problem.clone(),
+                Settings {
+                    linear_solver: ls,
+                    ..Settings::default()
+                },
+            )
+            .unwrap();
+            let mut s = sigma0.clone();
+            solver.solve(&mut s).expect("converges");
+            s
+        };
+        let (a, b) = (solve(LinearSolver::Auto), solve(LinearSolver::StressSized));
+        let scale = b.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+        let diff = a
+            .iter()
+            .zip(&b)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+        assert!(diff <= 1e-10 * scale, "associative {associative}: {diff:e}");
+    }
+}
