@@ -68,7 +68,8 @@ pub fn run(args: &Args) -> Result<ExitCode, ReducedError> {
         Err(SolveError::NotConverged(r)) => (*r, false),
         Err(e) => return Err(ReducedError::Solve(e)),
     };
-    print_report(args, &report);
+    let sigma_inf = sigma.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    print_report(args, &report, sigma_inf);
     if let Some(path) = &args.solution {
         write_solution(path, &sigma).map_err(|source| ReducedError::Write {
             path: path.clone(),
@@ -82,7 +83,7 @@ pub fn run(args: &Args) -> Result<ExitCode, ReducedError> {
     })
 }
 
-fn print_report(args: &Args, report: &Report) {
+fn print_report(args: &Args, report: &Report, sigma_inf: f64) {
     if args.json {
         let json = serde_json::json!({
             "file": args.file.display().to_string(),
@@ -90,6 +91,8 @@ fn print_report(args: &Args, report: &Report) {
             "iterations": report.iterations,
             "residual": report.residual,
             "seconds": report.seconds,
+            "relative_residual": report.residual / sigma_inf.max(1.0),
+            "sigma_inf": sigma_inf,
             "residual_history": report.residual_history,
             "backtracks": report.backtracks,
             "rho_min": report.rho_range.0,
@@ -99,7 +102,11 @@ fn print_report(args: &Args, report: &Report) {
     } else {
         println!("status: {}", report.status);
         println!("iterations: {}", report.iterations);
-        println!("residual: {:.3e}", report.residual);
+        println!(
+            "residual: {:.3e} (relative to max(1, ‖σ‖∞ = {sigma_inf:.3e}): {:.3e})",
+            report.residual,
+            report.residual / sigma_inf.max(1.0)
+        );
         println!("seconds: {:.6}", report.seconds);
     }
 }
