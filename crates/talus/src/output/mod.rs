@@ -1,0 +1,24 @@
+//! Simulation output: ParaView files (`.vtu` per step, `.pvd` collection) and PNG plots
+//! for reports (force–displacement, Newton convergence, a field on the mesh).
+//!
+//! ```ignore
+//! talus::output::write_vtu(Path::new("out/step_0010.vtu"), &snapshot)?;
+//! ```
+//! Inputs are plain slices (no dependency on the FEM crate); every writer checks lengths
+//! and finiteness first and returns `OutputError::Invalid` naming the field, so no NaN
+//! reaches a file.
+mod canvas;
+mod colormap;
+mod error;
+mod mesh;
+mod plot_curves;
+mod plot_field;
+mod pvd;
+mod vtu;
+
+pub use error::OutputError;
+pub use mesh::MeshView;
+pub use plot_curves::{plot_force_displacement, plot_newton_residuals};
+pub use plot_field::plot_field_on_mesh;
+pub use pvd::write_pvd;
+pub use vtu::{pressure, von_mises, write_vtu, FieldSnapshot};

@@ -1,0 +1,206 @@
+//! ParaView snapshot of one time step: VTK XML `UnstructuredGrid`, ASCII.
+use std::f64::consts::SQRT_2;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use super::mesh::{check_finite, check_finite_scalars, check_len};
+use super::{MeshView, OutputError};
+
+/// VTK cell type ids; VTK's quadratic triangle orders its nodes like Gmsh's 6-node
+/// triangle (corners, then mid-edges 01, 12, 20), so connectivity is copied as is.
+const VTK_TRIANGLE: u8 = 5;
+const VTK_QUADRATIC_TRIANGLE: u8 = 22;
+
+/// A scalar of a Mandel stress written as cell data.
+type StressInvariant = fn(&[f64; 4]) -> f64;
+
+/// The fields of one time step.
+///
+/// Units: time s, displacement m, velocity m/s, stress Pa (tension positive), plastic
+/// strain dimensionless.
+#[derive(Debug, Clone, Copy)]
+pub struct FieldSnapshot<'a> {
+    pub mesh: MeshView<'a>,
+    pub time: f64,
+    /// Per node, m.
+    pub displacement: &'a [[f64; 2]],
+    /// Per node, m/s.
+    pub velocity: &'a [[f64; 2]],
+    /// Per element (average over its Gauss points), Mandel `(xx, yy, zz, √2 xy)`, Pa.
+    pub stress: &'a [[f64; 4]],
+    /// Per element, cumulative equivalent plastic strain `∫‖ε̇ᵖ‖ dt`.
+    pub plastic_strain: &'a [f64],
+}
+
+impl FieldSnapshot<'_> {
+    fn validate(&self) -> Result<(), OutputError> {
+        self.mesh.validate()?;
+        let (n_nodes, n_elements) = (self.mesh.nodes.len(), self.mesh.triangles.len());
+        if !self.time.is_finite() {
+            return Err(OutputError::invalid(
+                "time",
+                format!("is not finite: {}", self.time),
+            ));
+        }
+        check_len("displacement", self.displacement.len(), n_nodes, "node")?;
+        check_len("velocity", self.velocity.len(), n_nodes, "node")?;
+        check_len("stress", self.stress.len(), n_elements, "element")?;
+        check_len(
+            "plastic_strain",
+            self.plastic_strain.len(),
+            n_elements,
+            "element",
+        )?;
+        check_finite("displacement", self.displacement)?;
+        check_finite("velocity", self.velocity)?;
+        check_finite("stress", self.stress)?;
+        check_finite_scalars("plastic_strain", self.plastic_strain)
+    }
+}
+
+/// Von Mises equivalent stress `√(3/2) ‖dev σ‖` of a Mandel stress, Pa.
+///
+/// The Mandel norm is the tensor (Frobenius) norm, so no factor is needed for the shear.
+pub fn von_mises(m: &[f64; 4]) -> f64 {
+    let p = (m[0] + m[1] + m[2]) / 3.0;
+    let s2 = (m[0] - p).powi(2) + (m[1] - p).powi(2) + (m[2] - p).powi(2) + m[3].powi(2);
+    (1.5 * s2).sqrt()
+}
+
+/// Mean pressure `−tr σ / 3` of a Mandel stress, Pa (compression positive).
+pub fn pressure(m: &[f64; 4]) -> f64 {
+    -(m[0] + m[1] + m[2]) / 3.0
+}
+
+/// Writes `s` to `path` as a VTK XML unstructured grid (ASCII).
+///
+/// Point data: `displacement` (m) and `velocity` (m/s) as 3-vectors with z = 0. Cell data:
+/// `stress` as a symmetric tensor in plain components, VTK order `XX, YY, ZZ, XY, YZ, XZ`
+/// (σxy = m₃/√2, YZ = XZ = 0; Pa, tension positive), `von_mises` (Pa), `pressure`
+/// (−tr σ/3, Pa) and `plastic_strain`. The time (s) is stored as the `TimeValue` field.
+/// Numbers are written in Rust's shortest round-trip form, so they read back exactly.
+pub fn write_vtu(path: &Path, s: &FieldSnapshot) -> Result<(), OutputError> {
+    s.validate()?;
+    let xml = vtu_string(s);
+    std::fs::write(path, xml).map_err(|e| OutputError::io(path, e))
+}
+
+fn vtu_string(s: &FieldSnapshot) -> String {
+    let mesh = s.mesh;
+    let mut x = String::with_capacity(64 * (mesh.nodes.len() * 3 + mesh.triangles.len() * 4));
+    // Writing to a String cannot fail: the `fmt::Result`s are ignored on purpose.
+    let _ = writeln!(x, r#"<?xml version="1.0"?>"#);
+    let _ = writeln!(
+        x,
+        r#"<VTKFile type="UnstructuredGrid" version="0.1" byte_order="LittleEndian">"#
+    );
+    let _ = writeln!(x, "  <UnstructuredGrid>");
+    let _ = writeln!(x, "    <FieldData>");
+    let _ = writeln!(
+        x,
+        r#"      <DataArray type="Float64" Name="TimeValue" NumberOfTuples="1" format="ascii">"#
+    );
+    let _ = writeln!(x, "{:e}", s.time);
+    close_array(&mut x, 6);
+    let _ = writeln!(x, "    </FieldData>");
+    let _ = writeln!(
+        x,
+        r#"    <Piece NumberOfPoints="{}" NumberOfCells="{}">"#,
+        mesh.nodes.len(),
+        mesh.triangles.len()
+    );
+
+    let _ = writeln!(x, r#"      <PointData Vectors="displacement">"#);
+    for (name, data) in [("displacement", s.displacement), ("velocity", s.velocity)] {
+        open_array(&mut x, "Float64", name, 3, 8);
+        for v in data {
+            let _ = writeln!(x, "{:e} {:e} 0", v[0], v[1]);
+        }
+        close_array(&mut x, 8);
+    }
+    let _ = writeln!(x, "      </PointData>");
+
+    let _ = writeln!(
+        x,
+        r#"      <CellData Tensors="stress" Scalars="plastic_strain">"#
+    );
+    let _ = writeln!(
+        x,
+        r#"        <DataArray type="Float64" Name="stress" NumberOfComponents="6" ComponentName0="XX" ComponentName1="YY" ComponentName2="ZZ" ComponentName3="XY" ComponentName4="YZ" ComponentName5="XZ" format="ascii">"#
+    );
+    for m in s.stress {
+        let _ = writeln!(
+            x,
+            "{:e} {:e} {:e} {:e} 0 0",
+            m[0],
+            m[1],
+            m[2],
+            m[3] / SQRT_2
+        );
+    }
+    close_array(&mut x, 8);
+    let derived: [(&str, StressInvariant); 2] = [("von_mises", von_mises), ("pressure", pressure)];
+    for (name, f) in derived {
+        open_array(&mut x, "Float64", name, 1, 8);
+        for m in s.stress {
+            let _ = writeln!(x, "{:e}", f(m));
+        }
+        close_array(&mut x, 8);
+    }
+    open_array(&mut x, "Float64", "plastic_strain", 1, 8);
+    for e in s.plastic_strain {
+        let _ = writeln!(x, "{e:e}");
+    }
+    close_array(&mut x, 8);
+    let _ = writeln!(x, "      </CellData>");
+
+    let _ = writeln!(x, "      <Points>");
+    open_array(&mut x, "Float64", "Points", 3, 8);
+    for p in mesh.nodes {
+        let _ = writeln!(x, "{:e} {:e} 0", p[0], p[1]);
+    }
+    close_array(&mut x, 8);
+    let _ = writeln!(x, "      </Points>");
+
+    let _ = writeln!(x, "      <Cells>");
+    open_array(&mut x, "Int64", "connectivity", 1, 8);
+    for tri in mesh.triangles {
+        let line: Vec<String> = tri.iter().map(usize::to_string).collect();
+        let _ = writeln!(x, "{}", line.join(" "));
+    }
+    close_array(&mut x, 8);
+    open_array(&mut x, "Int64", "offsets", 1, 8);
+    let mut offset = 0;
+    for tri in mesh.triangles {
+        offset += tri.len();
+        let _ = writeln!(x, "{offset}");
+    }
+    close_array(&mut x, 8);
+    open_array(&mut x, "UInt8", "types", 1, 8);
+    for tri in mesh.triangles {
+        let t = if tri.len() == 6 {
+            VTK_QUADRATIC_TRIANGLE
+        } else {
+            VTK_TRIANGLE
+        };
+        let _ = writeln!(x, "{t}");
+    }
+    close_array(&mut x, 8);
+    let _ = writeln!(x, "      </Cells>");
+    let _ = writeln!(x, "    </Piece>");
+    let _ = writeln!(x, "  </UnstructuredGrid>");
+    let _ = writeln!(x, "</VTKFile>");
+    x
+}
+
+fn open_array(x: &mut String, ty: &str, name: &str, components: usize, indent: usize) {
+    let _ = writeln!(
+        x,
+        r#"{:indent$}<DataArray type="{ty}" Name="{name}" NumberOfComponents="{components}" format="ascii">"#,
+        ""
+    );
+}
+
+fn close_array(x: &mut String, indent: usize) {
+    let _ = writeln!(x, "{:indent$}</DataArray>", "");
+}
