@@ -217,7 +217,12 @@ impl<const D: usize> Solver<D> {
             report.iterations += 1;
             residual = self.residual_norm();
             report.residual_history.push(residual);
-            tracing::trace!(iteration = report.iterations, residual, "ssn step");
+            tracing::trace!(
+                iteration = report.iterations,
+                residual,
+                backtracks = report.backtracks,
+                "ssn step"
+            );
         }
         report.residual = residual;
         report.seconds = start.elapsed().as_secs_f64();
@@ -270,8 +275,15 @@ impl<const D: usize> Solver<D> {
     /// `‖F‖∞` at the current iterate (NaN if any entry is).
     fn residual_norm(&self) -> f64 {
         self.lin.iter().fold(0.0, |m: f64, l| {
-            let a = l.residual.iter().fold(0.0, |m: f64, x| if x.is_nan() { f64::NAN } else { m.max(x.abs()) });
-            if a.is_nan() || m.is_nan() { f64::NAN } else { m.max(a) }
+            let a = l.residual.iter().fold(
+                0.0,
+                |m: f64, x| if x.is_nan() { f64::NAN } else { m.max(x.abs()) },
+            );
+            if a.is_nan() || m.is_nan() {
+                f64::NAN
+            } else {
+                m.max(a)
+            }
         })
     }
 

@@ -1,7 +1,12 @@
 //! `talus`: implicit elasto-plasticity of geomaterials by semi-smooth Newton.
 use std::process::ExitCode;
 
+use std::io::IsTerminal;
+use std::path::PathBuf;
+
 use clap::{Parser, Subcommand};
+use talus::run::{run_scene, RunOptions};
+use talus::scene::{builtin_footing, Scene};
 
 mod reduced;
 
@@ -18,6 +23,14 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Run a scene (default: the built-in paper footing, scenes/footing.toml).
+    Run {
+        /// Scene file (TOML). Without it, the built-in footing of the paper's Fig. 3.
+        scene: Option<PathBuf>,
+        /// Output folder: history.csv, vtu/, solution.pvd, PNG plots.
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+    },
     /// Solve one reduced problem `z = Wσ + q` in the Siconos plasticity format.
     Reduced(reduced::Args),
 }
@@ -32,7 +45,8 @@ fn main() -> ExitCode {
         .init();
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Reduced(args) => reduced::run(&args),
+        Command::Reduced(args) => reduced::run(&args).map_err(Into::into),
+        Command::Run { scene, out } => run(scene, out),
     };
     match result {
         Ok(code) => code,
@@ -41,4 +55,35 @@ fn main() -> ExitCode {
             ExitCode::from(1)
         }
     }
+}
+
+fn run(scene: Option<PathBuf>, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    let scene = match scene {
+        Some(path) => Scene::from_path(&path)?,
+        None => builtin_footing(),
+    };
+    let summary = run_scene(
+        &scene,
+        &RunOptions {
+            out_dir: out.clone(),
+            progress: true,
+            write_fields: true,
+        },
+    )?;
+    let iterations: Vec<usize> = summary
+        .records
+        .iter()
+        .map(|r| r.max_newton_iterations)
+        .collect();
+    let worst = iterations.iter().max().copied().unwrap_or(0);
+    let last = summary.records.last();
+    println!(
+        "{} steps in {:.2} s; Newton iterations per step at most {worst}; final reaction {:.4e} N/m at {:.4e} m; outputs in {}",
+        summary.records.len(),
+        summary.seconds,
+        last.map(|r| r.reaction_force).unwrap_or(0.0),
+        summary.displacements.last().copied().unwrap_or(0.0),
+        out.display()
+    );
+    Ok(ExitCode::SUCCESS)
 }

@@ -1,0 +1,4 @@
+pub mod output;
+pub mod run;
+pub mod scene;
+pub mod simulation;

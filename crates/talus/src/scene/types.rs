@@ -1,0 +1,159 @@
+use serde::Deserialize;
+use talus_bipotential::ConeFit;
+
+/// The whole scene. Optional sections cost nothing when left out: no gravity, no
+/// tractions, default solver settings and outputs.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneSpec {
+    #[serde(default)]
+    pub title: Option<String>,
+    pub mesh: MeshSpec,
+    pub material: MaterialSpec,
+    /// Body acceleration (m/s²), e.g. `[0.0, -9.81]`; absent means weightless.
+    #[serde(default)]
+    pub gravity: Option<[f64; 2]>,
+    #[serde(default)]
+    pub boundary: Vec<BoundarySpec>,
+    #[serde(default)]
+    pub traction: Vec<TractionSpec>,
+    pub time: TimeSpec,
+    #[serde(default)]
+    pub solver: SolverSpec,
+    #[serde(default)]
+    pub output: OutputSpec,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+pub enum Order {
+    P1,
+    P2,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+pub enum MeshSpec {
+    /// A structured rectangle, graded geometrically away from `focus` by `ratio` per cell.
+    Rectangle {
+        x: [f64; 2],
+        y: [f64; 2],
+        cells: [usize; 2],
+        order: Order,
+        #[serde(default)]
+        focus: Option<[f64; 2]>,
+        #[serde(default = "uniform")]
+        ratio: [f64; 2],
+    },
+    /// A Gmsh `.msh` 4.1 file, relative to the scene file.
+    Gmsh { path: String },
+}
+
+fn uniform() -> [f64; 2] {
+    [1.0, 1.0]
+}
+
+/// Drucker-Prager parameters (Pa, degrees) and the density (kg/m³).
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    pub young_modulus: f64,
+    pub poisson_ratio: f64,
+    pub friction_angle: f64,
+    pub cohesion: f64,
+    /// Default: associative (θ = φ).
+    #[serde(default)]
+    pub dilatancy_angle: Option<f64>,
+    pub cone_fit: ConeFit,
+    pub density: f64,
+}
+
+/// Nodes by the name of a mesh set or by an axis-aligned box `[[xmin, ymin], [xmax, ymax]]`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(untagged)]
+pub enum Selection {
+    Named(String),
+    Box {
+        #[serde(rename = "box")]
+        corners: [[f64; 2]; 2],
+    },
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Fix {
+    X,
+    Y,
+    Xy,
+}
+
+/// Dirichlet condition: the fixed components move at `velocity` (default 0, m/s).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoundarySpec {
+    #[serde(default)]
+    pub name: Option<String>,
+    pub nodes: Selection,
+    pub fix: Fix,
+    #[serde(default)]
+    pub velocity: [f64; 2],
+}
+
+/// Surface traction (Pa) on the boundary edges selected.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TractionSpec {
+    pub edges: Selection,
+    pub value: [f64; 2],
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimeSpec {
+    /// h, s.
+    pub step: f64,
+    pub steps: usize,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SolverSpec {
+    pub tolerance: f64,
+    pub max_iterations: usize,
+    pub rho_factor: f64,
+    /// Halvings of h allowed when a step does not converge.
+    pub max_step_halvings: usize,
+    /// Armijo backtracking on ‖F‖² (true) or full Newton steps.
+    pub line_search: bool,
+}
+
+impl Default for SolverSpec {
+    fn default() -> Self {
+        Self {
+            tolerance: 1e-12,
+            max_iterations: 50,
+            rho_factor: 10.0,
+            max_step_halvings: 4,
+            line_search: true,
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct OutputSpec {
+    /// The boundary (by `name`) whose reaction force and displacement go to history.csv.
+    pub reaction: Option<String>,
+    /// Write a VTU file every this many steps (0: only the last).
+    pub vtu_every: usize,
+    pub plots: bool,
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        Self {
+            reaction: None,
+            vtu_every: 10,
+            plots: true,
+        }
+    }
+}

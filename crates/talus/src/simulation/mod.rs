@@ -1,0 +1,9 @@
+//! Implicit time stepping of eqs. 15–16 on a finite-element model: each step is one
+//! reduced problem `z = Wσ + q` solved by `talus-ssn`, warm-started from the last step.
+mod model;
+mod state;
+mod stepper;
+
+pub use model::Model;
+pub use state::State;
+pub use stepper::{StepError, StepRecord, Stepper};

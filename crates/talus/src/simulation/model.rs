@@ -1,0 +1,236 @@
+use nalgebra::SMatrix;
+use talus_bipotential::{DruckerPrager, DruckerPragerParameters, FlowRule};
+use talus_fem::{Assembly, BoundaryEdge, Constraint, DofMap, ElementOrder, Mesh};
+
+use crate::scene::{Fix, MeshSpec, Order, Scene, SceneError, Selection};
+
+/// Everything fixed during a run: mesh, operators, material, loads, prescribed motion.
+pub struct Model {
+    pub mesh: Mesh,
+    pub assembly: Assembly,
+    pub material: DruckerPrager,
+    pub flow_rule: FlowRule<4>,
+    /// Elastic compliance `S₀` (1/Pa, Mandel).
+    pub compliance: SMatrix<f64, 4, 4>,
+    /// Constant external forces (gravity + tractions), N/m, on free and prescribed dofs.
+    pub force_free: Vec<f64>,
+    pub force_prescribed: Vec<f64>,
+    /// Velocity of every prescribed dof (m/s).
+    pub prescribed_velocity: Vec<f64>,
+    /// Prescribed dofs of the boundary whose reaction is reported, with their component.
+    pub reaction_dofs: Vec<(usize, usize)>,
+}
+
+impl Model {
+    pub fn from_scene(scene: &Scene) -> Result<Self, SceneError> {
+        let spec = &scene.spec;
+        let mesh = build_mesh(scene)?;
+        let m = &spec.material;
+        let material = DruckerPrager::try_new(DruckerPragerParameters {
+            young_modulus: m.young_modulus,
+            poisson_ratio: m.poisson_ratio,
+            friction_angle: m.friction_angle,
+            cohesion: m.cohesion,
+            dilatancy_angle: m.dilatancy_angle.unwrap_or(m.friction_angle),
+            cone_fit: m.cone_fit,
+        })
+        .map_err(|e| {
+            let talus_bipotential::MaterialError::InvalidParameter { name, .. } = &e;
+            let field = format!("material.{}", name.split('.').next().unwrap_or(name));
+            scene.error(&field, e.to_string())
+        })?;
+
+        let mut constraints = Vec::new();
+        for (k, b) in spec.boundary.iter().enumerate() {
+            let nodes = select_nodes(scene, &mesh, &b.nodes, &format!("boundary[{k}].nodes"))?;
+            let c = match b.fix {
+                Fix::X => Constraint::FixX,
+                Fix::Y => Constraint::FixY,
+                Fix::Xy => Constraint::Fixed,
+            };
+            if !b.velocity.iter().all(|v| v.is_finite()) {
+                return Err(scene.error(&format!("boundary[{k}].velocity"), "must be finite"));
+            }
+            constraints.push((nodes, c));
+        }
+        let dofs = DofMap::new(mesh.nodes.len(), &constraints)
+            .map_err(|e| scene.error("boundary", e.to_string()))?;
+        if dofs.n_free() == 0 {
+            return Err(scene.error("boundary", "every degree of freedom is prescribed"));
+        }
+        let assembly = Assembly::new(&mesh, &dofs, m.density)
+            .map_err(|e| scene.error("material.density", e.to_string()))?;
+
+        // Prescribed velocities: later conditions win where sets overlap.
+        let mut prescribed_velocity = vec![0.0; dofs.n_prescribed()];
+        let mut reaction_dofs = Vec::new();
+        for (b, (nodes, _)) in spec.boundary.iter().zip(&constraints) {
+            let is_reaction = b.name.is_some() && b.name == spec.output.reaction;
+            for &n in nodes {
+                for comp in 0..2 {
+                    let fixed = matches!((b.fix, comp), (Fix::Xy, _) | (Fix::X, 0) | (Fix::Y, 1));
+                    if let (true, Some(j)) = (fixed, dofs.prescribed(n, comp)) {
+                        prescribed_velocity[j] = b.velocity[comp];
+                        if is_reaction && !reaction_dofs.contains(&(j, comp)) {
+                            reaction_dofs.push((j, comp));
+                        }
+                    }
+                }
+            }
+        }
+        if let Some(name) = &spec.output.reaction {
+            if reaction_dofs.is_empty() {
+                return Err(scene.error(
+                    "output.reaction",
+                    format!("no boundary named `{name}` with fixed components"),
+                ));
+            }
+        }
+
+        let mut force_free = vec![0.0; dofs.n_free()];
+        let mut force_prescribed = vec![0.0; dofs.n_prescribed()];
+        if let Some(g) = spec.gravity {
+            let (ff, fp) = assembly
+                .body_force(m.density, g)
+                .map_err(|e| scene.error("gravity", e.to_string()))?;
+            add(&mut force_free, &ff);
+            add(&mut force_prescribed, &fp);
+        }
+        for (k, t) in spec.traction.iter().enumerate() {
+            let field = format!("traction[{k}].edges");
+            let edges = select_edges(scene, &mesh, &t.edges, &field)?;
+            let (ff, fp) = assembly
+                .traction(&mesh, &edges, t.value)
+                .map_err(|e| scene.error(&format!("traction[{k}].value"), e.to_string()))?;
+            add(&mut force_free, &ff);
+            add(&mut force_prescribed, &fp);
+        }
+        let ts = &spec.time;
+        if !(ts.step.is_finite() && ts.step > 0.0) {
+            return Err(scene.error("time.step", format!("{} s must be finite and > 0", ts.step)));
+        }
+        if ts.steps == 0 {
+            return Err(scene.error("time.steps", "must be at least 1"));
+        }
+        let sv = &spec.solver;
+        if !(sv.tolerance.is_finite() && sv.tolerance > 0.0) {
+            return Err(scene.error(
+                "solver.tolerance",
+                format!("{} must be finite and > 0", sv.tolerance),
+            ));
+        }
+        if !(sv.rho_factor.is_finite() && sv.rho_factor > 0.0) {
+            return Err(scene.error(
+                "solver.rho_factor",
+                format!("{} must be finite and > 0", sv.rho_factor),
+            ));
+        }
+        if sv.max_iterations == 0 {
+            return Err(scene.error("solver.max_iterations", "must be at least 1"));
+        }
+        Ok(Self {
+            compliance: material.compliance::<4>(),
+            flow_rule: material.flow_rule::<4>(),
+            material,
+            mesh,
+            assembly,
+            force_free,
+            force_prescribed,
+            prescribed_velocity,
+            reaction_dofs,
+        })
+    }
+
+    pub fn n_points(&self) -> usize {
+        self.assembly.n_points()
+    }
+}
+
+fn add(into: &mut [f64], from: &[f64]) {
+    for (a, b) in into.iter_mut().zip(from) {
+        *a += b;
+    }
+}
+
+fn build_mesh(scene: &Scene) -> Result<Mesh, SceneError> {
+    match &scene.spec.mesh {
+        MeshSpec::Rectangle {
+            x,
+            y,
+            cells,
+            order,
+            focus,
+            ratio,
+        } => {
+            let focus = focus.unwrap_or([x[0], y[0]]);
+            let xs = talus_fem::graded_coordinates(x[0], x[1], cells[0], focus[0], ratio[0])
+                .map_err(|e| scene.error("mesh.rectangle.x", e.to_string()))?;
+            let ys = talus_fem::graded_coordinates(y[0], y[1], cells[1], focus[1], ratio[1])
+                .map_err(|e| scene.error("mesh.rectangle.y", e.to_string()))?;
+            let order = match order {
+                Order::P1 => ElementOrder::P1,
+                Order::P2 => ElementOrder::P2,
+            };
+            Mesh::rectangle(&xs, &ys, order)
+                .map_err(|e| scene.error("mesh.rectangle", e.to_string()))
+        }
+        MeshSpec::Gmsh { path } => Mesh::from_msh(&scene.resolve(path))
+            .map_err(|e| scene.error("mesh.gmsh.path", e.to_string())),
+    }
+}
+
+fn select_nodes(
+    scene: &Scene,
+    mesh: &Mesh,
+    sel: &Selection,
+    field: &str,
+) -> Result<Vec<usize>, SceneError> {
+    let nodes = match sel {
+        Selection::Named(name) => mesh.node_sets.get(name).cloned().ok_or_else(|| {
+            scene.error(
+                field,
+                format!(
+                    "no node set named `{name}` (the mesh has: {})",
+                    names(mesh.node_sets.keys())
+                ),
+            )
+        })?,
+        Selection::Box { corners } => mesh
+            .nodes_in_box(corners[0], corners[1])
+            .map_err(|e| scene.error(field, e.to_string()))?,
+    };
+    if nodes.is_empty() {
+        return Err(scene.error(field, "selects no node"));
+    }
+    Ok(nodes)
+}
+
+fn select_edges(
+    scene: &Scene,
+    mesh: &Mesh,
+    sel: &Selection,
+    field: &str,
+) -> Result<Vec<BoundaryEdge>, SceneError> {
+    let edges = match sel {
+        Selection::Named(name) => mesh.edge_sets.get(name).cloned().ok_or_else(|| {
+            scene.error(
+                field,
+                format!(
+                    "no edge set named `{name}` (the mesh has: {})",
+                    names(mesh.edge_sets.keys())
+                ),
+            )
+        })?,
+        Selection::Box { corners } => mesh
+            .boundary_edges_in_box(corners[0], corners[1])
+            .map_err(|e| scene.error(field, e.to_string()))?,
+    };
+    if edges.is_empty() {
+        return Err(scene.error(field, "selects no boundary edge"));
+    }
+    Ok(edges)
+}
+
+fn names<'a>(keys: impl Iterator<Item = &'a String>) -> String {
+    keys.map(String::as_str).collect::<Vec<_>>().join(", ")
+}

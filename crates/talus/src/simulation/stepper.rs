@@ -1,0 +1,237 @@
+use std::time::Instant;
+
+use faer::sparse::SparseColMat;
+use talus_ssn::faer;
+use talus_ssn::{Operator, ReducedSystem, Report, Settings, SolveError, Solver, Structured};
+
+use super::{Model, State};
+
+/// What one step did (all its sub-steps together).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepRecord {
+    pub time: f64,
+    /// Sub-steps taken (1 unless the step was split after a failed solve).
+    pub substeps: usize,
+    /// Smallest sub-step used (s).
+    pub smallest_h: f64,
+    /// Newton iterations over all sub-steps.
+    pub newton_iterations: usize,
+    /// Largest iteration count of a single sub-step.
+    pub max_newton_iterations: usize,
+    /// Final `‖F‖∞` of the last sub-step.
+    pub residual: f64,
+    /// `‖F‖∞` per iteration, per sub-step.
+    pub residual_histories: Vec<Vec<f64>>,
+    /// Reaction on the reported boundary: the force it applies to the body, vertical,
+    /// positive downward, N per metre of thickness.
+    pub reaction_force: f64,
+    pub seconds: f64,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum StepError {
+    #[error("step to t = {time:.6} s did not converge even with h = {h:e} s ({halvings} halvings): {report_status} after {iterations} Newton iterations, residual {residual:.3e}")]
+    NotConverged {
+        time: f64,
+        h: f64,
+        halvings: usize,
+        report_status: talus_ssn::Status,
+        iterations: usize,
+        residual: f64,
+    },
+    #[error("solver setup: {0}")]
+    Solver(SolveError),
+}
+
+/// Advances a [`State`] step by step. One `Solver` (and one symbolic factorization) per
+/// distinct `h`, reused across steps: only `q` changes.
+pub struct Stepper<'m> {
+    model: &'m Model,
+    settings: Settings,
+    max_halvings: usize,
+    solvers: Vec<(f64, Solver<4>)>,
+}
+
+impl<'m> Stepper<'m> {
+    pub fn new(model: &'m Model, settings: Settings, max_halvings: usize) -> Self {
+        Self {
+            model,
+            settings,
+            max_halvings,
+            solvers: Vec::new(),
+        }
+    }
+
+    /// One step of `h`. A sub-step that does not converge is redone as two of half the
+    /// length, down to `h / 2^max_halvings`; past that the step fails and `state` is left
+    /// as it was before the failing sub-step.
+    pub fn advance(&mut self, state: &mut State, h: f64) -> Result<StepRecord, StepError> {
+        let start = Instant::now();
+        let mut record = StepRecord {
+            time: state.time,
+            substeps: 0,
+            smallest_h: h,
+            newton_iterations: 0,
+            max_newton_iterations: 0,
+            residual: 0.0,
+            residual_histories: Vec::new(),
+            reaction_force: 0.0,
+            seconds: 0.0,
+        };
+        self.advance_level(state, h, 0, &mut record)?;
+        record.time = state.time;
+        record.seconds = start.elapsed().as_secs_f64();
+        Ok(record)
+    }
+
+    fn advance_level(
+        &mut self,
+        state: &mut State,
+        h: f64,
+        level: usize,
+        record: &mut StepRecord,
+    ) -> Result<(), StepError> {
+        let mut trial = state.clone();
+        match self.substep(&mut trial, h) {
+            Ok((report, reaction)) => {
+                *state = trial;
+                record.substeps += 1;
+                record.smallest_h = record.smallest_h.min(h);
+                record.newton_iterations += report.iterations;
+                record.max_newton_iterations = record.max_newton_iterations.max(report.iterations);
+                record.residual = report.residual;
+                record.residual_histories.push(report.residual_history);
+                record.reaction_force = reaction;
+                Ok(())
+            }
+            Err(SolveError::NotConverged(report)) => {
+                if level >= self.max_halvings {
+                    return Err(StepError::NotConverged {
+                        time: state.time + h,
+                        h,
+                        halvings: level,
+                        report_status: report.status,
+                        iterations: report.iterations,
+                        residual: report.residual,
+                    });
+                }
+                tracing::warn!(time = state.time, h, status = %report.status, "step did not converge: halving h");
+                self.advance_level(state, 0.5 * h, level + 1, record)?;
+                self.advance_level(state, 0.5 * h, level + 1, record)
+            }
+            Err(e) => Err(StepError::Solver(e)),
+        }
+    }
+
+    fn solver(&mut self, h: f64) -> Result<&mut Solver<4>, SolveError> {
+        let pos = match self.solvers.iter().position(|(hh, _)| *hh == h) {
+            Some(p) => p,
+            None => {
+                let asm = &self.model.assembly;
+                let operator = Operator::Structured(Structured {
+                    compliance: asm.compliance_blocks(&self.model.compliance),
+                    b: asm.b_free.clone(),
+                    lumped_mass: asm.lumped_mass_free.clone(),
+                    h,
+                });
+                let rules = vec![self.model.flow_rule; asm.n_points()];
+                let system =
+                    ReducedSystem::try_new(operator, vec![0.0; 4 * asm.n_points()], rules)?;
+                self.solvers.push((h, Solver::new(system, self.settings)?));
+                self.solvers.len() - 1
+            }
+        };
+        Ok(&mut self.solvers[pos].1)
+    }
+
+    /// Eqs. 15–16 with `q = −(S σ_n + h B v_n + h² B M⁻¹ f + h B_D v_D)` (notes §4: `B v` is
+    /// the strain rate; prescribed velocities enter through `B_D`). Returns the report and
+    /// the reaction force.
+    fn substep(&mut self, state: &mut State, h: f64) -> Result<(Report, f64), SolveError> {
+        let model = self.model;
+        let asm = &model.assembly;
+        let n_sigma = 4 * asm.n_points();
+        let mut q = vec![0.0; n_sigma];
+        for (p, v) in asm.gauss_volumes.iter().enumerate() {
+            let s = model.compliance
+                * nalgebra::SVector::<f64, 4>::from_column_slice(&state.sigma[4 * p..4 * p + 4])
+                * *v;
+            for k in 0..4 {
+                q[4 * p + k] = -s[k];
+            }
+        }
+        let drive: Vec<f64> = state
+            .velocity_free
+            .iter()
+            .zip(&model.force_free)
+            .zip(&asm.lumped_mass_free)
+            .map(|((v, f), m)| h * v + h * h * f / m)
+            .collect();
+        mul_add(&asm.b_free, &drive, -1.0, &mut q);
+        mul_add(&asm.b_prescribed, &model.prescribed_velocity, -h, &mut q);
+
+        let solver = self.solver(h)?;
+        solver.set_q(q)?;
+        let mut sigma = state.sigma.clone();
+        let report = solver.solve(&mut sigma)?;
+        // z = Wσ + q is h·(−V ε̇ᵖ) per point: the plastic strain increment is ‖z_p‖ / V_p.
+        let z = solver.z();
+        for (p, v) in asm.gauss_volumes.iter().enumerate() {
+            let dz = (0..4)
+                .map(|k| z[4 * p + k] * z[4 * p + k])
+                .sum::<f64>()
+                .sqrt();
+            state.plastic_strain[p] += dz / v;
+        }
+        let mut internal_free = vec![0.0; asm.lumped_mass_free.len()];
+        let mut internal_prescribed = vec![0.0; asm.lumped_mass_prescribed.len()];
+        mul_transpose_add(&asm.b_free, &sigma, &mut internal_free);
+        mul_transpose_add(&asm.b_prescribed, &sigma, &mut internal_prescribed);
+        for (j, v) in state.velocity_free.iter_mut().enumerate() {
+            *v += h * (model.force_free[j] - internal_free[j]) / asm.lumped_mass_free[j];
+        }
+        // The force the boundary applies: M a + Bᵀσ − f on its prescribed dofs.
+        let mut reaction = 0.0;
+        for &(j, comp) in &model.reaction_dofs {
+            if comp == 1 {
+                let inertia = asm.lumped_mass_prescribed[j]
+                    * (model.prescribed_velocity[j] - state.velocity_prescribed[j])
+                    / h;
+                reaction -= inertia + internal_prescribed[j] - model.force_prescribed[j];
+            }
+        }
+        state
+            .velocity_prescribed
+            .copy_from_slice(&model.prescribed_velocity);
+        if let Ok(v) = asm
+            .dofs()
+            .scatter(&state.velocity_free, &state.velocity_prescribed)
+        {
+            for (u, vn) in state.displacement.iter_mut().zip(v) {
+                u[0] += h * vn[0];
+                u[1] += h * vn[1];
+            }
+        }
+        state.sigma = sigma;
+        state.time += h;
+        Ok((report, reaction))
+    }
+}
+
+/// `y += alpha · A x` for a CSC matrix.
+fn mul_add(a: &SparseColMat<usize, f64>, x: &[f64], alpha: f64, y: &mut [f64]) {
+    let (cp, ri, v) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
+    for (j, xj) in x.iter().enumerate() {
+        for k in cp[j]..cp[j + 1] {
+            y[ri[k]] += alpha * v[k] * xj;
+        }
+    }
+}
+
+/// `y += Aᵀ x` for a CSC matrix.
+fn mul_transpose_add(a: &SparseColMat<usize, f64>, x: &[f64], y: &mut [f64]) {
+    let (cp, ri, v) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
+    for (j, yj) in y.iter_mut().enumerate() {
+        *yj += (cp[j]..cp[j + 1]).map(|k| v[k] * x[ri[k]]).sum::<f64>();
+    }
+}
