@@ -36,10 +36,16 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    // On a terminal a progress bar reports the run; elsewhere (CI, files) step logs do.
+    let default_filter = if std::io::stderr().is_terminal() {
+        "warn"
+    } else {
+        "info"
+    };
     tracing_subscriber::fmt()
         .with_env_filter(
             tracing_subscriber::EnvFilter::try_from_env("TALUS_LOG")
-                .unwrap_or_else(|_| "warn".into()),
+                .unwrap_or_else(|_| default_filter.into()),
         )
         .with_writer(std::io::stderr)
         .init();

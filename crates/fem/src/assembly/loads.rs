@@ -1,0 +1,111 @@
+//! Consistent nodal forces `f` of eq. 12 (N per metre of thickness), split into free and
+//! prescribed dofs like the columns of `B`. Forces on prescribed dofs do not move the
+//! solution but enter the reaction (`paper-notes.md` §4).
+use super::Assembly;
+use crate::dofs::Dof;
+use crate::element::edge::shape_and_derivative;
+use crate::error::FemError;
+use crate::mesh::{BoundaryEdge, Mesh};
+use crate::quadrature::edge_rule;
+
+fn check_vector(field: &'static str, v: [f64; 2]) -> Result<(), FemError> {
+    if v.iter().all(|x| x.is_finite()) {
+        Ok(())
+    } else {
+        Err(FemError::invalid(field, format!("{v:?} must be finite")))
+    }
+}
+
+impl Assembly {
+    /// Body force `f_a = ∫ N_a ρ g dA` (gravity: `g = [0, −9.81]` m/s², y up), integrated
+    /// with the Gauss points (exact on affine triangles; on P2 the vertices get 0 and the
+    /// mid nodes ρgA/3, as consistency demands). `density` (kg/m³, ≥ 0) may differ from the
+    /// inertial one, e.g. 0 for weightless soil.
+    pub fn body_force(&self, density: f64, g: [f64; 2]) -> Result<(Vec<f64>, Vec<f64>), FemError> {
+        if !(density.is_finite() && density >= 0.0) {
+            return Err(FemError::invalid(
+                "density",
+                format!("{density} kg/m³ must be finite and ≥ 0"),
+            ));
+        }
+        check_vector("gravity", g)?;
+        let mut out = self.zero_forces();
+        for p in 0..self.gauss.len() {
+            let v = self.gauss.volumes[p];
+            for (node, n, _) in self.gauss.point(p) {
+                for (comp, gc) in g.iter().enumerate() {
+                    self.add_force(&mut out, node, comp, density * v * n * gc);
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// Traction `f_a = ∫ N_a t ds` over `edges` (nodes of `mesh`), `t` in Pa (N/m² in
+    /// global axes, e.g. `[0, −q]` for a downward pressure q on a top face): the force per
+    /// metre of thickness. 3-point Gauss-Legendre per edge: exact on straight edges (P2
+    /// weights 1/6, 1/6, 2/3 of `|t|·L` for end, end, mid node).
+    pub fn traction(
+        &self,
+        mesh: &Mesh,
+        edges: &[BoundaryEdge],
+        t: [f64; 2],
+    ) -> Result<(Vec<f64>, Vec<f64>), FemError> {
+        check_vector("traction", t)?;
+        if mesh.nodes.len() != self.dofs.n_nodes() {
+            return Err(FemError::invalid(
+                "mesh",
+                format!(
+                    "has {} nodes, the assembly was built for {}",
+                    mesh.nodes.len(),
+                    self.dofs.n_nodes()
+                ),
+            ));
+        }
+        let npe = mesh.order.nodes_per_edge();
+        let (points, weights) = edge_rule();
+        let mut out = self.zero_forces();
+        for edge in edges {
+            if edge.nodes.len() != npe || edge.nodes.iter().any(|&n| n >= mesh.nodes.len()) {
+                return Err(FemError::invalid(
+                    "edges",
+                    format!(
+                        "edge {:?} must have {npe} nodes below {}",
+                        edge.nodes,
+                        mesh.nodes.len()
+                    ),
+                ));
+            }
+            for (s, w) in points.iter().zip(weights) {
+                let (n, dn) = shape_and_derivative(npe, *s);
+                let mut tangent = [0.0; 2];
+                for (a, &node) in edge.nodes.iter().enumerate() {
+                    tangent[0] += dn[a] * mesh.nodes[node][0];
+                    tangent[1] += dn[a] * mesh.nodes[node][1];
+                }
+                let ds = tangent[0].hypot(tangent[1]);
+                for (a, &node) in edge.nodes.iter().enumerate() {
+                    for (comp, tc) in t.iter().enumerate() {
+                        self.add_force(&mut out, node, comp, w * ds * n[a] * tc);
+                    }
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    fn zero_forces(&self) -> (Vec<f64>, Vec<f64>) {
+        (
+            vec![0.0; self.dofs.n_free()],
+            vec![0.0; self.dofs.n_prescribed()],
+        )
+    }
+
+    fn add_force(&self, out: &mut (Vec<f64>, Vec<f64>), node: usize, comp: usize, f: f64) {
+        match self.dofs.dof(node, comp) {
+            Some(Dof::Free(i)) => out.0[i] += f,
+            Some(Dof::Prescribed(j)) => out.1[j] += f,
+            None => {}
+        }
+    }
+}

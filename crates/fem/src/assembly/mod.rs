@@ -1,0 +1,152 @@
+//! Global operators of eq. 15–16 on a mesh: Gauss points and volumes, the strain
+//! operator `B` (free and prescribed columns), the lumped mass `M`, the compliance blocks
+//! `S`, and nodal loads. Units: SI, per metre of thickness (plane strain).
+mod gauss;
+mod loads;
+mod mass;
+mod strain_operator;
+
+use faer::sparse::SparseColMat;
+use nalgebra::{SMatrix, SVector};
+
+pub use strain_operator::MANDEL;
+
+use crate::dofs::{Dof, DofMap};
+use crate::error::FemError;
+use crate::mesh::Mesh;
+use gauss::GaussData;
+use strain_operator::{add_mul, add_mul_transpose, strain_operator};
+
+/// Everything the solver needs from the mesh (feeds `talus_ssn::Structured`:
+/// `b = b_free`, `lumped_mass = lumped_mass_free`, `compliance = compliance_blocks(S₀)`).
+#[derive(Debug, Clone)]
+pub struct Assembly {
+    /// Gauss point positions (m).
+    pub gauss_points: Vec<[f64; 2]>,
+    /// `V_p = w_p · det J · 1 m` (m³ per metre of thickness); `Σ V_p` = the mesh area.
+    pub gauss_volumes: Vec<f64>,
+    /// Triangle of each Gauss point.
+    pub gauss_element: Vec<usize>,
+    /// `(4·n_gp) × n_free`: row block p is `V_p · ε̇(x_p)` in Mandel form (xx, yy, zz = 0,
+    /// √2 xy), one column per free velocity dof.
+    pub b_free: SparseColMat<usize, f64>,
+    /// `(4·n_gp) × n_prescribed`: the same rows for the prescribed dofs.
+    pub b_prescribed: SparseColMat<usize, f64>,
+    /// Lumped mass per free dof (kg/m), all > 0.
+    pub lumped_mass_free: Vec<f64>,
+    /// Lumped mass per prescribed dof (kg/m).
+    pub lumped_mass_prescribed: Vec<f64>,
+    dofs: DofMap,
+    gauss: GaussData,
+}
+
+impl Assembly {
+    /// Validates `mesh` (see [`Mesh::validate`]) and builds `B`, the Gauss volumes and the
+    /// lumped mass for mass density `density` (kg/m³, finite and > 0: `M⁻¹` must exist).
+    pub fn new(mesh: &Mesh, dofs: &DofMap, density: f64) -> Result<Self, FemError> {
+        if !(density.is_finite() && density > 0.0) {
+            return Err(FemError::invalid(
+                "density",
+                format!("{density} kg/m³ must be finite and > 0 (the lumped mass is inverted)"),
+            ));
+        }
+        if dofs.n_nodes() != mesh.nodes.len() {
+            return Err(FemError::invalid(
+                "dofs",
+                format!(
+                    "the dof map has {} nodes, the mesh {}",
+                    dofs.n_nodes(),
+                    mesh.nodes.len()
+                ),
+            ));
+        }
+        mesh.validate()?;
+        let gauss = GaussData::new(mesh)?;
+        let (b_free, b_prescribed) = strain_operator(&gauss, dofs)?;
+        let nodal = mass::nodal_masses(mesh, &gauss, density)?;
+        let mut lumped_mass_free = vec![0.0; dofs.n_free()];
+        let mut lumped_mass_prescribed = vec![0.0; dofs.n_prescribed()];
+        for (node, m) in nodal.iter().enumerate() {
+            for comp in 0..2 {
+                match dofs.dof(node, comp) {
+                    Some(Dof::Free(i)) => {
+                        if !(m.is_finite() && *m > 0.0) {
+                            return Err(FemError::invalid(
+                                "mesh",
+                                format!("node {node} has mass {m} (does it belong to a triangle?); its free dofs cannot be inverted"),
+                            ));
+                        }
+                        lumped_mass_free[i] = *m;
+                    }
+                    Some(Dof::Prescribed(j)) => lumped_mass_prescribed[j] = *m,
+                    None => {}
+                }
+            }
+        }
+        Ok(Self {
+            gauss_points: gauss.positions.clone(),
+            gauss_volumes: gauss.volumes.clone(),
+            gauss_element: gauss.elements.clone(),
+            b_free,
+            b_prescribed,
+            lumped_mass_free,
+            lumped_mass_prescribed,
+            dofs: dofs.clone(),
+            gauss,
+        })
+    }
+
+    /// Number of Gauss points.
+    pub fn n_points(&self) -> usize {
+        self.gauss_volumes.len()
+    }
+
+    /// The dof map the operators were built with.
+    pub fn dofs(&self) -> &DofMap {
+        &self.dofs
+    }
+
+    /// Compliance blocks `S_p = V_p · S₀` (S₀ in 1/Pa, Mandel), the `S` of eq. 15 with the
+    /// volume weighting that keeps `W` symmetric.
+    pub fn compliance_blocks(&self, s0: &SMatrix<f64, 4, 4>) -> Vec<SMatrix<f64, 4, 4>> {
+        self.gauss_volumes.iter().map(|v| s0 * *v).collect()
+    }
+
+    /// Strain (or strain rate) at each Gauss point, Mandel `(xx, yy, zz, √2 xy)`, from a
+    /// nodal field given as free and prescribed values: `(B_f u_f + B_p u_p)_p / V_p`.
+    pub fn strain(
+        &self,
+        free: &[f64],
+        prescribed: &[f64],
+    ) -> Result<Vec<SVector<f64, 4>>, FemError> {
+        self.dofs.check_lengths(free, prescribed)?;
+        let mut bu = vec![0.0; MANDEL * self.n_points()];
+        add_mul(&self.b_free, free, &mut bu);
+        add_mul(&self.b_prescribed, prescribed, &mut bu);
+        Ok(bu
+            .chunks_exact(MANDEL)
+            .zip(&self.gauss_volumes)
+            .map(|(e, v)| SVector::from_column_slice(e) / *v)
+            .collect())
+    }
+
+    /// Internal force `Bᵀσ` (N/m) on free and prescribed dofs for Mandel stresses `σ`
+    /// (Pa, flat, 4 per Gauss point). On prescribed dofs it is the reaction's main part.
+    pub fn internal_force(&self, sigma: &[f64]) -> Result<(Vec<f64>, Vec<f64>), FemError> {
+        if sigma.len() != MANDEL * self.n_points() {
+            return Err(FemError::invalid(
+                "sigma",
+                format!(
+                    "{} values for {} Gauss points × 4",
+                    sigma.len(),
+                    self.n_points()
+                ),
+            ));
+        }
+        let mut free = vec![0.0; self.dofs.n_free()];
+        let mut prescribed = vec![0.0; self.dofs.n_prescribed()];
+        add_mul_transpose(&self.b_free, sigma, &mut free);
+        add_mul_transpose(&self.b_prescribed, sigma, &mut prescribed);
+        Ok((free, prescribed))
+    }
+}

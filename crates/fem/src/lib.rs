@@ -1,0 +1,25 @@
+//! Plane-strain finite elements for Talus (thickness 1 m, SI units, tension positive):
+//! P1 / P2 triangle meshes (structured or Gmsh), Dirichlet dof maps, and the operators of
+//! Guillet et al. (2024), eq. 11–16: the volume-weighted strain operator `B` (Mandel rows),
+//! the lumped mass `M`, the compliance blocks `S` and the nodal loads `f`.
+//!
+//! ```
+//! use talus_fem::{Assembly, Constraint, DofMap, ElementOrder, Mesh};
+//! let mesh = Mesh::rectangle(&[0.0, 1.0, 2.0], &[0.0, 1.0], ElementOrder::P2)?;
+//! let dofs = DofMap::new(mesh.nodes.len(), &[(mesh.node_sets["bottom"].clone(), Constraint::Fixed)])?;
+//! let asm = Assembly::new(&mesh, &dofs, 2000.0)?;
+//! assert_eq!(asm.b_free.nrows(), 4 * asm.n_points());
+//! # Ok::<(), talus_fem::FemError>(())
+//! ```
+pub mod assembly;
+pub mod dofs;
+pub mod element;
+mod error;
+pub mod mesh;
+pub mod quadrature;
+
+pub use assembly::Assembly;
+pub use dofs::{Constraint, Dof, DofMap};
+pub use element::ElementOrder;
+pub use error::{FemError, MeshError};
+pub use mesh::{graded_coordinates, BoundaryEdge, Mesh};

@@ -1,0 +1,101 @@
+//! Consistency and quality checks: every triangle has the right node count, refers to
+//! existing nodes with finite coordinates, and has `det J > 0` at its vertices and at
+//! every stiffness quadrature point (a P2 triangle with a misplaced mid node can fold
+//! over inside while its vertices stay counter-clockwise).
+use super::Mesh;
+use crate::element::jacobian_determinant;
+use crate::error::MeshError;
+use crate::quadrature::stiffness_rule;
+
+impl Mesh {
+    /// Checks the whole mesh; errors name the first bad triangle (by index) or set.
+    pub fn validate(&self) -> Result<(), MeshError> {
+        self.validate_labelled(&|e| format!("triangle {e}"))
+    }
+
+    /// Same, naming triangles through `label` (e.g. by their Gmsh tag).
+    pub(crate) fn validate_labelled(
+        &self,
+        label: &dyn Fn(usize) -> String,
+    ) -> Result<(), MeshError> {
+        if let Some((i, p)) = self
+            .nodes
+            .iter()
+            .enumerate()
+            .find(|(_, p)| !(p[0].is_finite() && p[1].is_finite()))
+        {
+            return Err(MeshError::invalid(
+                "nodes",
+                format!("node {i} has non-finite coordinates {p:?}"),
+            ));
+        }
+        if self.triangles.is_empty() {
+            return Err(MeshError::invalid("triangles", "the mesh has no triangles"));
+        }
+        let npe = self.order.nodes_per_triangle();
+        let rule = stiffness_rule(self.order);
+        let vertices = &self.order.reference_nodes()[..3];
+        for (e, tri) in self.triangles.iter().enumerate() {
+            if tri.len() != npe {
+                return Err(MeshError::element(
+                    label(e),
+                    format!(
+                        "has {} nodes, a {:?} triangle has {npe}",
+                        tri.len(),
+                        self.order
+                    ),
+                ));
+            }
+            if let Some(&n) = tri.iter().find(|&&n| n >= self.nodes.len()) {
+                return Err(MeshError::element(
+                    label(e),
+                    format!(
+                        "refers to node {n}, the mesh has {} nodes",
+                        self.nodes.len()
+                    ),
+                ));
+            }
+            let coords = self.triangle_coordinates(e);
+            for xi in vertices.iter().chain(rule.points) {
+                let det = jacobian_determinant(self.order, &coords, *xi);
+                if !(det.is_finite() && det > 0.0) {
+                    return Err(MeshError::element(
+                        label(e),
+                        format!(
+                            "is inverted or degenerate: det J = {det:e} at reference point {xi:?} \
+                             (nodes must be counter-clockwise)"
+                        ),
+                    ));
+                }
+            }
+        }
+        let npe_edge = self.order.nodes_per_edge();
+        for (name, edges) in &self.edge_sets {
+            for edge in edges {
+                if edge.nodes.len() != npe_edge || edge.nodes.iter().any(|&n| n >= self.nodes.len())
+                {
+                    return Err(MeshError::invalid(
+                        "edge_sets",
+                        format!(
+                            "edge set \"{name}\": edge {:?} must have {npe_edge} nodes below {}",
+                            edge.nodes,
+                            self.nodes.len()
+                        ),
+                    ));
+                }
+            }
+        }
+        for (name, nodes) in &self.node_sets {
+            if let Some(n) = nodes.iter().find(|&&n| n >= self.nodes.len()) {
+                return Err(MeshError::invalid(
+                    "node_sets",
+                    format!(
+                        "node set \"{name}\" refers to node {n}, the mesh has {} nodes",
+                        self.nodes.len()
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+}

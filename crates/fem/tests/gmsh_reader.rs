@@ -1,0 +1,299 @@
+//! Gmsh `.msh` 4.1 reader on small hand-written files.
+//!
+//! ```text
+//!  P1 (Tri3)                 P2 (Tri6)
+//!  4-----------3             4-----7-----3
+//!  | \   e4  / |             |       ⁄   |
+//!  |  \     /  |             8     9     6
+//!  |e5  5     e3             |  ⁄        |
+//!  |  /     \  |             1-----5-----2
+//!  | /  e2   \ |
+//!  1-----------2       "bottom" = edge 1–2 (dim 1), "domain" = the square (dim 2)
+//! ```
+use talus_fem::{Assembly, DofMap, ElementOrder, Mesh, MeshError};
+
+const HEADER: &str = "$MeshFormat
+4.1 0 8
+$EndMeshFormat
+$PhysicalNames
+3
+0 3 \"corner\"
+1 1 \"bottom\"
+2 2 \"domain\"
+$EndPhysicalNames
+$Entities
+4 4 1 0
+1 0 0 0 0
+2 1 0 0 1 3
+3 1 1 0 0
+4 0 1 0 0
+1 0 0 0 1 0 0 1 1 2 1 -2
+2 1 0 0 1 1 0 0 2 2 -3
+3 0 1 0 1 1 0 0 2 3 -4
+4 0 0 0 0 1 0 0 2 4 -1
+1 0 0 0 1 1 0 1 2 4 1 2 3 4
+$EndEntities
+";
+
+fn p1_file(triangles: &str) -> String {
+    format!(
+        "{HEADER}$Nodes
+1 5 1 5
+2 1 0 5
+1
+2
+3
+4
+5
+0 0 0
+1 0 0
+1 1 0
+0 1 0
+0.5 0.5 0
+$EndNodes
+$Elements
+3 6 1 6
+0 2 15 1
+6 2
+1 1 1 1
+1 1 2
+2 1 2 4
+{triangles}$EndElements
+"
+    )
+}
+
+const P1_TRIANGLES: &str = "2 1 2 5
+3 2 3 5
+4 3 4 5
+5 4 1 5
+";
+
+fn p2_file() -> String {
+    format!(
+        "{HEADER}$Nodes
+1 9 1 9
+2 1 0 9
+1
+2
+3
+4
+5
+6
+7
+8
+9
+0 0 0
+1 0 0
+1 1 0
+0 1 0
+0.5 0 0
+1 0.5 0
+0.5 1 0
+0 0.5 0
+0.5 0.5 0
+$EndNodes
+$Elements
+2 3 1 3
+1 1 8 1
+1 1 2 5
+2 1 9 2
+2 1 2 3 5 6 9
+3 1 3 4 9 7 8
+$EndElements
+"
+    )
+}
+
+#[test]
+fn gmsh_tri3_square_gives_p1_mesh_with_named_sets() {
+    let mesh = Mesh::from_msh_bytes(p1_file(P1_TRIANGLES).as_bytes()).unwrap();
+    assert_eq!(mesh.order, ElementOrder::P1);
+    assert_eq!(mesh.nodes.len(), 5);
+    assert_eq!(mesh.nodes[4], [0.5, 0.5]);
+    assert_eq!(
+        mesh.triangles,
+        vec![vec![0, 1, 4], vec![1, 2, 4], vec![2, 3, 4], vec![3, 0, 4]]
+    );
+    assert_eq!(mesh.node_sets["bottom"], vec![0, 1]);
+    assert_eq!(mesh.node_sets["corner"], vec![1]);
+    assert_eq!(mesh.edge_sets["bottom"].len(), 1);
+    assert_eq!(mesh.edge_sets["bottom"][0].nodes, vec![0, 1]);
+    assert!(!mesh.node_sets.contains_key("domain"));
+    let dofs = DofMap::new(mesh.nodes.len(), &[]).unwrap();
+    let asm = Assembly::new(&mesh, &dofs, 1.0).unwrap();
+    assert!((asm.gauss_volumes.iter().sum::<f64>() - 1.0).abs() < 1e-15);
+}
+
+#[test]
+fn gmsh_tri6_square_gives_p2_mesh() {
+    let mesh = Mesh::from_msh_bytes(p2_file().as_bytes()).unwrap();
+    assert_eq!(mesh.order, ElementOrder::P2);
+    assert_eq!(mesh.nodes.len(), 9);
+    assert_eq!(mesh.triangles[1], vec![0, 2, 3, 8, 6, 7]);
+    assert_eq!(mesh.edge_sets["bottom"][0].nodes, vec![0, 1, 4]);
+    assert_eq!(mesh.node_sets["bottom"], vec![0, 1, 4]);
+    let dofs = DofMap::new(mesh.nodes.len(), &[]).unwrap();
+    let asm = Assembly::new(&mesh, &dofs, 1.0).unwrap();
+    assert!((asm.gauss_volumes.iter().sum::<f64>() - 1.0).abs() < 1e-15);
+}
+
+#[test]
+fn gmsh_file_on_disk() {
+    let path = std::env::temp_dir().join(format!("talus_fem_square_{}.msh", std::process::id()));
+    std::fs::write(&path, p1_file(P1_TRIANGLES)).unwrap();
+    let mesh = Mesh::from_msh(&path);
+    std::fs::remove_file(&path).ok();
+    assert_eq!(mesh.unwrap().triangles.len(), 4);
+    let missing = Mesh::from_msh(std::path::Path::new("/nonexistent/square.msh")).unwrap_err();
+    assert!(matches!(missing, MeshError::Io { .. }), "{missing}");
+}
+
+#[test]
+fn gmsh_inverted_element_is_named_by_tag() {
+    // element 4 listed clockwise
+    let tris = P1_TRIANGLES.replace("4 3 4 5", "4 4 3 5");
+    let err = Mesh::from_msh_bytes(p1_file(&tris).as_bytes()).unwrap_err();
+    assert!(err.to_string().contains("Gmsh element 4"), "{err}");
+    assert!(err.to_string().contains("inverted"), "{err}");
+    // zero area: node 5 moved onto the edge 1–2
+    let flat = p1_file(P1_TRIANGLES).replace("0.5 0.5 0\n", "0.5 0 0\n");
+    let err = Mesh::from_msh_bytes(flat.as_bytes()).unwrap_err();
+    assert!(err.to_string().contains("Gmsh element 2"), "{err}");
+}
+
+#[test]
+fn gmsh_missing_node_is_named() {
+    let tris = P1_TRIANGLES.replace("3 2 3 5", "3 2 3 7");
+    let err = Mesh::from_msh_bytes(p1_file(&tris).as_bytes()).unwrap_err();
+    assert!(
+        err.to_string().contains("Gmsh element 3") && err.to_string().contains("node 7"),
+        "{err}"
+    );
+}
+
+#[test]
+fn gmsh_mixed_orders_are_rejected() {
+    // a Tri6 block after the Tri3 block (reusing nodes; only the type matters)
+    let text = p1_file(P1_TRIANGLES)
+        .replace("3 6 1 6", "4 7 1 7")
+        .replace("$EndElements", "2 1 9 1\n7 1 2 3 4 5 1\n$EndElements");
+    let err = Mesh::from_msh_bytes(text.as_bytes()).unwrap_err();
+    assert!(err.to_string().contains("mixed"), "{err}");
+    assert!(err.to_string().contains("Gmsh element 7"), "{err}");
+}
+
+#[test]
+fn gmsh_truncated_file_is_an_error_not_a_panic() {
+    let text = p1_file(P1_TRIANGLES);
+    let bytes = text.as_bytes();
+    // every prefix that cuts into the last section
+    for len in 0..bytes.len() - 1 {
+        let r = Mesh::from_msh_bytes(&bytes[..len]);
+        assert!(r.is_err(), "prefix of {len} bytes parsed");
+    }
+    let err = Mesh::from_msh_bytes(&bytes[..bytes.len() / 2]).unwrap_err();
+    assert!(matches!(err, MeshError::Msh { .. }), "{err}");
+}
+
+#[test]
+fn gmsh_bad_headers_are_errors() {
+    for text in [
+        "",
+        "hello",
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n",
+        "$MeshFormat\n4.1 7 8\n$EndMeshFormat\n",
+        "$MeshFormat\n4.1 0 3\n$EndMeshFormat\n",
+        "$MeshFormat\n4.1 0\n$EndMeshFormat\n",
+        "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n",
+    ] {
+        assert!(Mesh::from_msh_bytes(text.as_bytes()).is_err(), "{text:?}");
+    }
+    let z = p1_file(P1_TRIANGLES).replace("0.5 0.5 0\n", "0.5 0.5 0.25\n");
+    let err = Mesh::from_msh_bytes(z.as_bytes()).unwrap_err();
+    assert!(err.to_string().contains("z = 0.25"), "{err}");
+}
+
+/// The same P1 square in binary (little-endian, 8-byte size_t), built here field by field
+/// following the Gmsh 4.1 binary layout; `$PhysicalNames` stays ASCII.
+#[test]
+fn gmsh_binary_square_matches_ascii() {
+    let mut b: Vec<u8> = Vec::new();
+    let st = |b: &mut Vec<u8>, v: u64| b.extend_from_slice(&v.to_le_bytes());
+    let int = |b: &mut Vec<u8>, v: i32| b.extend_from_slice(&v.to_le_bytes());
+    let dbl = |b: &mut Vec<u8>, v: f64| b.extend_from_slice(&v.to_le_bytes());
+    b.extend_from_slice(b"$MeshFormat\n4.1 1 8\n");
+    int(&mut b, 1);
+    b.extend_from_slice(
+        b"\n$EndMeshFormat\n$PhysicalNames\n1\n1 1 \"bottom\"\n$EndPhysicalNames\n",
+    );
+    b.extend_from_slice(b"$Entities\n");
+    for n in [0u64, 1, 1, 0] {
+        st(&mut b, n);
+    }
+    // curve 1: bbox, one physical tag (1), two bounding points
+    int(&mut b, 1);
+    for v in [0.0, 0.0, 0.0, 1.0, 0.0, 0.0] {
+        dbl(&mut b, v);
+    }
+    st(&mut b, 1);
+    int(&mut b, 1);
+    st(&mut b, 2);
+    int(&mut b, 1);
+    int(&mut b, -2);
+    // surface 1: bbox, no physical tag, one bounding curve
+    int(&mut b, 1);
+    for v in [0.0, 0.0, 0.0, 1.0, 1.0, 0.0] {
+        dbl(&mut b, v);
+    }
+    st(&mut b, 0);
+    st(&mut b, 1);
+    int(&mut b, 1);
+    b.extend_from_slice(b"\n$EndEntities\n$Nodes\n");
+    for v in [1u64, 5, 1, 5] {
+        st(&mut b, v);
+    }
+    int(&mut b, 2);
+    int(&mut b, 1);
+    int(&mut b, 0);
+    st(&mut b, 5);
+    for t in 1..=5u64 {
+        st(&mut b, t);
+    }
+    for p in [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.5]] {
+        dbl(&mut b, p[0]);
+        dbl(&mut b, p[1]);
+        dbl(&mut b, 0.0);
+    }
+    b.extend_from_slice(b"\n$EndNodes\n$Elements\n");
+    for v in [2u64, 5, 1, 5] {
+        st(&mut b, v);
+    }
+    int(&mut b, 1);
+    int(&mut b, 1);
+    int(&mut b, 1); // Lin2
+    st(&mut b, 1);
+    for v in [1u64, 1, 2] {
+        st(&mut b, v);
+    }
+    int(&mut b, 2);
+    int(&mut b, 1);
+    int(&mut b, 2); // Tri3
+    st(&mut b, 4);
+    for tri in [[2u64, 1, 2, 5], [3, 2, 3, 5], [4, 3, 4, 5], [5, 4, 1, 5]] {
+        for v in tri {
+            st(&mut b, v);
+        }
+    }
+    b.extend_from_slice(b"\n$EndElements\n");
+
+    let binary = Mesh::from_msh_bytes(&b).unwrap();
+    let ascii = Mesh::from_msh_bytes(p1_file(P1_TRIANGLES).as_bytes()).unwrap();
+    assert_eq!(binary.nodes, ascii.nodes);
+    assert_eq!(binary.triangles, ascii.triangles);
+    assert_eq!(binary.edge_sets["bottom"], ascii.edge_sets["bottom"]);
+    // a truncated binary file is an error too
+    for len in [b.len() / 3, b.len() / 2, b.len() - 20] {
+        assert!(Mesh::from_msh_bytes(&b[..len]).is_err());
+    }
+}
