@@ -5,6 +5,10 @@ pub enum Rho {
     /// `ρ_i = factor / max_{k ∈ point i} W_kk`: normalised per point (notes §4), so graded
     /// meshes and particle volumes spanning decades get comparable steps.
     PerPointDiagonal { factor: f64 },
+    /// `ρ_i = factor / max diag S_i` for a structured `W = S + h² B M⁻¹ Bᵀ`: the scale of a
+    /// return mapping (factor 1 gives `ρ_i = 2G / V_i` for isotropic elasticity), so the
+    /// first Newton step predicts the plastic points as an elastic predictor would.
+    PerPointCompliance { factor: f64 },
     /// `ρ = factor / max_k W_kk`, one value for every point.
     GlobalDiagonal { factor: f64 },
     /// The value given, for every point.

@@ -28,6 +28,7 @@ pub struct Solver<const D: usize> {
     settings: Settings,
     blocks: Option<PointBlocks<D>>,
     rho: Vec<f64>,
+    residual_rho: Vec<f64>,
     dense: Option<DenseSystem>,
     stress_sized: Option<StressSizedSystem>,
     schur: Option<SchurSystem<D>>,
@@ -41,6 +42,11 @@ pub struct Solver<const D: usize> {
     check: Vec<f64>,
     scratch: Vec<f64>,
 }
+
+/// The ρ of the stopping test, whatever ρ the iteration uses: `F_ρ(σ) = 0` for one ρ > 0
+/// iff for all, but the size of `F_ρ` scales with ρ, so measuring with a fixed convention
+/// keeps the tolerance meaning the same when the iteration's ρ is tuned.
+const RESIDUAL_RHO: Rho = Rho::PerPointDiagonal { factor: 1.0 };
 
 /// Dense Newton matrices up to this size; sparse beyond.
 const DENSE_LIMIT: usize = 600;
@@ -56,9 +62,10 @@ fn validate(settings: &Settings) -> Result<(), SolveError> {
         return Err(invalid("settings.max_iterations", "must be at least 1"));
     }
     let rho = match settings.rho {
-        Rho::PerPointDiagonal { factor } | Rho::GlobalDiagonal { factor } | Rho::Fixed(factor) => {
-            factor
-        }
+        Rho::PerPointDiagonal { factor }
+        | Rho::PerPointCompliance { factor }
+        | Rho::GlobalDiagonal { factor }
+        | Rho::Fixed(factor) => factor,
     };
     if !(rho.is_finite() && rho > 0.0) {
         return Err(invalid(
@@ -84,7 +91,8 @@ impl<const D: usize> Solver<D> {
         let n = problem.operator.size();
         let n_points = problem.n_points();
         let diagonal = problem.operator.diagonal();
-        let rho = choose_rho::<D>(&settings.rho, &diagonal)?;
+        let rho = choose_rho::<D>(&settings.rho, &diagonal, &problem.operator)?;
+        let residual_rho = choose_rho::<D>(&RESIDUAL_RHO, &diagonal, &problem.operator)?;
         let blocks = match &problem.operator {
             Operator::Structured(s) => Some(PointBlocks::new(&s.b, n_points)),
             _ => None,
@@ -93,6 +101,7 @@ impl<const D: usize> Solver<D> {
             settings,
             blocks,
             rho,
+            residual_rho,
             dense: None,
             stress_sized: None,
             schur: None,
@@ -139,9 +148,14 @@ impl<const D: usize> Solver<D> {
         &self.settings
     }
 
-    /// ρ of every point.
+    /// ρ of every point, as used by the Newton iteration.
     pub fn rho(&self) -> &[f64] {
         &self.rho
+    }
+
+    /// ρ of every point in the stopping test: `1 / max diag W_i` (the point's block).
+    pub fn residual_rho(&self) -> &[f64] {
+        &self.residual_rho
     }
 
     /// Replaces `q`, keeping the operator, its analysis and ρ.
@@ -152,6 +166,23 @@ impl<const D: usize> Solver<D> {
     /// `z = Wσ + q` at the last iterate of the last solve.
     pub fn z(&self) -> &[f64] {
         &self.z
+    }
+
+    /// `‖F‖∞` at `sigma` with the stopping test's ρ, without iterating: to choose between
+    /// starting points.
+    pub fn residual_at(&mut self, sigma: &[f64]) -> Result<f64, SolveError> {
+        if sigma.len() != self.problem.operator.size() {
+            return Err(invalid(
+                "sigma",
+                format!(
+                    "length {} for an operator of size {}",
+                    sigma.len(),
+                    self.problem.operator.size()
+                ),
+            ));
+        }
+        self.evaluate(sigma, false);
+        Ok(self.residual_norm(sigma))
     }
 
     /// Solves from `sigma` (or from 0 without warm start) and leaves the last iterate in it.
@@ -188,7 +219,7 @@ impl<const D: usize> Solver<D> {
                 .fold((f64::INFINITY, 0.0), |(lo, hi), &r| (lo.min(r), hi.max(r))),
         };
         let mut merit = self.evaluate(sigma, false);
-        let mut residual = self.residual_norm();
+        let mut residual = self.residual_norm(sigma);
         report.residual_history.push(residual);
         loop {
             if !residual.is_finite() {
@@ -207,7 +238,7 @@ impl<const D: usize> Solver<D> {
                 report.status = status;
                 break;
             }
-            match self.line_search(sigma, merit, &mut report) {
+            match self.line_search(sigma, merit, residual, &mut report) {
                 Some(m) => merit = m,
                 None => {
                     report.status = Status::LineSearchFailed;
@@ -215,7 +246,18 @@ impl<const D: usize> Solver<D> {
                 }
             }
             report.iterations += 1;
-            residual = self.residual_norm();
+            residual = self.residual_norm(sigma);
+            if tracing::enabled!(tracing::Level::TRACE) {
+                let count = |r: talus_bipotential::Region| {
+                    self.lin.iter().filter(|l| l.region == r).count()
+                };
+                tracing::trace!(
+                    interior = count(talus_bipotential::Region::Interior),
+                    boundary = count(talus_bipotential::Region::Boundary),
+                    polar = count(talus_bipotential::Region::Polar),
+                    "regions"
+                );
+            }
             report.residual_history.push(residual);
             tracing::trace!(
                 iteration = report.iterations,
@@ -226,7 +268,14 @@ impl<const D: usize> Solver<D> {
         }
         report.residual = residual;
         report.seconds = start.elapsed().as_secs_f64();
-        tracing::debug!(status = %report.status, iterations = report.iterations, residual, "ssn solve");
+        tracing::debug!(
+            status = %report.status,
+            iterations = report.iterations,
+            residual,
+            sigma_inf = inf_norm(sigma),
+            backtracks = report.backtracks,
+            "ssn solve"
+        );
         if report.is_converged() {
             Ok(report)
         } else {
@@ -273,18 +322,27 @@ impl<const D: usize> Solver<D> {
     }
 
     /// `‖F‖∞` at the current iterate (NaN if any entry is).
-    fn residual_norm(&self) -> f64 {
-        self.lin.iter().fold(0.0, |m: f64, l| {
-            let a = l.residual.iter().fold(
-                0.0,
-                |m: f64, x| if x.is_nan() { f64::NAN } else { m.max(x.abs()) },
+    fn residual_norm(&self, sigma: &[f64]) -> f64 {
+        self.residual_norm_with(sigma, &self.z)
+    }
+
+    fn residual_norm_with(&self, sigma: &[f64], z: &[f64]) -> f64 {
+        let rules = &self.problem.rules;
+        let mut worst: f64 = 0.0;
+        for (i, rule) in rules.iter().enumerate() {
+            let f = rule.natural_map_residual(
+                &block::<D>(sigma, i),
+                &block::<D>(z, i),
+                self.residual_rho[i],
             );
-            if a.is_nan() || m.is_nan() {
-                f64::NAN
-            } else {
-                m.max(a)
+            for x in f.iter() {
+                if x.is_nan() {
+                    return f64::NAN;
+                }
+                worst = worst.max(x.abs());
             }
-        })
+        }
+        worst
     }
 
     /// Solves `J_F d = −F` into `self.direction`.
@@ -371,7 +429,13 @@ impl<const D: usize> Solver<D> {
 
     /// Armijo backtracking on `‖F‖²` along `self.direction`; moves `sigma` and returns the
     /// new merit, or `None` when no step length is accepted.
-    fn line_search(&mut self, sigma: &mut [f64], merit: f64, report: &mut Report) -> Option<f64> {
+    fn line_search(
+        &mut self,
+        sigma: &mut [f64],
+        merit: f64,
+        measured: f64,
+        report: &mut Report,
+    ) -> Option<f64> {
         let ls = self.settings.line_search;
         let mut t = 1.0;
         let mut backtracks = 0;
@@ -384,7 +448,15 @@ impl<const D: usize> Solver<D> {
             self.trial_sigma = trial;
             let accept = match ls {
                 None => trial_merit.is_finite(),
-                Some(ls) => trial_merit <= (1.0 - 2.0 * ls.armijo * t) * merit,
+                // The full step is also taken when the stopping test's residual decreases
+                // enough: near the solution the merit of a large ρ sits at its round-off
+                // floor and would only admit useless tiny steps.
+                Some(ls) => {
+                    trial_merit <= (1.0 - 2.0 * ls.armijo * t) * merit
+                        || (backtracks == 0
+                            && self.residual_norm_with(&self.trial_sigma, &self.trial_z)
+                                <= (1.0 - ls.armijo) * measured)
+                }
             };
             if accept {
                 sigma.copy_from_slice(&self.trial_sigma);
@@ -400,10 +472,79 @@ impl<const D: usize> Solver<D> {
                 }
                 _ => {
                     report.backtracks += backtracks;
-                    return None;
+                    return self.accept_full_step_if_measured_progress(sigma);
                 }
             }
         }
+    }
+}
+
+impl<const D: usize> Solver<D> {
+    /// Near the solution `‖F_ρ‖²` with the iteration's (large) ρ reaches its round-off floor
+    /// before the stopping test's residual does: then the full Newton step is taken if it
+    /// lowers the latter.
+    fn accept_full_step_if_measured_progress(&mut self, sigma: &mut [f64]) -> Option<f64> {
+        let current = self.residual_norm(sigma);
+        let mut trial = std::mem::take(&mut self.trial_sigma);
+        for ((x, s), d) in trial.iter_mut().zip(sigma.iter()).zip(&self.direction) {
+            *x = s + d;
+        }
+        let merit = self.evaluate(&trial, true);
+        let full = self.residual_norm_with(&trial, &self.trial_z);
+        self.trial_sigma = trial;
+        if full < current {
+            sigma.copy_from_slice(&self.trial_sigma);
+            std::mem::swap(&mut self.z, &mut self.trial_z);
+            std::mem::swap(&mut self.lin, &mut self.trial_lin);
+            Some(merit)
+        } else {
+            None
+        }
+    }
+
+    /// Moves `sigma` to the solution of the purely elastic problem `Wσ + q = 0`: one Newton
+    /// step with every point treated as interior (`D = I`). From there the next
+    /// linearization sees the return mapping of the elastic trial, the classical elastic
+    /// predictor. Fails like a Newton step when `W` is singular.
+    pub fn elastic_predictor(&mut self, sigma: &mut [f64]) -> Result<(), SolveError> {
+        let n = self.problem.operator.size();
+        if sigma.len() != n {
+            return Err(invalid(
+                "sigma",
+                format!("length {} for an operator of size {n}", sigma.len()),
+            ));
+        }
+        self.evaluate(sigma, false);
+        for l in self.lin.iter_mut() {
+            // Interior everywhere: F = ρ z, D = I, G = I.
+            l.projection_jacobian = nalgebra::SMatrix::identity();
+            l.coupling = nalgebra::SMatrix::identity();
+            l.region = talus_bipotential::Region::Interior;
+        }
+        for (i, l) in self.lin.iter_mut().enumerate() {
+            l.residual = block::<D>(&self.z, i) * self.rho[i];
+        }
+        let mut report = Report {
+            status: Status::Converged,
+            iterations: 0,
+            residual: 0.0,
+            residual_history: Vec::new(),
+            seconds: 0.0,
+            backtracks: 0,
+            schur_steps: 0,
+            stress_sized_steps: 0,
+            rho_range: (0.0, 0.0),
+        };
+        if let Err(status) = self.newton_direction(&mut report) {
+            return Err(SolveError::NotConverged(Box::new(Report {
+                status,
+                ..report
+            })));
+        }
+        for (s, d) in sigma.iter_mut().zip(&self.direction) {
+            *s += d;
+        }
+        Ok(())
     }
 }
 
@@ -414,7 +555,11 @@ fn inf_norm(v: &[f64]) -> f64 {
     )
 }
 
-fn choose_rho<const D: usize>(rule: &Rho, diagonal: &[f64]) -> Result<Vec<f64>, SolveError> {
+fn choose_rho<const D: usize>(
+    rule: &Rho,
+    diagonal: &[f64],
+    operator: &Operator<D>,
+) -> Result<Vec<f64>, SolveError> {
     let n_points = diagonal.len() / D;
     let point_max = |i: usize| {
         diagonal[D * i..D * i + D]
@@ -428,6 +573,19 @@ fn choose_rho<const D: usize>(rule: &Rho, diagonal: &[f64]) -> Result<Vec<f64>, 
             vec![factor / m; n_points]
         }
         Rho::PerPointDiagonal { factor } => (0..n_points).map(|i| factor / point_max(i)).collect(),
+        Rho::PerPointCompliance { factor } => match operator {
+            Operator::Structured(s) => s
+                .compliance
+                .iter()
+                .map(|c| factor / (0..D).fold(0.0f64, |m, k| m.max(c[(k, k)])))
+                .collect(),
+            _ => {
+                return Err(invalid(
+                    "settings.rho",
+                    "PerPointCompliance needs a structured operator",
+                ))
+            }
+        },
     };
     if let Some(i) = rho.iter().position(|r| !(r.is_finite() && *r > 0.0)) {
         return Err(invalid(

@@ -6,7 +6,7 @@ use std::time::Instant;
 use talus_ssn::{Rho, Settings};
 
 use crate::output::{self, FieldSnapshot, MeshView, OutputError};
-use crate::scene::{Scene, SceneError};
+use crate::scene::{RhoScaling, Scene, SceneError};
 use crate::simulation::{Model, State, StepError, StepRecord, Stepper};
 
 /// Column names of `history.csv`.
@@ -60,8 +60,13 @@ pub fn solver_settings(scene: &Scene) -> Settings {
     Settings {
         tolerance: s.tolerance,
         max_iterations: s.max_iterations,
-        rho: Rho::PerPointDiagonal {
-            factor: s.rho_factor,
+        rho: match s.rho_scaling {
+            RhoScaling::Compliance => Rho::PerPointCompliance {
+                factor: s.rho_factor,
+            },
+            RhoScaling::Diagonal => Rho::PerPointDiagonal {
+                factor: s.rho_factor,
+            },
         },
         line_search: if s.line_search {
             Settings::default().line_search
@@ -120,6 +125,12 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunE
         k_d = model.material.k_d(),
         "model built"
     );
+
+    if let Some(initial) = &scene.spec.initial_stress {
+        state.sigma = crate::simulation::k0_stress(scene, &model, initial)?;
+    }
+    let initial_reaction = stepper.reaction(&state);
+    writeln!(history, "0,0,0,0,{initial_reaction:.10e},0,0").map_err(io_err(&history_path))?;
 
     let vtu_dir = out.join("vtu");
     let mut pvd_entries = Vec::new();
@@ -188,7 +199,15 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunE
             output::write_pvd(&out.join("solution.pvd"), &pvd_entries)?;
         }
         if scene.spec.output.plots {
-            write_plots(scene, &model, &state, &records, &displacements, out)?;
+            write_plots(
+                scene,
+                &model,
+                &state,
+                &records,
+                &displacements,
+                initial_reaction,
+                out,
+            )?;
         }
     }
     if let Some(f) = failure {
@@ -258,6 +277,7 @@ fn write_plots(
     state: &State,
     records: &[StepRecord],
     displacements: &[f64],
+    initial_reaction: f64,
     out: &Path,
 ) -> Result<(), RunError> {
     let title = scene
@@ -266,7 +286,7 @@ fn write_plots(
         .clone()
         .unwrap_or_else(|| "talus run".into());
     if !model.reaction_dofs.is_empty() {
-        let mut curve = vec![(0.0, 0.0)];
+        let mut curve = vec![(0.0, initial_reaction)];
         curve.extend(
             displacements
                 .iter()

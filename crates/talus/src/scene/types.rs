@@ -18,6 +18,9 @@ pub struct SceneSpec {
     #[serde(default)]
     pub traction: Vec<TractionSpec>,
     pub time: TimeSpec,
+    /// Initial stress (default: stress free).
+    #[serde(default)]
+    pub initial_stress: Option<InitialStressSpec>,
     #[serde(default)]
     pub solver: SolverSpec,
     #[serde(default)]
@@ -114,12 +117,30 @@ pub struct TimeSpec {
     pub steps: usize,
 }
 
+/// The K₀ procedure of geotechnical practice for a horizontal ground surface:
+/// `σ_yy = −(surcharge + ρ g (surface − y))`, `σ_xx = σ_zz = K₀ σ_yy`, `σ_xy = 0`. It is in
+/// equilibrium with gravity and a uniform surcharge; it must lie inside the yield cone
+/// (Jaky's `K₀ = 1 − sin φ` does for Drucker-Prager fits of Mohr-Coulomb).
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialStressSpec {
+    pub k0: f64,
+    /// Height of the ground surface (m).
+    pub surface: f64,
+    /// Vertical pressure on the surface (Pa).
+    #[serde(default)]
+    pub surcharge: f64,
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SolverSpec {
     pub tolerance: f64,
     pub max_iterations: usize,
+    /// ρ_i = rho_factor / max diag S_i (`compliance`, the return-mapping scale) or
+    /// rho_factor / max diag W_i (`diagonal`).
     pub rho_factor: f64,
+    pub rho_scaling: RhoScaling,
     /// Halvings of h allowed when a step does not converge.
     pub max_step_halvings: usize,
     /// Armijo backtracking on ‖F‖² (true) or full Newton steps.
@@ -131,11 +152,19 @@ impl Default for SolverSpec {
         Self {
             tolerance: 1e-12,
             max_iterations: 50,
-            rho_factor: 10.0,
+            rho_factor: 0.3,
+            rho_scaling: RhoScaling::Compliance,
             max_step_halvings: 4,
             line_search: true,
         }
     }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RhoScaling {
+    Compliance,
+    Diagonal,
 }
 
 #[derive(Debug, Clone, PartialEq, Deserialize)]

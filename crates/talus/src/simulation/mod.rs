@@ -1,9 +1,11 @@
 //! Implicit time stepping of eqs. 15–16 on a finite-element model: each step is one
 //! reduced problem `z = Wσ + q` solved by `talus-ssn`, warm-started from the last step.
+mod initial_stress;
 mod model;
 mod state;
 mod stepper;
 
+pub use initial_stress::k0_stress;
 pub use model::Model;
 pub use state::State;
 pub use stepper::{StepError, StepRecord, Stepper};

@@ -43,6 +43,14 @@ pub enum StepError {
     Solver(SolveError),
 }
 
+/// Where a step's Newton iteration starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Predictor {
+    Extrapolated,
+    Elastic,
+    Previous,
+}
+
 /// Advances a [`State`] step by step. One `Solver` (and one symbolic factorization) per
 /// distinct `h`, reused across steps: only `q` changes.
 pub struct Stepper<'m> {
@@ -50,6 +58,11 @@ pub struct Stepper<'m> {
     settings: Settings,
     max_halvings: usize,
     solvers: Vec<(f64, Solver<4>)>,
+    /// `(σₙ − σₙ₋₁)/h` of the last sub-step: each solve starts from σₙ + h σ̇, which under
+    /// steady loading is second-order close to the answer (warm start).
+    stress_rate: Option<Vec<f64>>,
+    /// Velocity of the prescribed dofs.
+    prescribed_velocity: Vec<f64>,
 }
 
 impl<'m> Stepper<'m> {
@@ -59,7 +72,23 @@ impl<'m> Stepper<'m> {
             settings,
             max_halvings,
             solvers: Vec::new(),
+            stress_rate: None,
+            prescribed_velocity: model.prescribed_velocity.clone(),
         }
+    }
+
+    /// The reaction of the reported boundary in a state at rest (`M a = 0`): `Bᵀσ − f` on
+    /// its vertical prescribed dofs, positive downward (N/m).
+    pub fn reaction(&self, state: &State) -> f64 {
+        let asm = &self.model.assembly;
+        let mut internal = vec![0.0; asm.lumped_mass_prescribed.len()];
+        mul_transpose_add(&asm.b_prescribed, &state.sigma, &mut internal);
+        self.model
+            .reaction_dofs
+            .iter()
+            .filter(|(_, comp)| *comp == 1)
+            .map(|&(j, _)| -(internal[j] - self.model.force_prescribed[j]))
+            .sum()
     }
 
     /// One step of `h`. A sub-step that does not converge is redone as two of half the
@@ -144,9 +173,9 @@ impl<'m> Stepper<'m> {
         Ok(&mut self.solvers[pos].1)
     }
 
-    /// Eqs. 15–16 with `q = −(S σ_n + h B v_n + h² B M⁻¹ f + h B_D v_D)` (notes §4: `B v` is
-    /// the strain rate; prescribed velocities enter through `B_D`). Returns the report and
-    /// the reaction force.
+    /// Eqs. 15–16: `h z = Wσ + q` with `q = −(S σ_n + h B v_n + h² B M⁻¹ f + h B_D v_D)`
+    /// (notes §4: `B v` is the strain rate; prescribed velocities enter through `B_D`).
+    /// Returns the report and the reaction force.
     fn substep(&mut self, state: &mut State, h: f64) -> Result<(Report, f64), SolveError> {
         let model = self.model;
         let asm = &model.assembly;
@@ -168,11 +197,38 @@ impl<'m> Stepper<'m> {
             .map(|((v, f), m)| h * v + h * h * f / m)
             .collect();
         mul_add(&asm.b_free, &drive, -1.0, &mut q);
-        mul_add(&asm.b_prescribed, &model.prescribed_velocity, -h, &mut q);
+        mul_add(&asm.b_prescribed, &self.prescribed_velocity, -h, &mut q);
 
         let solver = self.solver(h)?;
         solver.set_q(q)?;
+        // Starting point: σₙ + h σ̇ when the last step's loading was smooth (steady flow is
+        // then predicted to second order); otherwise, out of rest or right after a jump in
+        // the prescribed velocity, the elastic predictor (one elastic solve).
+        let loading_jumps = state.velocity_prescribed != self.prescribed_velocity;
         let mut sigma = state.sigma.clone();
+        let rate = if loading_jumps {
+            None
+        } else {
+            self.stress_rate.take()
+        };
+        let solver = self.solver(h)?;
+        let predictor = match &rate {
+            Some(rate) => {
+                for (s, r) in sigma.iter_mut().zip(rate) {
+                    *s += h * r;
+                }
+                Predictor::Extrapolated
+            }
+            None => match solver.elastic_predictor(&mut sigma) {
+                Ok(()) => Predictor::Elastic,
+                Err(_) => {
+                    sigma.copy_from_slice(&state.sigma);
+                    Predictor::Previous
+                }
+            },
+        };
+        tracing::trace!(?predictor, "start of step");
+        let solver = self.solver(h)?;
         let report = solver.solve(&mut sigma)?;
         // z = Wσ + q is h·(−V ε̇ᵖ) per point: the plastic strain increment is ‖z_p‖ / V_p.
         let z = solver.z();
@@ -195,14 +251,14 @@ impl<'m> Stepper<'m> {
         for &(j, comp) in &model.reaction_dofs {
             if comp == 1 {
                 let inertia = asm.lumped_mass_prescribed[j]
-                    * (model.prescribed_velocity[j] - state.velocity_prescribed[j])
+                    * (self.prescribed_velocity[j] - state.velocity_prescribed[j])
                     / h;
                 reaction -= inertia + internal_prescribed[j] - model.force_prescribed[j];
             }
         }
         state
             .velocity_prescribed
-            .copy_from_slice(&model.prescribed_velocity);
+            .copy_from_slice(&self.prescribed_velocity);
         if let Ok(v) = asm
             .dofs()
             .scatter(&state.velocity_free, &state.velocity_prescribed)
@@ -212,6 +268,14 @@ impl<'m> Stepper<'m> {
                 u[1] += h * vn[1];
             }
         }
+        // A rate is worth extrapolating only if this step's loading was smooth.
+        self.stress_rate = (!loading_jumps).then(|| {
+            sigma
+                .iter()
+                .zip(&state.sigma)
+                .map(|(a, b)| (a - b) / h)
+                .collect()
+        });
         state.sigma = sigma;
         state.time += h;
         Ok((report, reaction))
