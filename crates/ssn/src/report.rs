@@ -39,6 +39,8 @@ pub struct Report {
     pub iterations: usize,
     /// Final `‖F‖∞`.
     pub residual: f64,
+    /// `max(1, ‖σ‖∞)` at the end: the stopping test is `residual ≤ tolerance · scale`.
+    pub scale: f64,
     /// `‖F‖∞` at the start and after every step.
     pub residual_history: Vec<f64>,
     /// Wall time of the solve, in seconds.

@@ -208,6 +208,7 @@ impl<const D: usize> Solver<D> {
             status: Status::MaxIterations,
             iterations: 0,
             residual: f64::NAN,
+            scale: 1.0,
             residual_history: Vec::new(),
             seconds: 0.0,
             backtracks: 0,
@@ -267,6 +268,7 @@ impl<const D: usize> Solver<D> {
             );
         }
         report.residual = residual;
+        report.scale = inf_norm(sigma).max(1.0);
         report.seconds = start.elapsed().as_secs_f64();
         tracing::debug!(
             status = %report.status,
@@ -528,6 +530,7 @@ impl<const D: usize> Solver<D> {
             status: Status::Converged,
             iterations: 0,
             residual: 0.0,
+            scale: 1.0,
             residual_history: Vec::new(),
             seconds: 0.0,
             backtracks: 0,

@@ -42,6 +42,10 @@ pub(crate) fn prepare(path: &Path) -> Result<(), OutputError> {
 
 /// Axis tick text without float noise (`0.30000000000000004` → `0.3`).
 pub(crate) fn tick(v: f64) -> String {
+    // Tick positions are computed in floating point: a zero comes out as ±1e-16.
+    if v.abs() < 1e-12 {
+        return "0".into();
+    }
     significant(v, 4)
 }
 

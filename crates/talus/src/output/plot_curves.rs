@@ -260,7 +260,7 @@ fn draw_newton_residuals(
         .light_line_style(GRID.mix(0.5))
         .bold_line_style(GRID)
         .x_desc("Newton iteration")
-        .y_desc("Residual norm ‖F‖")
+        .y_desc("relative residual ‖F‖∞ / max(1, ‖σ‖∞)")
         .axis_desc_style((FONT, 24))
         .label_style((FONT, 20))
         .x_labels((max_iter + 1).min(20) as usize)
@@ -305,9 +305,9 @@ fn draw_newton_residuals(
             WORST_RED.stroke_width(3),
         ))?
         .label(if histories.len() == 1 {
-            format!("step {step} ({} iterations)", h.len())
+            format!("step {step} ({} iterations)", h.len() - 1)
         } else {
-            format!("slowest: step {step} ({} iterations)", h.len())
+            format!("slowest: step {step} ({} iterations)", h.len() - 1)
         })
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 30, y)], WORST_RED.stroke_width(3)));
     chart.draw_series(

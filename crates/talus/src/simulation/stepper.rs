@@ -20,7 +20,8 @@ pub struct StepRecord {
     pub max_newton_iterations: usize,
     /// Final `‖F‖∞` of the last sub-step.
     pub residual: f64,
-    /// `‖F‖∞` per iteration, per sub-step.
+    /// `‖F‖∞ / max(1, ‖σ‖∞)` per iteration, per sub-step (the quantity compared with the
+    /// tolerance).
     pub residual_histories: Vec<Vec<f64>>,
     /// Reaction on the reported boundary: the force it applies to the body, vertical,
     /// positive downward, N per metre of thickness.
@@ -129,7 +130,13 @@ impl<'m> Stepper<'m> {
                 record.newton_iterations += report.iterations;
                 record.max_newton_iterations = record.max_newton_iterations.max(report.iterations);
                 record.residual = report.residual;
-                record.residual_histories.push(report.residual_history);
+                record.residual_histories.push(
+                    report
+                        .residual_history
+                        .iter()
+                        .map(|r| r / report.scale)
+                        .collect(),
+                );
                 record.reaction_force = reaction;
                 Ok(())
             }
