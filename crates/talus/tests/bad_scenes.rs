@@ -115,3 +115,15 @@ fn run_reports_a_non_convergent_step_and_keeps_the_history() {
     ));
     let _ = builtin_footing();
 }
+
+#[test]
+fn traction_box_cutting_a_boundary_edge_is_an_error() {
+    // 30 cells over [-1, 1]: no node at x = ±0.25, where the surcharge box ends.
+    let text = footing_with("cells = [32, 14]", "cells = [30, 14]");
+    let err = Model::from_scene(&Scene::parse(&text, None).unwrap())
+        .err()
+        .expect("rejected");
+    assert_eq!(err.field, "traction[0].edges");
+    assert!(err.to_string().contains("cuts the boundary edge"), "{err}");
+    assert_eq!(err.line, Some(line_of(&text, "edges = { box = [[-1.0")));
+}

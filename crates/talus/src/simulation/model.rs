@@ -221,14 +221,60 @@ fn select_edges(
                 ),
             )
         })?,
-        Selection::Box { corners } => mesh
-            .boundary_edges_in_box(corners[0], corners[1])
-            .map_err(|e| scene.error(field, e.to_string()))?,
+        Selection::Box { corners } => {
+            check_box_does_not_cut_edges(scene, mesh, corners, field)?;
+            mesh.boundary_edges_in_box(corners[0], corners[1])
+                .map_err(|e| scene.error(field, e.to_string()))?
+        }
     };
     if edges.is_empty() {
         return Err(scene.error(field, "selects no boundary edge"));
     }
     Ok(edges)
+}
+
+/// A traction box whose side falls inside a boundary edge loads part of the surface with no
+/// edge to carry it: an error, naming the edge, rather than a silently wrong load.
+fn check_box_does_not_cut_edges(
+    scene: &Scene,
+    mesh: &Mesh,
+    corners: &[[f64; 2]; 2],
+    field: &str,
+) -> Result<(), SceneError> {
+    let (lo, hi) = (corners[0], corners[1]);
+    let size = mesh
+        .nodes
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()))
+        .max(1.0);
+    let tol = 1e-9 * size;
+    let inside = |p: [f64; 2]| (0..2).all(|k| p[k] >= lo[k] - tol && p[k] <= hi[k] + tol);
+    let strictly = |p: [f64; 2]| {
+        (0..2).all(|k| p[k] > lo[k] + tol && p[k] < hi[k] - tol) || {
+            // On a degenerate (flat) box, "strictly" means strictly between its ends.
+            let flat: Vec<usize> = (0..2).filter(|&k| hi[k] - lo[k] <= 2.0 * tol).collect();
+            !flat.is_empty()
+                && (0..2)
+                    .filter(|k| !flat.contains(k))
+                    .all(|k| p[k] > lo[k] + tol && p[k] < hi[k] - tol)
+                && inside(p)
+        }
+    };
+    for edge in mesh.boundary_edges() {
+        let pts: Vec<[f64; 2]> = edge.nodes.iter().map(|&n| mesh.nodes[n]).collect();
+        let n_in = pts.iter().filter(|p| inside(**p)).count();
+        if n_in > 0 && n_in < pts.len() && pts.iter().any(|p| strictly(*p)) {
+            let (a, b) = (pts[0], pts[1]);
+            return Err(scene.error(
+                field,
+                format!(
+                    "the box cuts the boundary edge ({:.4}, {:.4})–({:.4}, {:.4}); put mesh nodes on the box's sides",
+                    a[0], a[1], b[0], b[1]
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn names<'a>(keys: impl Iterator<Item = &'a String>) -> String {
