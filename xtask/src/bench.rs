@@ -1,10 +1,28 @@
-//! `cargo xtask bench`: the divan benchmarks, then the figures of merit as ratios.
+//! `cargo xtask bench`: the divan benchmarks, then the figures of merit as ratios of medians
+//! measured in the same run.
 use std::path::Path;
 
 use crate::run_checked;
 
+/// Median of the divan row whose label contains `label`, in seconds.
+fn median_seconds(output: &str, label: &str) -> Option<f64> {
+    let line = output.lines().find(|l| l.contains(label))?;
+    // Columns: name+fastest │ slowest │ median │ mean │ samples │ iters.
+    let median = line.split('│').nth(2)?.trim();
+    let (value, unit) = median.split_once(' ')?;
+    let scale = match unit.trim() {
+        "ns" => 1e-9,
+        "µs" | "us" => 1e-6,
+        "ms" => 1e-3,
+        "s" => 1.0,
+        _ => return None,
+    };
+    value.parse::<f64>().ok().map(|v| v * scale)
+}
+
 pub fn run(root: &Path) -> Result<bool, String> {
     let mut ok = true;
+    let mut outputs = Vec::new();
     for (package, bench) in [("talus-cone", "projection"), ("talus-ssn", "footing")] {
         println!("== cargo bench -p {package} --bench {bench}");
         let out = run_checked(
@@ -12,10 +30,32 @@ pub fn run(root: &Path) -> Result<bool, String> {
             "cargo",
             &["bench", "-q", "-p", package, "--bench", bench],
         )?;
-        print!("{}", String::from_utf8_lossy(&out.stdout));
+        let text = String::from_utf8_lossy(&out.stdout).into_owned();
+        print!("{text}");
         if !out.status.success() {
             eprint!("{}", String::from_utf8_lossy(&out.stderr));
             ok = false;
+        }
+        outputs.push(text);
+    }
+    let ssn = &outputs[1];
+    println!("\nFigures of merit (ratios of medians, same run)");
+    let theta0 = median_seconds(ssn, "plasticity_2d_footing_100_theta0.dat");
+    for (label, name) in [
+        ("clarabel_theta0_tol_1e12", "Clarabel at 1e-12"),
+        ("clarabel_theta0_tol_1e8", "Clarabel at 1e-8"),
+    ] {
+        match (theta0, median_seconds(ssn, label)) {
+            (Some(a), Some(b)) => println!(
+                "ssn (1e-12) / {name} on footing_100_theta0: {:.3} ({:.2} ms / {:.2} ms)",
+                a / b,
+                a * 1e3,
+                b * 1e3
+            ),
+            _ => {
+                println!("ssn / {name}: median not found in the benchmark output");
+                ok = false;
+            }
         }
     }
     Ok(ok)
