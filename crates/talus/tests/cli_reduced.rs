@@ -1,0 +1,75 @@
+//! `talus reduced FILE --json --solution PATH` on a Siconos problem: the JSON keys, the
+//! exit status, and a solution file that satisfies the problem (checked here from the file).
+use std::process::Command;
+
+use talus_ssn::siconos::SiconosProblem;
+
+const FILE: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../data/siconos-plasticity/plasticity_2d_footing_10.dat"
+);
+
+#[test]
+fn reduced_prints_json_and_writes_the_solution() {
+    let out_path = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("footing_10.sol");
+    let out = Command::new(env!("CARGO_BIN_EXE_talus"))
+        .args(["reduced", FILE, "--json", "--tol", "1e-12", "--solution"])
+        .arg(&out_path)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["status"], "converged");
+    assert!(json["iterations"].as_u64().unwrap() >= 1);
+    assert!(
+        json["residual"].as_f64().unwrap() <= 1e-12 * json["sigma_inf"].as_f64().unwrap().max(1.0)
+    );
+    assert!(json["seconds"].as_f64().unwrap() > 0.0);
+
+    let problem = SiconosProblem::from_path(std::path::Path::new(FILE)).unwrap();
+    let sigma: Vec<f64> = std::fs::read_to_string(&out_path)
+        .unwrap()
+        .lines()
+        .map(|l| l.trim().parse().unwrap())
+        .collect();
+    assert_eq!(sigma.len(), problem.n());
+    // Each cone's stress is feasible, ‖σ_T‖ ≤ η σ_0, and some cone is loaded.
+    let talus_ssn::siconos::SiconosModel::DruckerPrager { eta, .. } = &problem.model else {
+        panic!()
+    };
+    let scale = sigma.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    assert!(scale > 0.0);
+    for (c, e) in eta.iter().enumerate() {
+        let s = &sigma[3 * c..3 * c + 3];
+        assert!((s[1] * s[1] + s[2] * s[2]).sqrt() <= e * s[0] + 1e-10 * scale);
+    }
+}
+
+#[test]
+fn reduced_reports_non_convergence_with_exit_code_2() {
+    let out = Command::new(env!("CARGO_BIN_EXE_talus"))
+        .args(["reduced", FILE, "--json", "--max-iterations", "1"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["status"], "max_iterations");
+}
+
+#[test]
+fn reduced_names_a_bad_file() {
+    let path = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bad.dat");
+    std::fs::write(&path, "3\n1\n1\n0\n3\n3\n3\t3\n1 2 x\n").unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_talus"))
+        .arg("reduced")
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("line 8"), "{err}");
+}
