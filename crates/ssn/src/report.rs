@@ -56,6 +56,22 @@ pub struct Report {
 }
 
 impl Report {
+    /// A report before any iteration.
+    pub(crate) fn start(rho_range: (f64, f64)) -> Self {
+        Self {
+            status: Status::MaxIterations,
+            iterations: 0,
+            residual: f64::NAN,
+            scale: 1.0,
+            residual_history: Vec::new(),
+            seconds: 0.0,
+            backtracks: 0,
+            schur_steps: 0,
+            stress_sized_steps: 0,
+            rho_range,
+        }
+    }
+
     pub fn is_converged(&self) -> bool {
         self.status == Status::Converged
     }

@@ -204,21 +204,11 @@ impl<const D: usize> Solver<D> {
                 format!("non-finite initial value {} at index {i}", sigma[i]),
             ));
         }
-        let mut report = Report {
-            status: Status::MaxIterations,
-            iterations: 0,
-            residual: f64::NAN,
-            scale: 1.0,
-            residual_history: Vec::new(),
-            seconds: 0.0,
-            backtracks: 0,
-            schur_steps: 0,
-            stress_sized_steps: 0,
-            rho_range: self
-                .rho
+        let mut report = Report::start(
+            self.rho
                 .iter()
                 .fold((f64::INFINITY, 0.0), |(lo, hi), &r| (lo.min(r), hi.max(r))),
-        };
+        );
         let mut merit = self.evaluate(sigma, false);
         let mut residual = self.residual_norm(sigma);
         report.residual_history.push(residual);
@@ -526,18 +516,7 @@ impl<const D: usize> Solver<D> {
         for (i, l) in self.lin.iter_mut().enumerate() {
             l.residual = block::<D>(&self.z, i) * self.rho[i];
         }
-        let mut report = Report {
-            status: Status::Converged,
-            iterations: 0,
-            residual: 0.0,
-            scale: 1.0,
-            residual_history: Vec::new(),
-            seconds: 0.0,
-            backtracks: 0,
-            schur_steps: 0,
-            stress_sized_steps: 0,
-            rho_range: (0.0, 0.0),
-        };
+        let mut report = Report::start((0.0, 0.0));
         if let Err(status) = self.newton_direction(&mut report) {
             return Err(SolveError::NotConverged(Box::new(Report {
                 status,

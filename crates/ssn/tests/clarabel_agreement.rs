@@ -14,12 +14,13 @@
 
 use std::path::PathBuf;
 
-use clarabel::algebra::CscMatrix;
-use clarabel::solver::{
-    DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
-};
+use clarabel::solver::{DefaultSolver, IPSolver, SolverStatus};
 use talus_ssn::siconos::{SiconosModel, SiconosProblem};
 use talus_ssn::{reduced_system_from_siconos, Settings, Solver};
+
+#[path = "common/clarabel_qp.rs"]
+mod clarabel_qp;
+use clarabel_qp::{clarabel_settings, qp};
 
 const FILE: &str = "plasticity_2d_footing_100_theta0.dat";
 
@@ -59,50 +60,11 @@ struct ClarabelResult {
     gap_rel: f64,
 }
 
-/// `min ½xᵀPx + qᵀx, Ax + s = b, s ∈ Π SOC(3)` with `P` = upper triangle of the symmetric
-/// part of `W`, `A_i = −diag(η_i, 1, 1)`, `b = 0`: `s_i = (η_i σ_i0, σ_i1, σ_i2)`, so
-/// `s_i ∈ SOC ⇔ ‖σ_iT‖ ≤ η_i σ_i0`.
 fn solve_clarabel(p: &SiconosProblem, tol: f64) -> ClarabelResult {
-    let n = p.n();
-    let d = p.cone_dimension;
-    assert_eq!(d, 3);
-    let eta = eta_of(p);
-
-    let mut colptr = vec![0usize];
-    let mut rowval = Vec::new();
-    let mut nzval = Vec::new();
-    for j in 0..n {
-        for i in 0..=j {
-            let v = 0.5 * (p.matrix_entry(i, j) + p.matrix_entry(j, i));
-            if v != 0.0 {
-                rowval.push(i);
-                nzval.push(v);
-            }
-        }
-        colptr.push(rowval.len());
-    }
-    let pm = CscMatrix::new(n, n, colptr, rowval, nzval);
-
-    let a_diag: Vec<f64> = (0..n)
-        .map(|k| if k % d == 0 { -eta[k / d] } else { -1.0 })
-        .collect();
-    let am = CscMatrix::new(n, n, (0..=n).collect(), (0..n).collect(), a_diag);
-    let b = vec![0.0; n];
-    let cones = vec![SupportedConeT::SecondOrderConeT(d); p.n_cones];
-
-    let mut builder = DefaultSettingsBuilder::default();
-    builder.verbose(false);
-    // 1e-8 is Clarabel's default for all three; otherwise set them, ktratio and max_iter
-    if tol != 1e-8 {
-        builder
-            .tol_gap_abs(tol)
-            .tol_gap_rel(tol)
-            .tol_feas(tol)
-            .tol_ktratio(1e-10)
-            .max_iter(200);
-    }
-    let settings = builder.build().unwrap();
-    let mut solver = DefaultSolver::new(&pm, &p.q, &am, &b, &cones, settings).unwrap();
+    let data = qp(p);
+    let settings = clarabel_settings((tol != 1e-8).then_some(tol));
+    let mut solver =
+        DefaultSolver::new(&data.p, &data.q, &data.a, &data.b, &data.cones, settings).unwrap();
     solver.solve();
     ClarabelResult {
         x: solver.solution.x.clone(),
