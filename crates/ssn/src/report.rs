@@ -43,6 +43,9 @@ pub struct Report {
     pub scale: f64,
     /// `‖F‖∞` at the start and after every step.
     pub residual_history: Vec<f64>,
+    /// `‖F_ρ‖₂` with the iteration's own ρ at the start and after every step: the map Newton
+    /// linearizes, so the one on which to observe its order of convergence.
+    pub merit_history: Vec<f64>,
     /// Wall time of the solve, in seconds.
     pub seconds: f64,
     /// Backtracks taken by the line search over the whole solve.
@@ -64,6 +67,7 @@ impl Report {
             residual: f64::NAN,
             scale: 1.0,
             residual_history: Vec::new(),
+            merit_history: Vec::new(),
             seconds: 0.0,
             backtracks: 0,
             schur_steps: 0,

@@ -31,6 +31,15 @@ enum Command {
         #[arg(long, default_value = "out")]
         out: PathBuf,
     },
+    /// Run the verification cases (closed forms, published values, independent solves).
+    Verify {
+        /// One JSON object per case and line (for `cargo xtask verify`).
+        #[arg(long)]
+        json: bool,
+        /// Skip the slow cases (P1 Prandtl runs, mesh refinement).
+        #[arg(long)]
+        quick: bool,
+    },
     /// Solve one reduced problem `z = Wσ + q` in the Siconos plasticity format.
     Reduced(reduced::Args),
 }
@@ -53,6 +62,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Reduced(args) => reduced::run(&args).map_err(Into::into),
         Command::Run { scene, out } => run(scene, out),
+        Command::Verify { json, quick } => verify(json, quick),
     };
     match result {
         Ok(code) => code,
@@ -92,4 +102,33 @@ fn run(scene: Option<PathBuf>, out: PathBuf) -> Result<ExitCode, Box<dyn std::er
         out.display()
     );
     Ok(ExitCode::SUCCESS)
+}
+
+fn verify(json: bool, quick: bool) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    let results = talus::verification::all_cases(quick);
+    let failed = results.iter().filter(|r| !r.passed()).count();
+    for r in &results {
+        if json {
+            let mut v = serde_json::to_value(r)?;
+            v["error"] = serde_json::json!(r.error());
+            v["passed"] = serde_json::json!(r.passed());
+            println!("{v}");
+        } else {
+            println!(
+                "{:<44} {:>12.6e} {:>12.6e} {:>9.2e} {:>8.1e} {:<5} {:>7.2}",
+                r.case,
+                r.reference,
+                r.computed,
+                r.error(),
+                r.tolerance,
+                if r.passed() { "pass" } else { "FAIL" },
+                r.seconds
+            );
+        }
+    }
+    Ok(if failed == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
 }

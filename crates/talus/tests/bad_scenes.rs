@@ -127,3 +127,31 @@ fn traction_box_cutting_a_boundary_edge_is_an_error() {
     assert!(err.to_string().contains("cuts the boundary edge"), "{err}");
     assert_eq!(err.line, Some(line_of(&text, "edges = { box = [[-1.0")));
 }
+
+#[test]
+fn k0_outside_the_cone_reports_the_admissible_interval() {
+    // φ = 45°, c = 0: Jaky's K₀ = 1 − sin φ = 0.293 lies outside the plane-strain cone.
+    let text = footing_with("friction_angle = 27.0", "friction_angle = 45.0")
+        .replacen("cohesion = 2.0e3", "cohesion = 0.0", 1)
+        .replacen("dilatancy_angle = 14.2906", "dilatancy_angle = 10.0", 1)
+        .replacen("k0 = 0.546", "k0 = 0.2929", 1);
+    let scene = Scene::parse(&text, None).unwrap();
+    let model = Model::from_scene(&scene).unwrap();
+    let (lo, hi) = talus::simulation::k0_bounds_without_cohesion(&model);
+    assert!(lo > 0.2929 && lo < hi, "bounds {lo} {hi}");
+    let err =
+        talus::simulation::k0_stress(&scene, &model, scene.spec.initial_stress.as_ref().unwrap())
+            .unwrap_err();
+    assert_eq!(err.field, "initial_stress.k0");
+    assert!(err.to_string().contains(&format!("{lo:.4} ≤ K₀")), "{err}");
+    // Just inside the interval the K0 state is accepted, just outside it is not.
+    for (k0, ok) in [(lo * 1.001, true), (lo * 0.999, false), (hi * 0.999, true)] {
+        let mut spec = *scene.spec.initial_stress.as_ref().unwrap();
+        spec.k0 = k0;
+        assert_eq!(
+            talus::simulation::k0_stress(&scene, &model, &spec).is_ok(),
+            ok,
+            "K0 = {k0}"
+        );
+    }
+}

@@ -119,8 +119,9 @@ pub struct TimeSpec {
 
 /// The K₀ procedure of geotechnical practice for a horizontal ground surface:
 /// `σ_yy = −(surcharge + ρ g (surface − y))`, `σ_xx = σ_zz = K₀ σ_yy`, `σ_xy = 0`. It is in
-/// equilibrium with gravity and a uniform surcharge; it must lie inside the yield cone
-/// (Jaky's `K₀ = 1 − sin φ` does for Drucker-Prager fits of Mohr-Coulomb).
+/// equilibrium with gravity and a uniform surcharge; it must lie inside the yield cone, which
+/// without cohesion admits `(a − t)/(a + 2t) ≤ K₀ ≤ (a + t)/(a − 2t)`, `a = √(2/3)/k_d`,
+/// `t = tan φ / 3` (Jaky's `1 − sin φ` is inside up to φ ≈ 36° with the plane-strain fit).
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct InitialStressSpec {

@@ -41,10 +41,12 @@ pub fn k0_stress(
             nalgebra::SVector::<f64, 4>::new(spec.k0 * vertical, vertical, spec.k0 * vertical, 0.0);
         let f = model.material.yield_function(&s);
         if f > 1e-9 * s.norm().max(model.material.parameters().cohesion) {
+            let (lo, hi) = k0_bounds_without_cohesion(model);
             return Err(scene.error(
                 "initial_stress.k0",
                 format!(
-                    "K₀ = {} puts the point at depth {depth:.3} m outside the yield cone (f = {f:.3e} Pa); Jaky's 1 − sin φ = {:.3}",
+                    "K₀ = {} puts the point at depth {depth:.3} m outside the yield cone (f = {f:.3e} Pa); \
+                     without cohesion the cone admits {lo:.4} ≤ K₀ ≤ {hi:.4} (Jaky's 1 − sin φ = {:.4})",
                     spec.k0,
                     1.0 - model.material.parameters().friction_angle.to_radians().sin()
                 ),
@@ -53,4 +55,27 @@ pub fn k0_stress(
         sigma[4 * p..4 * p + 4].copy_from_slice(s.as_slice());
     }
     Ok(sigma)
+}
+
+/// The K₀ for which `(−K₀ s, −s, −K₀ s)` lies in the cone for every depth when c = 0:
+/// `|1 − K₀| √(2/3) / k_d ≤ tan φ (1 + 2K₀) / 3` (cohesion only widens the interval).
+/// Jaky's `1 − sin φ` falls below it for φ ≳ 36° with the plane-strain fit, because the fit
+/// matches Mohr-Coulomb in plastic flow, not in this stress state.
+pub fn k0_bounds_without_cohesion(model: &Model) -> (f64, f64) {
+    let a = (2.0f64 / 3.0).sqrt() / model.material.k_d();
+    let t = model
+        .material
+        .parameters()
+        .friction_angle
+        .to_radians()
+        .tan()
+        / 3.0;
+    // K₀ ≤ 1: a (1 − K₀) ≤ t (1 + 2K₀); K₀ ≥ 1: a (K₀ − 1) ≤ t (1 + 2K₀).
+    let lo = (a - t) / (a + 2.0 * t);
+    let hi = if a > 2.0 * t {
+        (a + t) / (a - 2.0 * t)
+    } else {
+        f64::INFINITY
+    };
+    (lo.max(0.0), hi)
 }

@@ -23,6 +23,8 @@ pub struct StepRecord {
     /// `‖F‖∞ / max(1, ‖σ‖∞)` per iteration, per sub-step (the quantity compared with the
     /// tolerance).
     pub residual_histories: Vec<Vec<f64>>,
+    /// `‖F_ρ‖₂ / max(1, ‖σ‖∞)` with the iteration's ρ, per iteration, per sub-step.
+    pub merit_histories: Vec<Vec<f64>>,
     /// Reaction on the reported boundary: the force it applies to the body, vertical,
     /// positive downward, N per metre of thickness.
     pub reaction_force: f64,
@@ -105,6 +107,7 @@ impl<'m> Stepper<'m> {
             max_newton_iterations: 0,
             residual: 0.0,
             residual_histories: Vec::new(),
+            merit_histories: Vec::new(),
             reaction_force: 0.0,
             seconds: 0.0,
         };
@@ -130,6 +133,13 @@ impl<'m> Stepper<'m> {
                 record.newton_iterations += report.iterations;
                 record.max_newton_iterations = record.max_newton_iterations.max(report.iterations);
                 record.residual = report.residual;
+                record.merit_histories.push(
+                    report
+                        .merit_history
+                        .iter()
+                        .map(|r| r / report.scale)
+                        .collect(),
+                );
                 record.residual_histories.push(
                     report
                         .residual_history

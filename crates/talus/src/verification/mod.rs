@@ -1,0 +1,86 @@
+//! Verification cases: each reproduces a closed form, a published value or an independent
+//! computation, and reports `(case, quantity, reference, computed, tolerance)`. Run by
+//! `talus verify` (and so by `cargo xtask verify`); the integration tests assert the same
+//! cases pass.
+mod convergence_order;
+mod elastic;
+mod material_point;
+mod prandtl;
+
+use std::time::Instant;
+
+pub use convergence_order::newton_convergence_order;
+pub use elastic::{elastic_patch_test, elastic_step_identity};
+pub use material_point::{apex_return, associative_normality, dilatancy_ratio};
+pub use prandtl::{prandtl, prandtl_refinement, PrandtlRun};
+
+/// One verified quantity.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct CaseResult {
+    pub case: String,
+    pub quantity: String,
+    pub reference: f64,
+    pub computed: f64,
+    /// Bound on `error()`.
+    pub tolerance: f64,
+    pub check: Check,
+    pub seconds: f64,
+    /// Where the reference comes from.
+    pub source: String,
+}
+
+/// How `computed` is compared with `reference`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Check {
+    /// `|computed − reference| / |reference| ≤ tolerance`.
+    Relative,
+    /// `|computed − reference| ≤ tolerance` (zero references).
+    Absolute,
+    /// `computed ≥ reference − tolerance` (one-sided: more is fine).
+    AtLeast,
+    /// `computed ≤ reference + tolerance` (one-sided: less is fine).
+    AtMost,
+}
+
+impl CaseResult {
+    /// The error compared with the tolerance (0 on the good side of a one-sided check).
+    pub fn error(&self) -> f64 {
+        let d = self.computed - self.reference;
+        match self.check {
+            Check::Relative => d.abs() / self.reference.abs(),
+            Check::Absolute => d.abs(),
+            Check::AtLeast => (-d).max(0.0) + if d.is_nan() { f64::NAN } else { 0.0 },
+            Check::AtMost => d.max(0.0) + if d.is_nan() { f64::NAN } else { 0.0 },
+        }
+    }
+
+    /// Passes when the error is within tolerance (a NaN never passes).
+    pub fn passed(&self) -> bool {
+        self.error() <= self.tolerance
+    }
+}
+
+/// Times `f` and stamps the seconds on every result it returns.
+pub(crate) fn timed(f: impl FnOnce() -> Vec<CaseResult>) -> Vec<CaseResult> {
+    let start = Instant::now();
+    let mut results = f();
+    let seconds = start.elapsed().as_secs_f64();
+    for r in &mut results {
+        r.seconds = seconds;
+    }
+    results
+}
+
+/// Every case; `quick` keeps the coarser Prandtl meshes only.
+pub fn all_cases(quick: bool) -> Vec<CaseResult> {
+    let mut out = Vec::new();
+    out.extend(timed(dilatancy_ratio));
+    out.extend(timed(apex_return));
+    out.extend(timed(associative_normality));
+    out.extend(timed(elastic_patch_test));
+    out.extend(timed(elastic_step_identity));
+    out.extend(prandtl::all_prandtl_cases(quick));
+    out.extend(timed(newton_convergence_order));
+    out
+}
