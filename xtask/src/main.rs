@@ -9,10 +9,10 @@ mod verify;
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
-        Some("verify") => verify::run(&workspace_root()),
+        Some("verify") => verify::run(&workspace_root(), args.iter().any(|a| a == "--quick")),
         Some("bench") => bench::run(&workspace_root()),
         _ => {
-            eprintln!("usage: cargo xtask <verify|bench>");
+            eprintln!("usage: cargo xtask <verify [--quick]|bench>");
             return ExitCode::from(2);
         }
     };
