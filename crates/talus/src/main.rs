@@ -39,6 +39,9 @@ enum Command {
         /// Skip the slow cases (P1 Prandtl runs, mesh refinement).
         #[arg(long)]
         quick: bool,
+        /// Write the cases' PNG figures into this folder.
+        #[arg(long)]
+        figures: Option<PathBuf>,
     },
     /// Solve one reduced problem `z = Wσ + q` in the Siconos plasticity format.
     Reduced(reduced::Args),
@@ -62,7 +65,11 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Reduced(args) => reduced::run(&args).map_err(Into::into),
         Command::Run { scene, out } => run(scene, out),
-        Command::Verify { json, quick } => verify(json, quick),
+        Command::Verify {
+            json,
+            quick,
+            figures,
+        } => verify(json, quick, figures),
     };
     match result {
         Ok(code) => code,
@@ -104,8 +111,15 @@ fn run(scene: Option<PathBuf>, out: PathBuf) -> Result<ExitCode, Box<dyn std::er
     Ok(ExitCode::SUCCESS)
 }
 
-fn verify(json: bool, quick: bool) -> Result<ExitCode, Box<dyn std::error::Error>> {
-    let results = talus::verification::all_cases(quick);
+fn verify(
+    json: bool,
+    quick: bool,
+    figures: Option<PathBuf>,
+) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    if let Some(dir) = &figures {
+        std::fs::create_dir_all(dir)?;
+    }
+    let results = talus::verification::all_cases(quick, figures.as_deref());
     let failed = results.iter().filter(|r| !r.passed()).count();
     for r in &results {
         if json {

@@ -33,13 +33,13 @@ fn median_last_order(histories: &[Vec<f64>]) -> (f64, usize) {
     (if n == 0 { f64::NAN } else { last[n / 2] }, n)
 }
 
-pub fn newton_convergence_order() -> Vec<CaseResult> {
+pub fn newton_convergence_order(figures: Option<&std::path::Path>) -> Vec<CaseResult> {
     let mut out = Vec::new();
     // The paper footing: relative residual histories of the first 60 steps.
     let mut scene = builtin_footing();
     scene.spec.time.steps = 60;
     let out_dir = std::env::temp_dir().join("talus-convergence-order");
-    let histories: Vec<Vec<f64>> = run_scene(
+    let summary = run_scene(
         &scene,
         &RunOptions {
             out_dir,
@@ -47,13 +47,25 @@ pub fn newton_convergence_order() -> Vec<CaseResult> {
             write_fields: false,
         },
     )
-    .map(|s| {
-        s.records
-            .into_iter()
-            .flat_map(|r| r.merit_histories)
-            .collect()
-    })
-    .unwrap_or_default();
+    .ok();
+    let records = summary.map(|s| s.records).unwrap_or_default();
+    let histories: Vec<Vec<f64>> = records
+        .iter()
+        .flat_map(|r| r.merit_histories.clone())
+        .collect();
+    if let Some(dir) = figures {
+        let residuals: Vec<(usize, Vec<f64>)> = records
+            .iter()
+            .enumerate()
+            .flat_map(|(i, r)| r.residual_histories.iter().map(move |h| (i + 1, h.clone())))
+            .collect();
+        let path = dir.join("verification_newton_residuals.png");
+        if let Err(e) =
+            crate::output::plot_newton_residuals(&path, &residuals, scene.spec.solver.tolerance)
+        {
+            tracing::warn!(error = %e, "figure not written");
+        }
+    }
     let (p, n) = median_last_order(&histories);
     out.push(CaseResult {
         case: "quadratic_convergence_paper_footing".into(),

@@ -72,15 +72,16 @@ pub(crate) fn timed(f: impl FnOnce() -> Vec<CaseResult>) -> Vec<CaseResult> {
     results
 }
 
-/// Every case; `quick` keeps the coarser Prandtl meshes only.
-pub fn all_cases(quick: bool) -> Vec<CaseResult> {
+/// Every case; `quick` keeps the coarser Prandtl meshes only. With `figures`, the PNGs
+/// of the cases are written there (`verification_*.png`).
+pub fn all_cases(quick: bool, figures: Option<&std::path::Path>) -> Vec<CaseResult> {
     let mut out = Vec::new();
     out.extend(timed(dilatancy_ratio));
     out.extend(timed(apex_return));
     out.extend(timed(associative_normality));
     out.extend(timed(elastic_patch_test));
     out.extend(timed(elastic_step_identity));
-    out.extend(prandtl::all_prandtl_cases(quick));
-    out.extend(timed(newton_convergence_order));
+    out.extend(prandtl::all_prandtl_cases(quick, figures));
+    out.extend(timed(|| newton_convergence_order(figures)));
     out
 }

@@ -23,6 +23,8 @@ pub struct PrandtlRun {
     pub nc: f64,
     pub elements: usize,
     pub max_newton_iterations: usize,
+    /// `(settlement m, F = 2 × reaction N/m)` per step, starting at rest.
+    pub curve: Vec<(f64, f64)>,
 }
 
 /// Runs the half-model footing with friction angle `phi_deg`, `order` ("P1"/"P2") and
@@ -74,11 +76,35 @@ pub fn prandtl(phi_deg: f64, order: &str, cells: [usize; 2]) -> Option<PrandtlRu
             .map(|r| r.max_newton_iterations)
             .max()
             .unwrap_or(0),
+        curve: std::iter::once((0.0, 0.0))
+            .chain(
+                summary
+                    .displacements
+                    .iter()
+                    .zip(&summary.records)
+                    .map(|(d, r)| (*d, 2.0 * r.reaction_force)),
+            )
+            .collect(),
     })
 }
 
-fn case(phi: f64, order: &str, cells: [usize; 2], tolerance: f64) -> Vec<CaseResult> {
+fn case(
+    phi: f64,
+    order: &str,
+    cells: [usize; 2],
+    tolerance: f64,
+    figure: Option<&std::path::Path>,
+) -> Vec<CaseResult> {
     let run = prandtl(phi, order, cells);
+    if let (Some(path), Some(r)) = (figure, &run) {
+        let title = format!(
+            "Prandtl strip footing, φ = {phi}°, {order}: c N_c = {:.1} kN/m",
+            prandtl_nc(phi) * 10.0
+        );
+        if let Err(e) = crate::output::plot_force_displacement(path, &r.curve, &title) {
+            tracing::warn!(error = %e, "figure not written");
+        }
+    }
     vec![CaseResult {
         case: format!("prandtl_strip_footing_phi{phi}_{}", order.to_lowercase()),
         quantity: format!("q_u / c, {}×{} cells", cells[0], cells[1]),
@@ -126,12 +152,15 @@ pub fn prandtl_refinement() -> Vec<CaseResult> {
 
 /// φ = 10°, 20°, 30°, 35° with P2 (5%) and P1 (10%: linear triangles lock under plastic
 /// flow and overestimate), and the refinement study unless `quick`.
-pub(crate) fn all_prandtl_cases(quick: bool) -> Vec<CaseResult> {
+pub(crate) fn all_prandtl_cases(quick: bool, figures: Option<&std::path::Path>) -> Vec<CaseResult> {
     let mut out = Vec::new();
     for phi in [10.0, 20.0, 30.0, 35.0] {
-        out.extend(timed(|| case(phi, "P2", [40, 28], 0.05)));
+        let figure = figures
+            .filter(|_| phi == 30.0)
+            .map(|d| d.join("verification_prandtl_phi30_p2.png"));
+        out.extend(timed(|| case(phi, "P2", [40, 28], 0.05, figure.as_deref())));
         if !quick {
-            out.extend(timed(|| case(phi, "P1", [40, 28], 0.10)));
+            out.extend(timed(|| case(phi, "P1", [40, 28], 0.10, None)));
         }
     }
     if !quick {
