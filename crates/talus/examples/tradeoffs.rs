@@ -71,7 +71,7 @@ fn studies() -> Vec<Study> {
         reference: "tol 1e-12".into(),
     };
     // Δu = v h at the paper's velocity: the number of steps is TOTAL / Δu.
-    let hs = [0.5, 0.1, 0.05, 0.01, 0.005, 0.002, 0.001];
+    let hs = [0.5, 0.1, 0.05, 0.01, 0.005, 0.0025];
     let incr = Study {
         title: "displacement increment Δu = v·h (v = 1 mm/s, h = Δu / v)",
         runs: hs
@@ -84,7 +84,7 @@ fn studies() -> Vec<Study> {
                 )
             })
             .collect(),
-        reference: "Δu 0.001 mm".into(),
+        reference: "Δu 0.0025 mm".into(),
     };
     // h alone: 150 steps of Δu = 0.01 mm each, the velocity set to Δu / h.
     let hs = [1.0, 0.1, 0.01, 1e-3, 1e-4];
@@ -122,16 +122,15 @@ fn studies() -> Vec<Study> {
             })
             .collect::<Vec<_>>()
     };
-    let c = [[16, 7], [32, 14], [48, 21], [64, 28]];
     let p2 = Study {
-        title: "mesh, P2 (reference P2 64×28)",
-        runs: mesh(true, &c),
-        reference: "P2 64×28".into(),
+        title: "mesh, P2 (reference P2 48×21)",
+        runs: mesh(true, &[[16, 7], [24, 10], [32, 14], [40, 18], [48, 21]]),
+        reference: "P2 48×21".into(),
     };
     let p1 = Study {
-        title: "mesh, P1 (reference P2 64×28)",
-        runs: mesh(false, &[c[0], c[1], c[2], c[3], [96, 42], [128, 56]]),
-        reference: "P2 64×28".into(),
+        title: "mesh, P1 (reference P2 48×21)",
+        runs: mesh(false, &[[16, 7], [32, 14], [48, 21], [64, 28], [96, 42]]),
+        reference: "P2 48×21".into(),
     };
     vec![tol, incr, rate, p2, p1]
 }
