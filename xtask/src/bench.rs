@@ -7,8 +7,9 @@ use crate::run_checked;
 /// Median of the divan row whose label contains `label`, in seconds.
 fn median_seconds(output: &str, label: &str) -> Option<f64> {
     let line = output.lines().find(|l| l.contains(label))?;
-    // Columns: name+fastest │ slowest │ median │ mean │ samples │ iters.
-    let median = line.split('│').nth(2)?.trim();
+    // Columns: name+fastest │ slowest │ median │ mean │ samples │ iters; nested rows start
+    // with a `│` of their own, so count from the end.
+    let median = line.split('│').rev().nth(3)?.trim();
     let (value, unit) = median.split_once(' ')?;
     let scale = match unit.trim() {
         "ns" => 1e-9,
@@ -23,7 +24,11 @@ fn median_seconds(output: &str, label: &str) -> Option<f64> {
 pub fn run(root: &Path) -> Result<bool, String> {
     let mut ok = true;
     let mut outputs = Vec::new();
-    for (package, bench) in [("talus-cone", "projection"), ("talus-ssn", "footing")] {
+    for (package, bench) in [
+        ("talus-cone", "projection"),
+        ("talus-ssn", "footing"),
+        ("talus", "step"),
+    ] {
         println!("== cargo bench -p {package} --bench {bench}");
         let out = run_checked(
             root,
@@ -54,6 +59,29 @@ pub fn run(root: &Path) -> Result<bool, String> {
             ),
             _ => {
                 println!("ssn / {name}: median not found in the benchmark output");
+                ok = false;
+            }
+        }
+    }
+    let step = &outputs[2];
+    let under = |group: &str, case: &str| {
+        step.find(group)
+            .and_then(|at| median_seconds(&step[at..], case))
+    };
+    println!("\nNewton iteration / elastic factorization and solve, same mesh (target <= 1.3)");
+    for case in ["lu 32x14", "llt 32x14", "lu 104x48", "llt 104x48"] {
+        match (
+            under("newton_iteration", case),
+            under("elastic_solve", case),
+        ) {
+            (Some(a), Some(b)) => println!(
+                "{case}: {:.3} ({:.2} ms / {:.2} ms)",
+                a / b,
+                a * 1e3,
+                b * 1e3
+            ),
+            _ => {
+                println!("{case}: median not found in the benchmark output");
                 ok = false;
             }
         }

@@ -2,32 +2,32 @@
 //! and 100k P2 triangles, with Newton iterations per step and peak resident memory.
 //!
 //! Each size runs in a child process (this binary re-invoked with `--child`), so that each
-//! peak (`VmHWM` of `/proc/self/status`) is its own. A child builds the model, starts from
-//! the K₀ state, pushes the footing to 0.8 mm (past the onset of the plateau, about 0.6 mm)
-//! at ten times the paper's velocity (0.1 mm per step: few steps), then switches to the
-//! paper's loading (1 mm/s, h = 1e-2 s). The first steps after the switch use the elastic
-//! predictor (a jump in the prescribed velocity) and build the solver: they are skipped;
-//! the next steps, in steady plastic flow warm-started from σₙ + h σ̇ as in `talus run`,
-//! are the ones timed.
+//! peak (`VmHWM` of `/proc/self/status`) is its own. A child builds the model and steps the
+//! scene from the K₀ state with the paper's loading (1 mm/s, h = 1e-2 s); steps 1–2 are not
+//! timed (solver set-up, elastic predictor), steps 3 to 2 + N are: early plastic loading
+//! (5 to 11 Newton iterations per step; the plateau, past step 65, takes 2 on the paper mesh).
+//! Reaching the plateau would take 80 steps: minutes at 10k elements, hours at 100k; a
+//! warm-up with h = 0.1 s fails on the 10k mesh (step 4, even after 4 halvings), and one at
+//! ten times the velocity leaves an inertial transient. Seconds per Newton iteration
+//! (per step / iterations per step) is the quantity that carries over to the plateau.
 //!
 //! ```sh
 //! cargo run --release -p talus --example scaling                      # 1k, 10k, 100k
-//! cargo run --release -p talus --example scaling -- --sizes 32x14,100x50 --steps 5
+//! cargo run --release -p talus --example scaling -- --sizes 32x14,104x48 --steps 5
 //! ```
-use std::process::Command;
+use std::process::{Command, Stdio};
 use std::time::Instant;
 
 use talus::run::solver_settings;
 use talus::scene::{builtin_footing, MeshSpec, Scene};
 use talus::simulation::{k0_stress, Model, State, Stepper};
 
-/// Cells (x, y): uniform in x with nx a multiple of 4, so the footing edges x = ±0.25 are
-/// nodes; 2·nx·ny P2 triangles.
-const SIZES: [[usize; 2]; 3] = [[32, 14], [100, 50], [320, 156]];
-/// Footing displacement before the timed steps (m) and the warm-up speed-up.
-const WARM_DISPLACEMENT: f64 = 0.8e-3;
-const WARM_SPEEDUP: f64 = 10.0;
-/// Steps after the loading switch that are not timed (elastic predictor, solver set-up).
+/// Cells (x, y): uniform in x with nx a multiple of 8, so the footing edges x = ±0.25 are
+/// nodes; 2·nx·ny P2 triangles (896, 9984, 99840).
+const SIZES: [[usize; 2]; 3] = [[32, 14], [104, 48], [320, 156]];
+/// Steps not timed: the first builds the solver (symbolic analysis) and, like the second,
+/// starts from the elastic predictor (no stress rate yet); from the third on each step
+/// starts from σₙ + h σ̇ as in `talus run`.
 const SKIPPED: usize = 2;
 
 fn main() {
@@ -61,13 +61,13 @@ fn main() {
     }
     let exe = std::env::current_exe().expect("own path");
     println!(
-        "| cells | elements | free dofs | Gauss points | s/step | Newton its/step | s/iteration | setup s | peak MiB |"
+        "| cells | elements | free dofs | Gauss points | s/step | Newton its/step | s/iteration | model s | step 1 s | peak MiB |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     for cells in sizes {
         let elements = 2 * cells[0] * cells[1];
-        // Fewer timed steps on the largest mesh: the time per step is what matters.
-        let n = steps.unwrap_or(if elements > 50_000 { 4 } else { 8 });
+        // Fewer timed steps on the largest mesh (about a minute each).
+        let n = steps.unwrap_or(if elements > 50_000 { 3 } else { 8 });
         let out = Command::new(&exe)
             .args([
                 "--child".to_string(),
@@ -75,27 +75,22 @@ fn main() {
                 cells[1].to_string(),
                 n.to_string(),
             ])
+            .stderr(Stdio::inherit())
             .output()
             .expect("child process");
         let text = String::from_utf8_lossy(&out.stdout);
         let Some(line) = text.lines().find_map(|l| l.strip_prefix("RESULT ")) else {
-            eprintln!(
-                "{}×{}: child failed ({}):\n{}",
-                cells[0],
-                cells[1],
-                out.status,
-                String::from_utf8_lossy(&out.stderr)
-            );
+            eprintln!("{}×{}: child failed ({})", cells[0], cells[1], out.status);
             continue;
         };
         let v: Vec<f64> = line
             .split_whitespace()
             .map(|x| x.parse().unwrap_or(f64::NAN))
             .collect();
-        let (elements, dofs, points, s_step, its, setup, peak_kib) =
-            (v[0], v[1], v[2], v[3], v[4], v[5], v[6]);
+        let (elements, dofs, points, s_step, its, setup, peak_kib, first) =
+            (v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]);
         println!(
-            "| {}×{} | {elements} | {dofs} | {points} | {s_step:.3} | {its:.2} | {:.3} | {setup:.1} | {:.0} |",
+            "| {}×{} | {elements} | {dofs} | {points} | {s_step:.3} | {its:.2} | {:.3} | {setup:.1} | {first:.1} | {:.0} |",
             cells[0],
             cells[1],
             s_step / its,
@@ -119,9 +114,16 @@ fn scene(cells: [usize; 2]) -> Scene {
 }
 
 fn child(cells: [usize; 2], steps: usize) {
+    // `TALUS_LOG=talus_ssn=debug` shows each solve (and any stress-sized fallback).
+    if std::env::var_os("TALUS_LOG").is_some() {
+        tracing_subscriber::fmt()
+            .with_env_filter(tracing_subscriber::EnvFilter::from_env("TALUS_LOG"))
+            .with_writer(std::io::stderr)
+            .init();
+    }
     let start = Instant::now();
     let scene = scene(cells);
-    let mut model = Model::from_scene(&scene).expect("model");
+    let model = Model::from_scene(&scene).expect("model");
     let asm = &model.assembly;
     let mut state = State::at_rest(
         asm.n_points(),
@@ -140,31 +142,8 @@ fn child(cells: [usize; 2], steps: usize) {
     let settings = solver_settings(&scene);
     let halvings = scene.spec.solver.max_step_halvings;
     let h = scene.spec.time.step;
-    let paper_velocity = model.prescribed_velocity.clone();
-    let speed = paper_velocity.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let warm_steps = (WARM_DISPLACEMENT / (WARM_SPEEDUP * speed * h)).round() as usize;
-
-    model
-        .prescribed_velocity
-        .iter_mut()
-        .for_each(|v| *v *= WARM_SPEEDUP);
-    {
-        let mut stepper = Stepper::new(&model, settings, halvings);
-        for k in 0..warm_steps {
-            let r = stepper.advance(&mut state, h).expect("warm-up step");
-            eprintln!(
-                "{}×{} warm-up {}/{warm_steps}: {} its, {:.3} s",
-                cells[0],
-                cells[1],
-                k + 1,
-                r.newton_iterations,
-                r.seconds
-            );
-        }
-    }
-    model.prescribed_velocity = paper_velocity;
     let mut stepper = Stepper::new(&model, settings, halvings);
-    let (mut seconds, mut iterations) = (0.0, 0);
+    let (mut seconds, mut iterations, mut first) = (0.0, 0, 0.0);
     for k in 0..SKIPPED + steps {
         let r = stepper.advance(&mut state, h).expect("step");
         let timed = k >= SKIPPED;
@@ -178,6 +157,9 @@ fn child(cells: [usize; 2], steps: usize) {
             r.seconds,
             r.reaction_force * 1e-3
         );
+        if k == 0 {
+            first = r.seconds;
+        }
         if timed {
             seconds += r.seconds;
             iterations += r.newton_iterations;
@@ -185,7 +167,7 @@ fn child(cells: [usize; 2], steps: usize) {
     }
     let n = steps as f64;
     println!(
-        "RESULT {elements} {dofs} {points} {:.6} {:.4} {setup:.3} {}",
+        "RESULT {elements} {dofs} {points} {:.6} {:.4} {setup:.3} {} {first:.3}",
         seconds / n,
         iterations as f64 / n,
         peak_kib()
