@@ -222,13 +222,15 @@ pub fn run(root: &Path, quick: bool) -> Result<bool, String> {
     rows.extend(talus_rows(root, talus, quick)?);
 
     println!(
-        "{:<46} {:>13} {:>13} {:>9} {:>8} {:<5} {:>7}",
-        "case", "reference", "computed", "error", "tol", "", "s"
+        "{:<46} {:<44} {:>13} {:>13} {:>9} {:>8} {:<5} {:>7}",
+        "case", "quantity", "reference", "computed", "error", "tol", "", "s"
     );
     for r in &rows {
+        let quantity: String = r.quantity.chars().take(44).collect();
         println!(
-            "{:<46} {:>13.6e} {:>13.6e} {:>9.2e} {:>8.1e} {:<5} {:>7.2}",
+            "{:<46} {:<44} {:>13.6e} {:>13.6e} {:>9.2e} {:>8.1e} {:<5} {:>7.2}",
             r.case,
+            quantity,
             r.reference,
             r.computed,
             r.error,
