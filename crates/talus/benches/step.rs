@@ -33,7 +33,7 @@ use divan::Bencher;
 use nalgebra::{SMatrix, SVector};
 use talus::run::solver_settings;
 use talus::scene::{builtin_footing, MeshSpec, Scene};
-use talus::simulation::{k0_stress, Model, State, Stepper};
+use talus::simulation::{Model, Stepper};
 use talus_ssn::faer::linalg::solvers::Solve;
 use talus_ssn::faer::sparse::linalg::solvers::{Llt, Lu, SymbolicLlt, SymbolicLu};
 use talus_ssn::faer::sparse::{SparseColMat, Triplet};
@@ -98,14 +98,7 @@ fn fixture(case: &'static str) -> Fixture {
     let model = Model::from_scene(&scene).expect("model");
     let asm = &model.assembly;
     let h = scene.spec.time.step;
-    let mut state = State::at_rest(
-        asm.n_points(),
-        asm.dofs().n_free(),
-        asm.dofs().n_prescribed(),
-        model.mesh.nodes.len(),
-    );
-    let initial = scene.spec.initial_stress.as_ref().expect("K0 state");
-    state.sigma = k0_stress(&scene, &model, initial).expect("K0");
+    let mut state = model.initial_state(&scene).expect("K0 state");
     let settings = solver_settings(&scene);
     let mut stepper = Stepper::new(&model, settings, scene.spec.solver.max_step_halvings);
     let mut previous = state.sigma.clone();
@@ -124,7 +117,7 @@ fn fixture(case: &'static str) -> Fixture {
         h,
     });
     let rules = vec![model.flow_rule; asm.n_points()];
-    let system = ReducedSystem::try_new(operator, next_q(&model, &state, h), rules).expect("W");
+    let system = ReducedSystem::try_new(operator, model.reduced_rhs(&state, h), rules).expect("W");
     let mut one = settings;
     one.max_iterations = 1;
     one.line_search = None;
@@ -160,40 +153,6 @@ fn fixture(case: &'static str) -> Fixture {
         other => panic!("{case}: expected one iteration, got {other:?}"),
     }
     fixture
-}
-
-/// `q = −(S σₙ + h B vₙ + h² B M⁻¹ f + h B_D v_D)` of the step after `state`.
-fn next_q(model: &Model, state: &State, h: f64) -> Vec<f64> {
-    let asm = &model.assembly;
-    let mut q = vec![0.0; 4 * asm.n_points()];
-    for (p, v) in asm.gauss_volumes.iter().enumerate() {
-        let s = model.compliance
-            * SVector::<f64, 4>::from_column_slice(&state.sigma[4 * p..4 * p + 4])
-            * *v;
-        for k in 0..4 {
-            q[4 * p + k] = -s[k];
-        }
-    }
-    let drive: Vec<f64> = state
-        .velocity_free
-        .iter()
-        .zip(&model.force_free)
-        .zip(&asm.lumped_mass_free)
-        .map(|((v, f), m)| h * v + h * h * f / m)
-        .collect();
-    mul_add(&asm.b_free, &drive, -1.0, &mut q);
-    mul_add(&asm.b_prescribed, &model.prescribed_velocity, -h, &mut q);
-    q
-}
-
-/// `y += alpha · A x` for a CSC matrix.
-fn mul_add(a: &SparseColMat<usize, f64>, x: &[f64], alpha: f64, y: &mut [f64]) {
-    let (cp, ri, v) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
-    for (j, xj) in x.iter().enumerate() {
-        for k in cp[j]..cp[j + 1] {
-            y[ri[k]] += alpha * v[k] * xj;
-        }
-    }
 }
 
 /// `M + h² Σ Bᵢᵀ Sᵢ⁻¹ Bᵢ` on the pattern of the Newton matrix (lower triangle if `lower`).

@@ -20,7 +20,7 @@ use std::time::Instant;
 
 use talus::run::solver_settings;
 use talus::scene::{builtin_footing, MeshSpec, Scene};
-use talus::simulation::{k0_stress, Model, State, Stepper};
+use talus::simulation::{Model, Stepper};
 
 /// Cells (x, y): uniform in x with nx a multiple of 8, so the footing edges x = ±0.25 are
 /// nodes; 2·nx·ny P2 triangles (896, 9984, 99840).
@@ -125,14 +125,7 @@ fn child(cells: [usize; 2], steps: usize) {
     let scene = scene(cells);
     let model = Model::from_scene(&scene).expect("model");
     let asm = &model.assembly;
-    let mut state = State::at_rest(
-        asm.n_points(),
-        asm.dofs().n_free(),
-        asm.dofs().n_prescribed(),
-        model.mesh.nodes.len(),
-    );
-    let initial = scene.spec.initial_stress.as_ref().expect("K0 state");
-    state.sigma = k0_stress(&scene, &model, initial).expect("K0");
+    let mut state = model.initial_state(&scene).expect("K0 state");
     let (elements, dofs, points) = (
         model.mesh.triangles.len(),
         asm.dofs().n_free(),

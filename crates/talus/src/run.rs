@@ -90,12 +90,7 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunE
     );
     writeln!(history, "{HISTORY_HEADER}").map_err(io_err(&history_path))?;
 
-    let mut state = State::at_rest(
-        asm.n_points(),
-        dofs.n_free(),
-        dofs.n_prescribed(),
-        model.mesh.nodes.len(),
-    );
+    let mut state = model.initial_state(scene)?;
     let mut stepper = Stepper::new(
         &model,
         solver_settings(scene),
@@ -126,9 +121,6 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunE
         "model built"
     );
 
-    if let Some(initial) = &scene.spec.initial_stress {
-        state.sigma = crate::simulation::k0_stress(scene, &model, initial)?;
-    }
     let initial_reaction = stepper.reaction(&state);
     writeln!(history, "0,0,0,0,{initial_reaction:.10e},0,0").map_err(io_err(&history_path))?;
 

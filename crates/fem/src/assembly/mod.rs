@@ -9,13 +9,13 @@ mod strain_operator;
 use faer::sparse::SparseColMat;
 use nalgebra::{SMatrix, SVector};
 
-pub use strain_operator::MANDEL;
+pub use strain_operator::{add_mul, add_mul_transpose, MANDEL};
 
 use crate::dofs::{Dof, DofMap};
 use crate::error::FemError;
 use crate::mesh::Mesh;
 use gauss::GaussData;
-use strain_operator::{add_mul, add_mul_transpose, strain_operator};
+use strain_operator::strain_operator;
 
 /// Everything the solver needs from the mesh (feeds `talus_ssn::Structured`:
 /// `b = b_free`, `lumped_mass = lumped_mass_free`, `compliance = compliance_blocks(S₀)`).

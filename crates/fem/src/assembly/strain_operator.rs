@@ -57,7 +57,7 @@ pub(crate) fn strain_operator(
 }
 
 /// `y += A x` for a column-major sparse `A`.
-pub(crate) fn add_mul(a: &SparseColMat<usize, f64>, x: &[f64], y: &mut [f64]) {
+pub fn add_mul(a: &SparseColMat<usize, f64>, x: &[f64], y: &mut [f64]) {
     let (cp, ri, val) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
     for (j, xj) in x.iter().enumerate() {
         for k in cp[j]..cp[j + 1] {
@@ -67,7 +67,7 @@ pub(crate) fn add_mul(a: &SparseColMat<usize, f64>, x: &[f64], y: &mut [f64]) {
 }
 
 /// `y += Aᵀ x` for a column-major sparse `A`.
-pub(crate) fn add_mul_transpose(a: &SparseColMat<usize, f64>, x: &[f64], y: &mut [f64]) {
+pub fn add_mul_transpose(a: &SparseColMat<usize, f64>, x: &[f64], y: &mut [f64]) {
     let (cp, ri, val) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
     for (j, yj) in y.iter_mut().enumerate() {
         *yj += (cp[j]..cp[j + 1]).map(|k| val[k] * x[ri[k]]).sum::<f64>();

@@ -1,6 +1,9 @@
-use nalgebra::SMatrix;
+use nalgebra::{SMatrix, SVector};
 use talus_bipotential::{DruckerPrager, DruckerPragerParameters, FlowRule};
+use talus_fem::assembly::add_mul;
 use talus_fem::{Assembly, BoundaryEdge, Constraint, DofMap, ElementOrder, Mesh};
+
+use super::State;
 
 use crate::scene::{Fix, MeshSpec, Order, Scene, SceneError, Selection};
 
@@ -143,6 +146,49 @@ impl Model {
 
     pub fn n_points(&self) -> usize {
         self.assembly.n_points()
+    }
+
+    /// The state at the start of a run: at rest, with the scene's initial stress (K₀
+    /// procedure) or stress free.
+    pub fn initial_state(&self, scene: &Scene) -> Result<State, SceneError> {
+        let dofs = self.assembly.dofs();
+        let mut state = State::at_rest(
+            self.n_points(),
+            dofs.n_free(),
+            dofs.n_prescribed(),
+            self.mesh.nodes.len(),
+        );
+        if let Some(initial) = &scene.spec.initial_stress {
+            state.sigma = super::k0_stress(scene, self, initial)?;
+        }
+        Ok(state)
+    }
+
+    /// `q` of eq. 16 for the step of length `h` after `state`:
+    /// `q = −(S σₙ + h B vₙ + h² B M⁻¹ f + h B_D v_D)` (notes §4: `B v` is the strain rate;
+    /// prescribed velocities enter through `B_D`).
+    pub fn reduced_rhs(&self, state: &State, h: f64) -> Vec<f64> {
+        let asm = &self.assembly;
+        let mut q = vec![0.0; 4 * asm.n_points()];
+        for (p, v) in asm.gauss_volumes.iter().enumerate() {
+            let s = self.compliance
+                * SVector::<f64, 4>::from_column_slice(&state.sigma[4 * p..4 * p + 4])
+                * *v;
+            for k in 0..4 {
+                q[4 * p + k] = -s[k];
+            }
+        }
+        let drive: Vec<f64> = state
+            .velocity_free
+            .iter()
+            .zip(&self.force_free)
+            .zip(&asm.lumped_mass_free)
+            .map(|((v, f), m)| -(h * v + h * h * f / m))
+            .collect();
+        add_mul(&asm.b_free, &drive, &mut q);
+        let prescribed: Vec<f64> = self.prescribed_velocity.iter().map(|v| -h * v).collect();
+        add_mul(&asm.b_prescribed, &prescribed, &mut q);
+        q
     }
 }
 

@@ -1,7 +1,6 @@
 use std::time::Instant;
 
-use faer::sparse::SparseColMat;
-use talus_ssn::faer;
+use talus_fem::assembly::add_mul_transpose;
 use talus_ssn::{Operator, ReducedSystem, Report, Settings, SolveError, Solver, Structured};
 
 use super::{Model, State};
@@ -64,8 +63,6 @@ pub struct Stepper<'m> {
     /// `(σₙ − σₙ₋₁)/h` of the last sub-step: each solve starts from σₙ + h σ̇, which under
     /// steady loading is second-order close to the answer (warm start).
     stress_rate: Option<Vec<f64>>,
-    /// Velocity of the prescribed dofs.
-    prescribed_velocity: Vec<f64>,
 }
 
 impl<'m> Stepper<'m> {
@@ -76,7 +73,6 @@ impl<'m> Stepper<'m> {
             max_halvings,
             solvers: Vec::new(),
             stress_rate: None,
-            prescribed_velocity: model.prescribed_velocity.clone(),
         }
     }
 
@@ -85,7 +81,7 @@ impl<'m> Stepper<'m> {
     pub fn reaction(&self, state: &State) -> f64 {
         let asm = &self.model.assembly;
         let mut internal = vec![0.0; asm.lumped_mass_prescribed.len()];
-        mul_transpose_add(&asm.b_prescribed, &state.sigma, &mut internal);
+        add_mul_transpose(&asm.b_prescribed, &state.sigma, &mut internal);
         self.model
             .reaction_dofs
             .iter()
@@ -196,32 +192,14 @@ impl<'m> Stepper<'m> {
     fn substep(&mut self, state: &mut State, h: f64) -> Result<(Report, f64), SolveError> {
         let model = self.model;
         let asm = &model.assembly;
-        let n_sigma = 4 * asm.n_points();
-        let mut q = vec![0.0; n_sigma];
-        for (p, v) in asm.gauss_volumes.iter().enumerate() {
-            let s = model.compliance
-                * nalgebra::SVector::<f64, 4>::from_column_slice(&state.sigma[4 * p..4 * p + 4])
-                * *v;
-            for k in 0..4 {
-                q[4 * p + k] = -s[k];
-            }
-        }
-        let drive: Vec<f64> = state
-            .velocity_free
-            .iter()
-            .zip(&model.force_free)
-            .zip(&asm.lumped_mass_free)
-            .map(|((v, f), m)| h * v + h * h * f / m)
-            .collect();
-        mul_add(&asm.b_free, &drive, -1.0, &mut q);
-        mul_add(&asm.b_prescribed, &self.prescribed_velocity, -h, &mut q);
+        let q = model.reduced_rhs(state, h);
 
         let solver = self.solver(h)?;
         solver.set_q(q)?;
         // Starting point: σₙ + h σ̇ when the last step's loading was smooth (steady flow is
         // then predicted to second order); otherwise, out of rest or right after a jump in
         // the prescribed velocity, the elastic predictor (one elastic solve).
-        let loading_jumps = state.velocity_prescribed != self.prescribed_velocity;
+        let loading_jumps = state.velocity_prescribed != model.prescribed_velocity;
         let mut sigma = state.sigma.clone();
         let rate = if loading_jumps {
             None
@@ -258,8 +236,8 @@ impl<'m> Stepper<'m> {
         }
         let mut internal_free = vec![0.0; asm.lumped_mass_free.len()];
         let mut internal_prescribed = vec![0.0; asm.lumped_mass_prescribed.len()];
-        mul_transpose_add(&asm.b_free, &sigma, &mut internal_free);
-        mul_transpose_add(&asm.b_prescribed, &sigma, &mut internal_prescribed);
+        add_mul_transpose(&asm.b_free, &sigma, &mut internal_free);
+        add_mul_transpose(&asm.b_prescribed, &sigma, &mut internal_prescribed);
         for (j, v) in state.velocity_free.iter_mut().enumerate() {
             *v += h * (model.force_free[j] - internal_free[j]) / asm.lumped_mass_free[j];
         }
@@ -268,14 +246,14 @@ impl<'m> Stepper<'m> {
         for &(j, comp) in &model.reaction_dofs {
             if comp == 1 {
                 let inertia = asm.lumped_mass_prescribed[j]
-                    * (self.prescribed_velocity[j] - state.velocity_prescribed[j])
+                    * (model.prescribed_velocity[j] - state.velocity_prescribed[j])
                     / h;
                 reaction -= inertia + internal_prescribed[j] - model.force_prescribed[j];
             }
         }
         state
             .velocity_prescribed
-            .copy_from_slice(&self.prescribed_velocity);
+            .copy_from_slice(&model.prescribed_velocity);
         if let Ok(v) = asm
             .dofs()
             .scatter(&state.velocity_free, &state.velocity_prescribed)
@@ -296,23 +274,5 @@ impl<'m> Stepper<'m> {
         state.sigma = sigma;
         state.time += h;
         Ok((report, reaction))
-    }
-}
-
-/// `y += alpha · A x` for a CSC matrix.
-fn mul_add(a: &SparseColMat<usize, f64>, x: &[f64], alpha: f64, y: &mut [f64]) {
-    let (cp, ri, v) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
-    for (j, xj) in x.iter().enumerate() {
-        for k in cp[j]..cp[j + 1] {
-            y[ri[k]] += alpha * v[k] * xj;
-        }
-    }
-}
-
-/// `y += Aᵀ x` for a CSC matrix.
-fn mul_transpose_add(a: &SparseColMat<usize, f64>, x: &[f64], y: &mut [f64]) {
-    let (cp, ri, v) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
-    for (j, yj) in y.iter_mut().enumerate() {
-        *yj += (cp[j]..cp[j + 1]).map(|k| v[k] * x[ri[k]]).sum::<f64>();
     }
 }
