@@ -277,17 +277,20 @@ pub(crate) fn block<const D: usize>(v: &[f64], i: usize) -> SVector<f64, D> {
     SVector::from_column_slice(&v[D * i..D * i + D])
 }
 
-/// `z = Wσ + q` into `z` (flat vectors of length `D × points`); `scratch` holds the
+/// `z = Wσ + q` (or `Wσ` without `q`) into `z` (flat vectors of length `D × points`); `scratch` holds the
 /// velocity-sized intermediate of the structured form.
 pub(crate) fn apply<const D: usize>(
     op: &Operator<D>,
     blocks: Option<&PointBlocks<D>>,
     sigma: &[f64],
-    q: &[f64],
+    q: Option<&[f64]>,
     z: &mut [f64],
     scratch: &mut Vec<f64>,
 ) {
-    z.copy_from_slice(q);
+    match q {
+        Some(q) => z.copy_from_slice(q),
+        None => z.fill(0.0),
+    }
     match op {
         Operator::Dense(m) => {
             for (j, s) in sigma.iter().enumerate() {

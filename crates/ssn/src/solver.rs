@@ -292,7 +292,7 @@ impl<const D: usize> Solver<D> {
             &self.problem.operator,
             self.blocks.as_ref(),
             sigma,
-            &self.problem.q,
+            Some(&self.problem.q),
             z,
             &mut self.scratch,
         );
@@ -396,12 +396,11 @@ impl<const D: usize> Solver<D> {
         if !self.direction.iter().all(|v| v.is_finite()) {
             return Err(Status::SingularJacobian);
         }
-        let zero = vec![0.0; self.direction.len()];
         apply(
             &self.problem.operator,
             self.blocks.as_ref(),
             &self.direction,
-            &zero,
+            None,
             &mut self.check,
             &mut self.scratch,
         );
