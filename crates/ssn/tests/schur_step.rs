@@ -23,8 +23,16 @@ impl Rng {
 const D: usize = 4;
 
 fn random_problem(seed: u64, associative: bool) -> (ReducedSystem<D>, Vec<f64>) {
+    sized_random_problem(seed, associative, 30, 24)
+}
+
+fn sized_random_problem(
+    seed: u64,
+    associative: bool,
+    n_points: usize,
+    n_v: usize,
+) -> (ReducedSystem<D>, Vec<f64>) {
     let mut rng = Rng(seed);
-    let (n_points, n_v) = (30, 24);
     let mut triplets = Vec::new();
     for p in 0..n_points {
         // Each point touches 6 velocity columns, like a linear triangle in 2D.
@@ -145,5 +153,42 @@ fn structured_and_assembled_operators_give_the_same_solution() {
             .zip(&b)
             .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
         assert!(diff <= 1e-10 * scale, "associative {associative}: {diff:e}");
+    }
+}
+
+#[test]
+fn same_bits_whatever_the_thread_count_on_a_problem_the_pool_splits() {
+    // 1200 points: the per-point loops run in parallel chunks (256 points at least).
+    let (problem, sigma0) = sized_random_problem(77, false, 1200, 800);
+    let run = |threads: usize, parallel: bool| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let settings = Settings {
+                parallel,
+                max_iterations: 8,
+                ..Settings::default()
+            };
+            let mut solver = Solver::new(problem.clone(), settings).unwrap();
+            let mut s = sigma0.clone();
+            let report = match solver.solve(&mut s) {
+                Ok(r) => r,
+                Err(SolveError::NotConverged(r)) => *r,
+                Err(e) => panic!("{e}"),
+            };
+            assert!(report.iterations >= 2, "the solve must iterate");
+            // σ and every merit value: a reduction whose order followed the threads would show
+            // in the last bits of the merit even where it does not change σ.
+            s.iter()
+                .chain(&report.merit_history)
+                .map(|v| v.to_bits())
+                .collect::<Vec<_>>()
+        })
+    };
+    let reference = run(1, false);
+    for threads in [2, 4] {
+        assert_eq!(run(threads, true), reference, "{threads} threads");
     }
 }
