@@ -1,0 +1,43 @@
+use talus_ssn::SolveError;
+
+/// Why an MPM step could not be taken. The particles are left as they were.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MpmError {
+    /// A bad input, naming the field and the value.
+    #[error("invalid {field}: {reason}")]
+    Invalid { field: String, reason: String },
+    /// A particle's shape-function support left the grid (with its ghost layers).
+    #[error("particle {particle} at ({:.6}, {:.6}) m left the grid; enlarge the grid or add a wall", .position[0], .position[1])]
+    ParticleLeftGrid { particle: usize, position: [f64; 2] },
+    /// A particle's volume would become ≤ 0 (`det(I + h ∇v) ≤ 0`): the step is too large
+    /// for the deformation.
+    #[error(
+        "particle {particle} would invert (det(I + h ∇v) = {jacobian:.3e}) in a step of {h:e} s"
+    )]
+    Inverted {
+        particle: usize,
+        jacobian: f64,
+        h: f64,
+    },
+    /// Newton did not converge even after halving the step.
+    #[error("step of {h:e} s did not converge after {halvings} halvings: {status} after {iterations} Newton iterations, residual {residual:.3e}")]
+    NotConverged {
+        h: f64,
+        halvings: usize,
+        status: talus_ssn::Status,
+        iterations: usize,
+        residual: f64,
+    },
+    /// The solver refused the reduced problem.
+    #[error("solver: {0}")]
+    Solver(SolveError),
+}
+
+impl MpmError {
+    pub(crate) fn invalid(field: impl Into<String>, reason: impl Into<String>) -> Self {
+        MpmError::Invalid {
+            field: field.into(),
+            reason: reason.into(),
+        }
+    }
+}

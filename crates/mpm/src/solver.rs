@@ -1,0 +1,183 @@
+use std::time::Instant;
+
+use nalgebra::SMatrix;
+use talus_bipotential::{DruckerPrager, FlowRule};
+
+use crate::boundary::{GridBoundary, NodeCondition, Side};
+use crate::error::MpmError;
+use crate::grid::Grid;
+use crate::particles::Particles;
+use crate::settings::MpmSettings;
+use crate::step::{StepContext, SubstepError};
+
+/// What one step did (all its sub-steps together).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepReport {
+    /// The step asked for (s).
+    pub h: f64,
+    /// Sub-steps taken: 1 unless a failed solve split the step.
+    pub substeps: usize,
+    pub smallest_h: f64,
+    /// Newton iterations over all sub-steps, and the most in one sub-step.
+    pub newton_iterations: usize,
+    pub max_newton_iterations: usize,
+    /// `‖F‖∞ / max(1, ‖σ‖∞)` reached by the last sub-step.
+    pub residual: f64,
+    /// Grid nodes carrying mass, and free velocity components, in the last sub-step.
+    pub active_nodes: usize,
+    pub free_dofs: usize,
+    /// Force each wall, then each prescribed-velocity box, applies to the material in the
+    /// last sub-step (N/m): `M a + Bᵀσ − f` on its nodes, friction included.
+    pub group_forces: Vec<[f64; 2]>,
+    /// Wall time of the whole step, and of its Newton solves (s).
+    pub seconds: f64,
+    pub solve_seconds: f64,
+    /// Most solves one sub-step took to settle the friction walls' stick/slide states.
+    pub contact_passes: usize,
+}
+
+/// The implicit MPM: a grid with its boundary conditions, one Drucker-Prager material,
+/// gravity, and settings. [`Mpm::advance`] moves a [`Particles`] set by one step.
+#[derive(Debug, Clone)]
+pub struct Mpm {
+    grid: Grid,
+    boundary: GridBoundary,
+    conditions: Vec<NodeCondition>,
+    flow_rule: FlowRule<4>,
+    compliance: SMatrix<f64, 4, 4>,
+    gravity: [f64; 2],
+    settings: MpmSettings,
+}
+
+impl Mpm {
+    /// `gravity` in m/s².
+    pub fn try_new(
+        grid: Grid,
+        boundary: GridBoundary,
+        material: &DruckerPrager,
+        gravity: [f64; 2],
+        settings: MpmSettings,
+    ) -> Result<Self, MpmError> {
+        boundary.validate()?;
+        if !gravity.iter().all(|g| g.is_finite()) {
+            return Err(MpmError::invalid(
+                "gravity",
+                format!("{gravity:?} must be finite"),
+            ));
+        }
+        let a = settings.flip_ratio;
+        if !(0.0..=1.0).contains(&a) {
+            return Err(MpmError::invalid(
+                "flip_ratio",
+                format!("{a} must be in [0, 1] (0 = PIC, 1 = FLIP)"),
+            ));
+        }
+        let sides: Vec<Side> = boundary.walls.iter().map(|w| w.side).collect();
+        let grid = grid.with_walls(&sides);
+        Ok(Self {
+            conditions: boundary.node_conditions(&grid),
+            grid,
+            boundary,
+            flow_rule: material.flow_rule::<4>(),
+            compliance: material.compliance::<4>(),
+            gravity,
+            settings,
+        })
+    }
+
+    pub fn grid(&self) -> &Grid {
+        &self.grid
+    }
+
+    pub fn boundary(&self) -> &GridBoundary {
+        &self.boundary
+    }
+
+    pub fn settings(&self) -> &MpmSettings {
+        &self.settings
+    }
+
+    /// One step of `h` (s). A sub-step whose Newton solve fails is redone as two halves,
+    /// down to `h / 2^max_step_halvings`; past that the step fails with
+    /// [`MpmError::NotConverged`] and `particles` is left as before the step.
+    pub fn advance(&self, particles: &mut Particles, h: f64) -> Result<StepReport, MpmError> {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(MpmError::invalid(
+                "h",
+                format!("{h} s must be finite and > 0"),
+            ));
+        }
+        particles.validate()?;
+        let start = Instant::now();
+        let mut report = StepReport {
+            h,
+            substeps: 0,
+            smallest_h: h,
+            newton_iterations: 0,
+            max_newton_iterations: 0,
+            residual: 0.0,
+            active_nodes: 0,
+            free_dofs: 0,
+            group_forces: Vec::new(),
+            seconds: 0.0,
+            solve_seconds: 0.0,
+            contact_passes: 0,
+        };
+        let mut trial = particles.clone();
+        self.advance_level(&mut trial, h, 0, &mut report)?;
+        *particles = trial;
+        report.seconds = start.elapsed().as_secs_f64();
+        Ok(report)
+    }
+
+    fn advance_level(
+        &self,
+        particles: &mut Particles,
+        h: f64,
+        level: usize,
+        report: &mut StepReport,
+    ) -> Result<(), MpmError> {
+        let context = StepContext {
+            grid: &self.grid,
+            conditions: &self.conditions,
+            n_groups: self.boundary.n_groups(),
+            flow_rule: &self.flow_rule,
+            compliance: &self.compliance,
+            gravity: self.gravity,
+            settings: &self.settings,
+        };
+        let mut trial = particles.clone();
+        match context.substep(&mut trial, h) {
+            Ok(outcome) => {
+                *particles = trial;
+                let r = &outcome.report;
+                report.substeps += 1;
+                report.smallest_h = report.smallest_h.min(h);
+                report.newton_iterations += r.iterations;
+                report.max_newton_iterations = report.max_newton_iterations.max(r.iterations);
+                report.residual = r.residual / r.scale;
+                report.active_nodes = outcome.active_nodes;
+                report.free_dofs = outcome.free_dofs;
+                report.group_forces = outcome.group_forces;
+                report.solve_seconds += outcome.solve_seconds;
+                report.contact_passes = report.contact_passes.max(outcome.contact_passes);
+                Ok(())
+            }
+            Err(SubstepError::NotConverged(r)) => {
+                if level >= self.settings.max_step_halvings {
+                    return Err(MpmError::NotConverged {
+                        h,
+                        halvings: level,
+                        status: r.status,
+                        iterations: r.iterations,
+                        residual: r.residual / r.scale,
+                    });
+                }
+                tracing::warn!(h, status = %r.status, "MPM step did not converge: halving h");
+                self.advance_level(particles, 0.5 * h, level + 1, report)?;
+                self.advance_level(particles, 0.5 * h, level + 1, report)
+            }
+            Err(SubstepError::Fatal(e)) => Err(e),
+        }
+    }
+}
