@@ -1,7 +1,10 @@
+use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, Lu, SymbolicLlt, SymbolicLu};
-use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
-use faer::{Mat, Side};
+use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuSymbolicParams, NumericLu, SymbolicLu};
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::{Pair, SparseColMatRef, SymbolicSparseColMat};
+use faer::{Conj, Mat, Par, Side};
 use nalgebra::{SMatrix, SVector};
 use talus_bipotential::NaturalMapLinearization;
 
@@ -11,7 +14,14 @@ use crate::operator::{block, PointBlocks, Structured};
 enum Factorization {
     /// Associative: `ρ A⁻¹ D` is symmetric positive semi-definite, K is SPD.
     Cholesky(SymbolicLlt<usize>),
-    Lu(SymbolicLu<usize>),
+    /// Non-associative: supernodal LU, its numeric storage and workspace reused across
+    /// iterations (faer's default picks the simplicial LU for these 2D patterns, measured
+    /// several times slower).
+    Lu {
+        symbolic: SymbolicLu<usize>,
+        numeric: NumericLu<usize, f64>,
+        scratch: MemBuffer,
+    },
 }
 
 /// The velocity-sized Newton system of the notes §5:
@@ -21,9 +31,11 @@ enum Factorization {
 pub(crate) struct SchurSystem<const D: usize> {
     symmetric: bool,
     symbolic: SymbolicSparseColMat<usize>,
-    argsort: Argsort<usize>,
+    /// Where each (row, column) pair of `new`'s enumeration lands in the CSC values:
+    /// the matrix is refilled in place every iteration (duplicates add up).
+    positions: Vec<usize>,
+    csc_values: Vec<f64>,
     factorization: Factorization,
-    values: Vec<f64>,
     local_a: Vec<LocalLu<D>>,
     local_c: Vec<SMatrix<f64, D, D>>,
     rhs: Mat<f64>,
@@ -56,22 +68,49 @@ impl<const D: usize> SchurSystem<D> {
                 }
             }
         }
-        let (symbolic, argsort) = SymbolicSparseColMat::try_new_from_indices(n_v, n_v, &pairs)
+        let (symbolic, _) = SymbolicSparseColMat::try_new_from_indices(n_v, n_v, &pairs)
             .map_err(|e| format!("{e:?}"))?;
+        let (col_ptr, row_idx) = (symbolic.col_ptr(), symbolic.row_idx());
+        let positions = pairs
+            .iter()
+            .map(|p| {
+                let (start, end) = (col_ptr[p.col], col_ptr[p.col + 1]);
+                row_idx[start..end]
+                    .binary_search(&p.row)
+                    .map(|k| start + k)
+                    .map_err(|_| format!("pair ({}, {}) missing from its pattern", p.row, p.col))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let nnz = row_idx.len();
         let factorization = if symmetric {
             Factorization::Cholesky(
                 SymbolicLlt::try_new(symbolic.as_ref(), Side::Lower)
                     .map_err(|e| format!("{e:?}"))?,
             )
         } else {
-            Factorization::Lu(SymbolicLu::try_new(symbolic.as_ref()).map_err(|e| format!("{e:?}"))?)
+            let lu = factorize_symbolic_lu(
+                symbolic.as_ref(),
+                LuSymbolicParams {
+                    supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+                    ..Default::default()
+                },
+            )
+            .map_err(|e| format!("{e:?}"))?;
+            let req = lu
+                .factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default())
+                .or(lu.solve_in_place_scratch::<f64>(1, Par::Seq));
+            Factorization::Lu {
+                symbolic: lu,
+                numeric: NumericLu::new(),
+                scratch: MemBuffer::try_new(req).map_err(|e| format!("{e:?}"))?,
+            }
         };
         Ok(Self {
             symmetric,
             symbolic,
-            argsort,
+            positions,
+            csc_values: vec![0.0; nnz],
             factorization,
-            values: vec![0.0; pairs.len()],
             local_a: Vec::with_capacity(n_points),
             local_c: Vec::with_capacity(n_points),
             rhs: Mat::zeros(n_v, 1),
@@ -106,9 +145,13 @@ impl<const D: usize> SchurSystem<D> {
             let ar = lu.solve(&block::<D>(r, i));
             self.a_inv_r[D * i..D * i + D].copy_from_slice(ar.as_slice());
         }
-        // Values in the order of `new`: masses, then h² Bᵢᵀ Cᵢ Bᵢ per point.
+        // Values in the order of `new`: masses, then h² Bᵢᵀ Cᵢ Bᵢ per point, summed in
+        // place into the CSC values.
         let n_v = structured.lumped_mass.len();
-        self.values[..n_v].copy_from_slice(&structured.lumped_mass);
+        self.csc_values.fill(0.0);
+        for (p, m) in self.positions[..n_v].iter().zip(&structured.lumped_mass) {
+            self.csc_values[*p] += m;
+        }
         let mut pos = n_v;
         for (i, c) in self.local_c.iter().enumerate() {
             let (dofs, bv) = blocks.point(i);
@@ -125,13 +168,12 @@ impl<const D: usize> SchurSystem<D> {
                     for k in 0..D {
                         v += cta[k] * bv[k * m + b];
                     }
-                    self.values[pos] = h2 * v;
+                    self.csc_values[self.positions[pos]] += h2 * v;
                     pos += 1;
                 }
             }
         }
-        let k = SparseColMat::new_from_argsort(self.symbolic.clone(), &self.argsort, &self.values)
-            .map_err(|e| SchurFailure::Factorization(format!("{e:?}")))?;
+        let k = SparseColMatRef::new(self.symbolic.as_ref(), &self.csc_values);
         self.rhs.fill(0.0);
         {
             let mut tmp = vec![0.0; n_v];
@@ -140,16 +182,22 @@ impl<const D: usize> SchurSystem<D> {
                 self.rhs[(j, 0)] = v;
             }
         }
-        match &self.factorization {
+        match &mut self.factorization {
             Factorization::Cholesky(sym) => {
-                let llt = Llt::try_new_with_symbolic(sym.clone(), k.as_ref(), Side::Lower)
+                let llt = Llt::try_new_with_symbolic(sym.clone(), k, Side::Lower)
                     .map_err(|e| SchurFailure::Factorization(format!("{e:?}")))?;
                 llt.solve_in_place(self.rhs.as_mut());
             }
-            Factorization::Lu(sym) => {
-                let lu = Lu::try_new_with_symbolic(sym.clone(), k.as_ref())
+            Factorization::Lu {
+                symbolic,
+                numeric,
+                scratch,
+            } => {
+                let stack = MemStack::new(scratch);
+                let lu = symbolic
+                    .factorize_numeric_lu(numeric, k, Par::Seq, stack, Default::default())
                     .map_err(|e| SchurFailure::Factorization(format!("{e:?}")))?;
-                lu.solve_in_place(self.rhs.as_mut());
+                lu.solve_in_place_with_conj(Conj::No, self.rhs.as_mut(), Par::Seq, stack);
             }
         }
         let u: Vec<f64> = (0..n_v).map(|j| self.rhs[(j, 0)]).collect();
