@@ -11,6 +11,8 @@ use talus_bipotential::NaturalMapLinearization;
 use crate::local_lu::LocalLu;
 use crate::operator::{block, PointBlocks, Structured};
 
+// One per solver, never moved in a hot loop: its size does not matter.
+#[allow(clippy::large_enum_variant)]
 enum Factorization {
     /// Associative: `ρ A⁻¹ D` is symmetric positive semi-definite, K is SPD.
     Cholesky(SymbolicLlt<usize>),
