@@ -1,3 +1,4 @@
+pub mod mpm_run;
 pub mod output;
 pub mod run;
 pub mod scene;

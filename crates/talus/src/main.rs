@@ -5,8 +5,9 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
+use talus::mpm_run::run_mpm_scene;
 use talus::run::{run_scene, RunOptions};
-use talus::scene::{builtin_footing, Scene};
+use talus::scene::{builtin_footing, MpmScene, Scene, SceneFile};
 
 mod reduced;
 
@@ -25,7 +26,8 @@ struct Cli {
 enum Command {
     /// Run a scene (default: the built-in paper footing, scenes/footing.toml).
     Run {
-        /// Scene file (TOML). Without it, the built-in footing of the paper's Fig. 3.
+        /// Scene file (TOML): finite elements with `[mesh]`, material points with `[grid]`.
+        /// Without it, the built-in footing of the paper's Fig. 3.
         scene: Option<PathBuf>,
         /// Output folder: history.csv, vtu/, solution.pvd, PNG plots.
         #[arg(long, default_value = "out")]
@@ -82,11 +84,18 @@ fn main() -> ExitCode {
 
 fn run(scene: Option<PathBuf>, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
     let scene = match scene {
-        Some(path) => Scene::from_path(&path)?,
-        None => builtin_footing(),
+        Some(path) => SceneFile::from_path(&path)?,
+        None => SceneFile::Fem(builtin_footing()),
     };
+    match scene {
+        SceneFile::Fem(scene) => run_fem(&scene, out),
+        SceneFile::Mpm(scene) => run_mpm(&scene, out),
+    }
+}
+
+fn run_fem(scene: &Scene, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
     let summary = run_scene(
-        &scene,
+        scene,
         &RunOptions {
             out_dir: out.clone(),
             progress: true,
@@ -106,6 +115,35 @@ fn run(scene: Option<PathBuf>, out: PathBuf) -> Result<ExitCode, Box<dyn std::er
         summary.seconds,
         last.map(|r| r.reaction_force).unwrap_or(0.0),
         summary.displacements.last().copied().unwrap_or(0.0),
+        out.display()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+fn run_mpm(scene: &MpmScene, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    let summary = run_mpm_scene(
+        scene,
+        &RunOptions {
+            out_dir: out.clone(),
+            progress: true,
+            write_fields: true,
+        },
+    )?;
+    let runout = if summary.runout_reported {
+        format!(
+            "; final runout (L − L0)/L0 = {:.4}",
+            summary.runout_normalized
+        )
+    } else {
+        String::new()
+    };
+    println!(
+        "{} steps in {:.2} s; {} Newton iterations, at most {} per step; largest residual {:.3e}{runout}; outputs in {}",
+        summary.reports.len(),
+        summary.seconds,
+        summary.total_newton_iterations(),
+        summary.max_newton_iterations(),
+        summary.max_residual(),
         out.display()
     );
     Ok(ExitCode::SUCCESS)

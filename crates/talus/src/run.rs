@@ -6,7 +6,7 @@ use std::time::Instant;
 use talus_ssn::{Rho, Settings};
 
 use crate::output::{self, FieldSnapshot, MeshView, OutputError};
-use crate::scene::{RhoScaling, Scene, SceneError};
+use crate::scene::{RhoScaling, Scene, SceneError, SolverSpec};
 use crate::simulation::{Model, State, StepError, StepRecord, Stepper};
 
 /// Column names of `history.csv`.
@@ -27,6 +27,14 @@ pub enum RunError {
     /// The run stopped at `step`; what was written before it is kept.
     #[error("step {step}: {source}")]
     Step { step: usize, source: StepError },
+    /// An MPM run stopped at `step`, which started at `time` (s); what was written before
+    /// it is kept.
+    #[error("step {step} (from t = {time:.6} s): {source}")]
+    MpmStep {
+        step: usize,
+        time: f64,
+        source: talus_mpm::MpmError,
+    },
 }
 
 /// What a finished run measured.
@@ -47,16 +55,34 @@ pub struct RunOptions {
     pub write_fields: bool,
 }
 
-fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
+pub(crate) fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
     move |source| RunError::Io {
         path: path.to_path_buf(),
         source,
     }
 }
 
+/// A progress bar over `steps` when `progress` is asked for and stderr is a terminal.
+pub(crate) fn progress_bar(steps: usize, progress: bool) -> Option<indicatif::ProgressBar> {
+    (progress && std::io::stderr().is_terminal()).then(|| {
+        let bar = indicatif::ProgressBar::new(steps as u64);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{bar:40} {pos}/{len} steps, {elapsed} elapsed, eta {eta} {msg}",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        bar
+    })
+}
+
 /// Solver settings of a scene.
 pub fn solver_settings(scene: &Scene) -> Settings {
-    let s = &scene.spec.solver;
+    ssn_settings(&scene.spec.solver)
+}
+
+/// The talus-ssn settings of a `[solver]` section (FEM and MPM scenes alike).
+pub fn ssn_settings(s: &SolverSpec) -> Settings {
     Settings {
         tolerance: s.tolerance,
         max_iterations: s.max_iterations,
@@ -102,16 +128,7 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunE
         .iter()
         .map(|&(j, _)| dofs.prescribed_dofs()[j].0)
         .collect();
-    let bar = (options.progress && std::io::stderr().is_terminal()).then(|| {
-        let bar = indicatif::ProgressBar::new(time.steps as u64);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{bar:40} {pos}/{len} steps, {elapsed} elapsed, eta {eta} {msg}",
-            )
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        bar
-    });
+    let bar = progress_bar(time.steps, options.progress);
     tracing::info!(
         points = asm.n_points(),
         free_dofs = dofs.n_free(),

@@ -97,3 +97,12 @@ pub(crate) fn check_finite_scalars(field: &'static str, data: &[f64]) -> Result<
         )),
     }
 }
+
+/// `Invalid` unless the single value `v` is finite.
+pub(crate) fn check_finite_value(field: &'static str, v: f64) -> Result<(), OutputError> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(OutputError::invalid(field, format!("is not finite: {v}")))
+    }
+}

@@ -1,5 +1,6 @@
 //! Simulation output: ParaView files (`.vtu` per step, `.pvd` collection) and PNG plots
 //! for reports (force–displacement, Newton convergence, a field on the mesh).
+//! Material points (MPM) have their own VTU (one vertex per particle) and PNG map.
 //!
 //! ```ignore
 //! talus::output::write_vtu(Path::new("out/step_0010.vtu"), &snapshot)?;
@@ -10,15 +11,21 @@
 mod canvas;
 mod colormap;
 mod error;
+mod map_frame;
 mod mesh;
+mod particles_vtu;
 mod plot_curves;
 mod plot_field;
+mod plot_particles;
 mod pvd;
+mod spacing;
 mod vtu;
 
 pub use error::OutputError;
 pub use mesh::MeshView;
+pub use particles_vtu::{write_particle_vtu, ParticleSnapshot};
 pub use plot_curves::{plot_force_displacement, plot_newton_residuals};
 pub use plot_field::plot_field_on_mesh;
+pub use plot_particles::{plot_particles, ParticlePlot};
 pub use pvd::write_pvd;
 pub use vtu::{pressure, von_mises, write_vtu, FieldSnapshot};

@@ -2,21 +2,14 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use plotters::coord::Shift;
 use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::canvas::{prepare, significant, tick, FONT};
+use super::canvas::{prepare, tick};
 use super::colormap::{viridis, Normalize};
+use super::map_frame::{BBox, DynResult, MapFrame};
 use super::mesh::{check_finite, check_finite_scalars, check_len, linear_pieces};
 use super::{MeshView, OutputError};
 
-const WIDTH: u32 = 1200;
-const COLOUR_BAR_AREA: u32 = 190;
-const MARGIN: u32 = 15;
-const TITLE_BAND: u32 = 60;
-const X_LABEL_AREA: u32 = 60;
-const Y_LABEL_AREA: u32 = 80;
 /// Element edges are drawn only when elements are at least this wide on the page.
 const MIN_EDGE_SPACING_PX: f64 = 7.0;
 
@@ -84,8 +77,6 @@ struct FieldPlot<'a> {
     title: &'a str,
 }
 
-type DynResult = Result<(), Box<dyn std::error::Error>>;
-
 impl FieldPlot<'_> {
     fn draw(&self, path: &Path) -> DynResult {
         let used = used_nodes(self.mesh);
@@ -95,51 +86,8 @@ impl FieldPlot<'_> {
         }
         let bbox = bbox.padded();
 
-        // Height from the aspect ratio; ranges are then widened to equal scale exactly.
-        let plot_w = (WIDTH - COLOUR_BAR_AREA - 2 * MARGIN - Y_LABEL_AREA) as f64;
-        let plot_h = (plot_w * bbox.height() / bbox.width()).clamp(250.0, 1000.0);
-        let height = plot_h as u32 + 2 * MARGIN + X_LABEL_AREA + TITLE_BAND;
-
-        let root = BitMapBackend::new(path, (WIDTH, height)).into_drawing_area();
-        root.fill(&WHITE)?;
-        // The title gets its own band: `titled` puts the glyph tops on the image edge.
-        let (head, body) = root.split_vertically(TITLE_BAND);
-        let (head_w, _) = head.dim_in_pixel();
-        head.draw(&Text::new(
-            self.title.to_string(),
-            (head_w as i32 / 2, TITLE_BAND as i32 / 2 + 4),
-            (FONT, 30)
-                .into_font()
-                .style(FontStyle::Bold)
-                .color(&BLACK)
-                .pos(Pos::new(HPos::Center, VPos::Center)),
-        ))?;
-        let (main, bar) = body.split_horizontally(WIDTH - COLOUR_BAR_AREA);
-
-        let (w, h) = main.dim_in_pixel();
-        let pw = f64::from(w - 2 * MARGIN - Y_LABEL_AREA);
-        let ph = f64::from(h - 2 * MARGIN - X_LABEL_AREA);
-        let scale = (bbox.width() / pw).max(bbox.height() / ph); // m per pixel
-        let (cx, cy) = bbox.centre();
-        let xr = (cx - 0.5 * scale * pw)..(cx + 0.5 * scale * pw);
-        let yr = (cy - 0.5 * scale * ph)..(cy + 0.5 * scale * ph);
-
-        let mut chart = ChartBuilder::on(&main)
-            .margin(MARGIN)
-            .x_label_area_size(X_LABEL_AREA)
-            .y_label_area_size(Y_LABEL_AREA)
-            .build_cartesian_2d(xr, yr)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_desc("x [m]")
-            .y_desc("y [m]")
-            .axis_desc_style((FONT, 22))
-            .label_style((FONT, 18))
-            .x_label_formatter(&|v| tick(*v))
-            .y_label_formatter(&|v| tick(*v))
-            .draw()?;
-
+        let mut frame = MapFrame::new(path, &bbox, self.title)?;
+        let chart = &mut frame.chart;
         let norm = Normalize::of(self.values);
         let fills = self
             .mesh
@@ -162,6 +110,7 @@ impl FieldPlot<'_> {
             chart.draw_series([PathElement::new(closed, colour.stroke_width(1))])?;
         }
 
+        let (pw, ph) = frame.plot_px;
         let element_px = (pw * ph / self.mesh.triangles.len() as f64).sqrt();
         if element_px >= MIN_EDGE_SPACING_PX {
             let edge = RGBColor(30, 30, 30).mix(0.35);
@@ -195,96 +144,8 @@ impl FieldPlot<'_> {
             )])?;
         }
 
-        let (top, bottom) = (
-            (MARGIN as i32) + 10,
-            (MARGIN + ph as u32) as i32 + (MARGIN as i32) - 10,
-        );
-        self.draw_colour_bar(&bar, norm, top, bottom)?;
-        root.present()?;
-        Ok(())
+        frame.finish(norm, self.label)
     }
-
-    fn draw_colour_bar(
-        &self,
-        bar: &DrawingArea<BitMapBackend, Shift>,
-        norm: Normalize,
-        top: i32,
-        bottom: i32,
-    ) -> DynResult {
-        let (x0, x1) = (20, 50);
-        let span = (bottom - top).max(1);
-        for py in top..bottom {
-            let t = f64::from(bottom - 1 - py) / f64::from(span - 1).max(1.0);
-            bar.draw(&Rectangle::new(
-                [(x0, py), (x1, py + 1)],
-                viridis(t).filled(),
-            ))?;
-        }
-        bar.draw(&Rectangle::new(
-            [(x0, top), (x1, bottom)],
-            BLACK.stroke_width(1),
-        ))?;
-        let style = (FONT, 18).into_font().color(&BLACK);
-        let label_at = |value: f64, text: String| -> DynResult {
-            let py = bottom - (norm.t(value) * f64::from(span)).round() as i32;
-            bar.draw(&PathElement::new(vec![(x1, py), (x1 + 6, py)], BLACK))?;
-            bar.draw(&Text::new(
-                text,
-                (x1 + 10, py),
-                style.pos(Pos::new(HPos::Left, VPos::Center)),
-            ))?;
-            Ok(())
-        };
-        let range = norm.max - norm.min;
-        // Values within 10⁻⁶ of the range from zero are zero (e.g. 6.5e-75 of plastic strain).
-        let show = |v: f64| {
-            if v.abs() <= 1e-6 * range {
-                "0".to_string()
-            } else {
-                significant(v, 3)
-            }
-        };
-        if range > 0.0 {
-            label_at(norm.min, format!("{} (min)", show(norm.min)))?;
-            label_at(norm.max, format!("{} (max)", show(norm.max)))?;
-            // Round values in between, kept clear of the min/max labels.
-            let step = nice_step(range / 4.0);
-            let mut k = (norm.min / step).ceil();
-            while k * step <= norm.max {
-                let v = k * step;
-                let t = norm.t(v);
-                if t > 0.08 && t < 0.92 {
-                    label_at(v, show(v))?;
-                }
-                k += 1.0;
-            }
-        } else {
-            label_at(norm.min, format!("{} (constant)", significant(norm.min, 3)))?;
-        }
-        // The field's name runs along the bar, so a long label does not need a wide margin.
-        let (w, _) = bar.dim_in_pixel();
-        bar.draw(&Text::new(
-            self.label.to_string(),
-            (w as i32 - 12, (top + bottom) / 2),
-            (FONT, 20)
-                .into_font()
-                .transform(FontTransform::Rotate270)
-                .color(&BLACK)
-                .pos(Pos::new(HPos::Center, VPos::Center)),
-        ))?;
-        Ok(())
-    }
-}
-
-/// The round step (1, 2, 2.5 or 5 × 10ᵏ) nearest above `raw`.
-fn nice_step(raw: f64) -> f64 {
-    let decade = 10f64.powf(raw.log10().floor());
-    let m = raw / decade;
-    let nice = [1.0, 2.0, 2.5, 5.0, 10.0]
-        .into_iter()
-        .find(|&n| n >= m - 1e-9)
-        .unwrap_or(10.0);
-    nice * decade
 }
 
 /// Corner → (mid-edge →) corner path around one element.
@@ -331,55 +192,4 @@ fn used_nodes(mesh: &MeshView) -> Vec<usize> {
     used.sort_unstable();
     used.dedup();
     used
-}
-
-#[derive(Debug, Clone, Copy)]
-struct BBox {
-    x: (f64, f64),
-    y: (f64, f64),
-}
-
-impl BBox {
-    fn of(points: impl Iterator<Item = [f64; 2]>) -> Self {
-        points.fold(
-            Self {
-                x: (f64::INFINITY, f64::NEG_INFINITY),
-                y: (f64::INFINITY, f64::NEG_INFINITY),
-            },
-            |b, p| Self {
-                x: (b.x.0.min(p[0]), b.x.1.max(p[0])),
-                y: (b.y.0.min(p[1]), b.y.1.max(p[1])),
-            },
-        )
-    }
-
-    fn union(&self, o: &Self) -> Self {
-        Self {
-            x: (self.x.0.min(o.x.0), self.x.1.max(o.x.1)),
-            y: (self.y.0.min(o.y.0), self.y.1.max(o.y.1)),
-        }
-    }
-
-    /// 3 % of the larger side around the mesh, so the boundary line is not clipped; a
-    /// degenerate (zero-area) box gets a unit size.
-    fn padded(&self) -> Self {
-        let size = (self.x.1 - self.x.0).max(self.y.1 - self.y.0);
-        let pad = if size > 0.0 { 0.03 * size } else { 0.5 };
-        Self {
-            x: (self.x.0 - pad, self.x.1 + pad),
-            y: (self.y.0 - pad, self.y.1 + pad),
-        }
-    }
-
-    fn width(&self) -> f64 {
-        self.x.1 - self.x.0
-    }
-
-    fn height(&self) -> f64 {
-        self.y.1 - self.y.0
-    }
-
-    fn centre(&self) -> (f64, f64) {
-        (0.5 * (self.x.0 + self.x.1), 0.5 * (self.y.0 + self.y.1))
-    }
 }

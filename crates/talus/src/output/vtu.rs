@@ -3,7 +3,7 @@ use std::f64::consts::SQRT_2;
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::mesh::{check_finite, check_finite_scalars, check_len};
+use super::mesh::{check_finite, check_finite_scalars, check_finite_value, check_len};
 use super::{MeshView, OutputError};
 
 /// VTK cell type ids; VTK's quadratic triangle orders its nodes like Gmsh's 6-node
@@ -36,12 +36,7 @@ impl FieldSnapshot<'_> {
     fn validate(&self) -> Result<(), OutputError> {
         self.mesh.validate()?;
         let (n_nodes, n_elements) = (self.mesh.nodes.len(), self.mesh.triangles.len());
-        if !self.time.is_finite() {
-            return Err(OutputError::invalid(
-                "time",
-                format!("is not finite: {}", self.time),
-            ));
-        }
+        check_finite_value("time", self.time)?;
         check_len("displacement", self.displacement.len(), n_nodes, "node")?;
         check_len("velocity", self.velocity.len(), n_nodes, "node")?;
         check_len("stress", self.stress.len(), n_elements, "element")?;
@@ -88,7 +83,32 @@ pub fn write_vtu(path: &Path, s: &FieldSnapshot) -> Result<(), OutputError> {
 fn vtu_string(s: &FieldSnapshot) -> String {
     let mesh = s.mesh;
     let mut x = String::with_capacity(64 * (mesh.nodes.len() * 3 + mesh.triangles.len() * 4));
+    begin_piece(&mut x, s.time, mesh.nodes.len(), mesh.triangles.len());
     // Writing to a String cannot fail: the `fmt::Result`s are ignored on purpose.
+    let _ = writeln!(x, r#"      <PointData Vectors="displacement">"#);
+    vectors(&mut x, "displacement", s.displacement);
+    vectors(&mut x, "velocity", s.velocity);
+    let _ = writeln!(x, "      </PointData>");
+    let _ = writeln!(
+        x,
+        r#"      <CellData Tensors="stress" Scalars="plastic_strain">"#
+    );
+    stress_and_invariants(&mut x, s.stress);
+    scalars(&mut x, "plastic_strain", s.plastic_strain);
+    let _ = writeln!(x, "      </CellData>");
+    points_and_cells(&mut x, mesh.nodes, mesh.triangles, |tri| {
+        if tri.len() == 6 {
+            VTK_QUADRATIC_TRIANGLE
+        } else {
+            VTK_TRIANGLE
+        }
+    });
+    end_piece(&mut x);
+    x
+}
+
+/// XML header, `TimeValue` (s) as field data, and the opening `<Piece>` tag.
+pub(super) fn begin_piece(x: &mut String, time: f64, n_points: usize, n_cells: usize) {
     let _ = writeln!(x, r#"<?xml version="1.0"?>"#);
     let _ = writeln!(
         x,
@@ -100,35 +120,47 @@ fn vtu_string(s: &FieldSnapshot) -> String {
         x,
         r#"      <DataArray type="Float64" Name="TimeValue" NumberOfTuples="1" format="ascii">"#
     );
-    let _ = writeln!(x, "{:e}", s.time);
-    close_array(&mut x, 6);
+    let _ = writeln!(x, "{time:e}");
+    close_array(x, 6);
     let _ = writeln!(x, "    </FieldData>");
     let _ = writeln!(
         x,
-        r#"    <Piece NumberOfPoints="{}" NumberOfCells="{}">"#,
-        mesh.nodes.len(),
-        mesh.triangles.len()
+        r#"    <Piece NumberOfPoints="{n_points}" NumberOfCells="{n_cells}">"#
     );
+}
 
-    let _ = writeln!(x, r#"      <PointData Vectors="displacement">"#);
-    for (name, data) in [("displacement", s.displacement), ("velocity", s.velocity)] {
-        open_array(&mut x, "Float64", name, 3, 8);
-        for v in data {
-            let _ = writeln!(x, "{:e} {:e} 0", v[0], v[1]);
-        }
-        close_array(&mut x, 8);
+/// Closes what [`begin_piece`] opened.
+pub(super) fn end_piece(x: &mut String) {
+    let _ = writeln!(x, "    </Piece>");
+    let _ = writeln!(x, "  </UnstructuredGrid>");
+    let _ = writeln!(x, "</VTKFile>");
+}
+
+/// A 2-vector per entry, written as a 3-vector with z = 0.
+pub(super) fn vectors(x: &mut String, name: &str, data: &[[f64; 2]]) {
+    open_array(x, "Float64", name, 3, 8);
+    for v in data {
+        let _ = writeln!(x, "{:e} {:e} 0", v[0], v[1]);
     }
-    let _ = writeln!(x, "      </PointData>");
+    close_array(x, 8);
+}
 
-    let _ = writeln!(
-        x,
-        r#"      <CellData Tensors="stress" Scalars="plastic_strain">"#
-    );
+pub(super) fn scalars(x: &mut String, name: &str, data: &[f64]) {
+    open_array(x, "Float64", name, 1, 8);
+    for v in data {
+        let _ = writeln!(x, "{v:e}");
+    }
+    close_array(x, 8);
+}
+
+/// `stress` as a symmetric tensor in plain components (VTK order `XX, YY, ZZ, XY, YZ, XZ`,
+/// σxy = m₃/√2, YZ = XZ = 0), then its `von_mises` and `pressure`.
+pub(super) fn stress_and_invariants(x: &mut String, stress: &[[f64; 4]]) {
     let _ = writeln!(
         x,
         r#"        <DataArray type="Float64" Name="stress" NumberOfComponents="6" ComponentName0="XX" ComponentName1="YY" ComponentName2="ZZ" ComponentName3="XY" ComponentName4="YZ" ComponentName5="XZ" format="ascii">"#
     );
-    for m in s.stress {
+    for m in stress {
         let _ = writeln!(
             x,
             "{:e} {:e} {:e} {:e} 0 0",
@@ -138,59 +170,52 @@ fn vtu_string(s: &FieldSnapshot) -> String {
             m[3] / SQRT_2
         );
     }
-    close_array(&mut x, 8);
+    close_array(x, 8);
     let derived: [(&str, StressInvariant); 2] = [("von_mises", von_mises), ("pressure", pressure)];
     for (name, f) in derived {
-        open_array(&mut x, "Float64", name, 1, 8);
-        for m in s.stress {
+        open_array(x, "Float64", name, 1, 8);
+        for m in stress {
             let _ = writeln!(x, "{:e}", f(m));
         }
-        close_array(&mut x, 8);
+        close_array(x, 8);
     }
-    open_array(&mut x, "Float64", "plastic_strain", 1, 8);
-    for e in s.plastic_strain {
-        let _ = writeln!(x, "{e:e}");
-    }
-    close_array(&mut x, 8);
-    let _ = writeln!(x, "      </CellData>");
+}
 
+/// `<Points>` (z = 0) and `<Cells>`: each cell's point ids, running offsets, VTK types.
+pub(super) fn points_and_cells<C: AsRef<[usize]>>(
+    x: &mut String,
+    points: &[[f64; 2]],
+    cells: &[C],
+    cell_type: impl Fn(&[usize]) -> u8,
+) {
     let _ = writeln!(x, "      <Points>");
-    open_array(&mut x, "Float64", "Points", 3, 8);
-    for p in mesh.nodes {
+    open_array(x, "Float64", "Points", 3, 8);
+    for p in points {
         let _ = writeln!(x, "{:e} {:e} 0", p[0], p[1]);
     }
-    close_array(&mut x, 8);
+    close_array(x, 8);
     let _ = writeln!(x, "      </Points>");
 
     let _ = writeln!(x, "      <Cells>");
-    open_array(&mut x, "Int64", "connectivity", 1, 8);
-    for tri in mesh.triangles {
-        let line: Vec<String> = tri.iter().map(usize::to_string).collect();
+    open_array(x, "Int64", "connectivity", 1, 8);
+    for cell in cells {
+        let line: Vec<String> = cell.as_ref().iter().map(usize::to_string).collect();
         let _ = writeln!(x, "{}", line.join(" "));
     }
-    close_array(&mut x, 8);
-    open_array(&mut x, "Int64", "offsets", 1, 8);
+    close_array(x, 8);
+    open_array(x, "Int64", "offsets", 1, 8);
     let mut offset = 0;
-    for tri in mesh.triangles {
-        offset += tri.len();
+    for cell in cells {
+        offset += cell.as_ref().len();
         let _ = writeln!(x, "{offset}");
     }
-    close_array(&mut x, 8);
-    open_array(&mut x, "UInt8", "types", 1, 8);
-    for tri in mesh.triangles {
-        let t = if tri.len() == 6 {
-            VTK_QUADRATIC_TRIANGLE
-        } else {
-            VTK_TRIANGLE
-        };
-        let _ = writeln!(x, "{t}");
+    close_array(x, 8);
+    open_array(x, "UInt8", "types", 1, 8);
+    for cell in cells {
+        let _ = writeln!(x, "{}", cell_type(cell.as_ref()));
     }
-    close_array(&mut x, 8);
+    close_array(x, 8);
     let _ = writeln!(x, "      </Cells>");
-    let _ = writeln!(x, "    </Piece>");
-    let _ = writeln!(x, "  </UnstructuredGrid>");
-    let _ = writeln!(x, "</VTKFile>");
-    x
 }
 
 fn open_array(x: &mut String, ty: &str, name: &str, components: usize, indent: usize) {

@@ -1,7 +1,6 @@
 use std::path::{Path, PathBuf};
 
-use toml::de::{DeTable, DeValue};
-
+use super::source::{error_at, parse_spec, read, Locate};
 use super::{SceneError, SceneSpec};
 
 /// A parsed scene with its source, kept to locate errors found after parsing.
@@ -21,40 +20,22 @@ pub fn builtin_footing() -> Scene {
 
 impl Scene {
     pub fn from_path(path: &Path) -> Result<Self, SceneError> {
-        let source = std::fs::read_to_string(path).map_err(|e| SceneError {
-            file: Some(path.to_path_buf()),
-            field: "file".into(),
-            line: None,
-            message: e.to_string(),
-        })?;
+        let source = read(path)?;
         Self::parse(&source, Some(path.to_path_buf()))
     }
 
     pub fn parse(source: &str, path: Option<PathBuf>) -> Result<Self, SceneError> {
-        match toml::from_str::<SceneSpec>(source) {
-            Ok(spec) => Ok(Self {
-                spec,
-                source: source.to_string(),
-                path,
-            }),
-            Err(e) => Err(SceneError {
-                file: path,
-                field: "toml".into(),
-                line: e.span().map(|s| line_of_offset(source, s.start)),
-                message: e.message().to_string(),
-            }),
-        }
+        Ok(Self {
+            spec: parse_spec(source, path.as_ref())?,
+            source: source.to_string(),
+            path,
+        })
     }
 
     /// An error at `field` (a path such as `material.young_modulus` or `boundary[1].nodes`),
     /// with the line where that field stands in the file.
     pub fn error(&self, field: &str, message: impl Into<String>) -> SceneError {
-        SceneError {
-            file: self.path.clone(),
-            field: field.to_string(),
-            line: self.line_of(field),
-            message: message.into(),
-        }
+        error_at(&self.source, self.path.as_ref(), field, message.into())
     }
 
     /// Relative paths in the scene are relative to the scene file.
@@ -64,34 +45,10 @@ impl Scene {
             None => PathBuf::from(relative),
         }
     }
-
-    fn line_of(&self, field: &str) -> Option<usize> {
-        let doc = DeTable::parse(&self.source).ok()?;
-        let mut span = doc.span();
-        let root = DeValue::Table(doc.into_inner());
-        let mut value = &root;
-        for segment in field.split('.') {
-            let (key, index) = match segment.split_once('[') {
-                Some((k, rest)) => (k, rest.trim_end_matches(']').parse::<usize>().ok()),
-                None => (segment, None),
-            };
-            let next = value.get(key)?;
-            span = next.span();
-            value = next.get_ref();
-            if let Some(i) = index {
-                let item = value.get(i)?;
-                span = item.span();
-                value = item.get_ref();
-            }
-        }
-        Some(line_of_offset(&self.source, span.start))
-    }
 }
 
-fn line_of_offset(source: &str, offset: usize) -> usize {
-    source[..offset.min(source.len())]
-        .bytes()
-        .filter(|b| *b == b'\n')
-        .count()
-        + 1
+impl Locate for Scene {
+    fn error(&self, field: &str, message: impl Into<String>) -> SceneError {
+        Scene::error(self, field, message)
+    }
 }

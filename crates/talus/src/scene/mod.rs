@@ -1,10 +1,21 @@
-//! Scene files: TOML holding only what a simulation needs (mesh, material, boundary
+//! Scene files: TOML holding only what a simulation needs (mesh or grid, material, boundary
 //! conditions and loads, time stepping, solver settings, outputs). Unknown keys are
 //! rejected; every error names the field and, when it is in the file, the line.
+//! [`SceneFile`] tells the kinds apart: `[mesh]` is a finite-element [`Scene`], `[grid]`
+//! a material-point [`MpmScene`].
+pub mod check;
 mod error;
+mod file;
 mod load;
+mod mpm_load;
+mod mpm_types;
+mod source;
 mod types;
 
 pub use error::SceneError;
+pub use file::SceneFile;
 pub use load::{builtin_footing, Scene};
+pub use mpm_load::MpmScene;
+pub use mpm_types::*;
+pub use source::Locate;
 pub use types::*;

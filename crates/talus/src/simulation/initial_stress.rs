@@ -1,4 +1,6 @@
-use crate::scene::{InitialStressSpec, Scene, SceneError};
+use talus_bipotential::DruckerPrager;
+
+use crate::scene::{InitialStressSpec, Locate, Scene, SceneError};
 
 use super::Model;
 
@@ -8,6 +10,27 @@ pub fn k0_stress(
     model: &Model,
     spec: &InitialStressSpec,
 ) -> Result<Vec<f64>, SceneError> {
+    let gamma = scene.spec.material.density * scene.spec.gravity.map(|g| -g[1]).unwrap_or(0.0);
+    let sigma = k0_stress_at(
+        scene,
+        &model.material,
+        gamma,
+        spec,
+        &model.assembly.gauss_points,
+    )?;
+    Ok(sigma.into_iter().flatten().collect())
+}
+
+/// The K₀ stress (Mandel, Pa) at each of `points` (m) under a ground of unit weight
+/// `gamma = ρ g` (N/m³): `σ_yy = −(surcharge + γ (surface − y))`, `σ_xx = σ_zz = K₀ σ_yy`.
+/// Errors name `initial_stress.*`: a point above the surface, a state outside the cone.
+pub fn k0_stress_at(
+    scene: &impl Locate,
+    material: &DruckerPrager,
+    gamma: f64,
+    spec: &InitialStressSpec,
+    points: &[[f64; 2]],
+) -> Result<Vec<[f64; 4]>, SceneError> {
     if !(spec.k0.is_finite() && spec.k0 > 0.0) {
         return Err(scene.error(
             "initial_stress.k0",
@@ -23,9 +46,8 @@ pub fn k0_stress(
             format!("{} Pa must be finite and >= 0", spec.surcharge),
         ));
     }
-    let gamma = scene.spec.material.density * scene.spec.gravity.map(|g| -g[1]).unwrap_or(0.0);
-    let mut sigma = vec![0.0; 4 * model.n_points()];
-    for (p, x) in model.assembly.gauss_points.iter().enumerate() {
+    let mut sigma = Vec::with_capacity(points.len());
+    for x in points {
         let depth = spec.surface - x[1];
         if depth < -1e-9 * spec.surface.abs().max(1.0) {
             return Err(scene.error(
@@ -39,20 +61,20 @@ pub fn k0_stress(
         let vertical = -(spec.surcharge + gamma * depth.max(0.0));
         let s =
             nalgebra::SVector::<f64, 4>::new(spec.k0 * vertical, vertical, spec.k0 * vertical, 0.0);
-        let f = model.material.yield_function(&s);
-        if f > 1e-9 * s.norm().max(model.material.parameters().cohesion) {
-            let (lo, hi) = k0_bounds_without_cohesion(model);
+        let f = material.yield_function(&s);
+        if f > 1e-9 * s.norm().max(material.parameters().cohesion) {
+            let (lo, hi) = k0_bounds(material);
             return Err(scene.error(
                 "initial_stress.k0",
                 format!(
                     "K₀ = {} puts the point at depth {depth:.3} m outside the yield cone (f = {f:.3e} Pa); \
                      without cohesion the cone admits {lo:.4} ≤ K₀ ≤ {hi:.4} (Jaky's 1 − sin φ = {:.4})",
                     spec.k0,
-                    1.0 - model.material.parameters().friction_angle.to_radians().sin()
+                    1.0 - material.parameters().friction_angle.to_radians().sin()
                 ),
             ));
         }
-        sigma[4 * p..4 * p + 4].copy_from_slice(s.as_slice());
+        sigma.push([s[0], s[1], s[2], s[3]]);
     }
     Ok(sigma)
 }
@@ -62,14 +84,13 @@ pub fn k0_stress(
 /// Jaky's `1 − sin φ` falls below it for φ ≳ 36° with the plane-strain fit, because the fit
 /// matches Mohr-Coulomb in plastic flow, not in this stress state.
 pub fn k0_bounds_without_cohesion(model: &Model) -> (f64, f64) {
-    let a = (2.0f64 / 3.0).sqrt() / model.material.k_d();
-    let t = model
-        .material
-        .parameters()
-        .friction_angle
-        .to_radians()
-        .tan()
-        / 3.0;
+    k0_bounds(&model.material)
+}
+
+/// [`k0_bounds_without_cohesion`] of a material.
+pub fn k0_bounds(material: &DruckerPrager) -> (f64, f64) {
+    let a = (2.0f64 / 3.0).sqrt() / material.k_d();
+    let t = material.parameters().friction_angle.to_radians().tan() / 3.0;
     // K₀ ≤ 1: a (1 − K₀) ≤ t (1 + 2K₀); K₀ ≥ 1: a (K₀ − 1) ≤ t (1 + 2K₀).
     let lo = (a - t) / (a + 2.0 * t);
     let hi = if a > 2.0 * t {

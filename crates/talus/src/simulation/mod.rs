@@ -5,7 +5,7 @@ mod model;
 mod state;
 mod stepper;
 
-pub use initial_stress::{k0_bounds_without_cohesion, k0_stress};
+pub use initial_stress::{k0_bounds, k0_bounds_without_cohesion, k0_stress, k0_stress_at};
 pub use model::Model;
 pub use state::State;
 pub use stepper::{StepError, StepRecord, Stepper};

@@ -1,11 +1,11 @@
 use nalgebra::{SMatrix, SVector};
-use talus_bipotential::{DruckerPrager, DruckerPragerParameters, FlowRule};
+use talus_bipotential::{DruckerPrager, FlowRule};
 use talus_fem::assembly::add_mul;
 use talus_fem::{Assembly, BoundaryEdge, Constraint, DofMap, ElementOrder, Mesh};
 
 use super::State;
 
-use crate::scene::{Fix, MeshSpec, Order, Scene, SceneError, Selection};
+use crate::scene::{check, Fix, MeshSpec, Order, Scene, SceneError, Selection};
 
 /// Everything fixed during a run: mesh, operators, material, loads, prescribed motion.
 pub struct Model {
@@ -29,19 +29,7 @@ impl Model {
         let spec = &scene.spec;
         let mesh = build_mesh(scene)?;
         let m = &spec.material;
-        let material = DruckerPrager::try_new(DruckerPragerParameters {
-            young_modulus: m.young_modulus,
-            poisson_ratio: m.poisson_ratio,
-            friction_angle: m.friction_angle,
-            cohesion: m.cohesion,
-            dilatancy_angle: m.dilatancy_angle.unwrap_or(m.friction_angle),
-            cone_fit: m.cone_fit,
-        })
-        .map_err(|e| {
-            let talus_bipotential::MaterialError::InvalidParameter { name, .. } = &e;
-            let field = format!("material.{}", name.split('.').next().unwrap_or(name));
-            scene.error(&field, e.to_string())
-        })?;
+        let material = check::material(scene, m)?;
 
         let mut constraints = Vec::new();
         for (k, b) in spec.boundary.iter().enumerate() {
@@ -108,29 +96,8 @@ impl Model {
             add(&mut force_free, &ff);
             add(&mut force_prescribed, &fp);
         }
-        let ts = &spec.time;
-        if !(ts.step.is_finite() && ts.step > 0.0) {
-            return Err(scene.error("time.step", format!("{} s must be finite and > 0", ts.step)));
-        }
-        if ts.steps == 0 {
-            return Err(scene.error("time.steps", "must be at least 1"));
-        }
-        let sv = &spec.solver;
-        if !(sv.tolerance.is_finite() && sv.tolerance > 0.0) {
-            return Err(scene.error(
-                "solver.tolerance",
-                format!("{} must be finite and > 0", sv.tolerance),
-            ));
-        }
-        if !(sv.rho_factor.is_finite() && sv.rho_factor > 0.0) {
-            return Err(scene.error(
-                "solver.rho_factor",
-                format!("{} must be finite and > 0", sv.rho_factor),
-            ));
-        }
-        if sv.max_iterations == 0 {
-            return Err(scene.error("solver.max_iterations", "must be at least 1"));
-        }
+        check::time(scene, &spec.time)?;
+        check::solver(scene, &spec.solver)?;
         Ok(Self {
             compliance: material.compliance::<4>(),
             flow_rule: material.flow_rule::<4>(),

@@ -1,0 +1,91 @@
+//! ParaView snapshot of the material points of one time step: VTK XML `UnstructuredGrid`,
+//! ASCII, one `VTK_VERTEX` cell per particle.
+use std::fmt::Write as _;
+use std::path::Path;
+
+use super::mesh::{check_finite, check_finite_scalars, check_finite_value, check_len};
+use super::vtu::{
+    begin_piece, end_piece, points_and_cells, scalars, stress_and_invariants, vectors,
+};
+use super::OutputError;
+
+const VTK_VERTEX: u8 = 1;
+
+/// The particle fields of one time step, one entry per particle in every slice.
+///
+/// Units: time s, position m, velocity m/s, volume m³ and mass kg per metre of thickness
+/// (plane strain), stress Pa (tension positive), plastic strain dimensionless.
+#[derive(Debug, Clone, Copy)]
+pub struct ParticleSnapshot<'a> {
+    pub time: f64,
+    /// m.
+    pub position: &'a [[f64; 2]],
+    /// m/s.
+    pub velocity: &'a [[f64; 2]],
+    /// m³ per metre of thickness.
+    pub volume: &'a [f64],
+    /// kg per metre of thickness.
+    pub mass: &'a [f64],
+    /// Mandel `(xx, yy, zz, √2 xy)`, Pa, tension positive.
+    pub stress: &'a [[f64; 4]],
+    /// Cumulative equivalent plastic strain `∫‖ε̇ᵖ‖ dt`.
+    pub plastic_strain: &'a [f64],
+}
+
+impl ParticleSnapshot<'_> {
+    /// At least one particle, one entry per particle in every field, all finite.
+    fn validate(&self) -> Result<(), OutputError> {
+        check_finite_value("time", self.time)?;
+        let n = self.position.len();
+        if n == 0 {
+            return Err(OutputError::invalid("position", "there are no particles"));
+        }
+        check_len("velocity", self.velocity.len(), n, "particle")?;
+        check_len("volume", self.volume.len(), n, "particle")?;
+        check_len("mass", self.mass.len(), n, "particle")?;
+        check_len("stress", self.stress.len(), n, "particle")?;
+        check_len("plastic_strain", self.plastic_strain.len(), n, "particle")?;
+        check_finite("position", self.position)?;
+        check_finite("velocity", self.velocity)?;
+        check_finite_scalars("volume", self.volume)?;
+        check_finite_scalars("mass", self.mass)?;
+        check_finite("stress", self.stress)?;
+        check_finite_scalars("plastic_strain", self.plastic_strain)
+    }
+}
+
+/// Writes `s` to `path` as a VTK XML unstructured grid (ASCII) of one vertex per particle
+/// at its position (z = 0).
+///
+/// Point data: `velocity` (m/s, 3-vector with z = 0), `volume`, `mass`, `stress` as a
+/// symmetric tensor in plain components, VTK order `XX, YY, ZZ, XY, YZ, XZ` (σxy = m₃/√2,
+/// YZ = XZ = 0; Pa, tension positive), `von_mises` (Pa), `pressure` (−tr σ/3, Pa) and
+/// `plastic_strain`. The time (s) is the `TimeValue` field. Numbers are written in Rust's
+/// shortest round-trip form. Errors (`Invalid`, nothing written): no particles, a field
+/// whose length differs from `position`'s, a non-finite value.
+pub fn write_particle_vtu(path: &Path, s: &ParticleSnapshot) -> Result<(), OutputError> {
+    s.validate()?;
+    let xml = particle_vtu_string(s);
+    std::fs::write(path, xml).map_err(|e| OutputError::io(path, e))
+}
+
+fn particle_vtu_string(s: &ParticleSnapshot) -> String {
+    let n = s.position.len();
+    let mut x = String::with_capacity(200 * n + 2000);
+    begin_piece(&mut x, s.time, n, n);
+    // Writing to a String cannot fail.
+    let _ = writeln!(
+        x,
+        r#"      <PointData Vectors="velocity" Tensors="stress" Scalars="plastic_strain">"#
+    );
+    vectors(&mut x, "velocity", s.velocity);
+    scalars(&mut x, "volume", s.volume);
+    scalars(&mut x, "mass", s.mass);
+    stress_and_invariants(&mut x, s.stress);
+    scalars(&mut x, "plastic_strain", s.plastic_strain);
+    let _ = writeln!(x, "      </PointData>");
+    let vertices: Vec<[usize; 1]> = (0..n).map(|i| [i]).collect();
+    points_and_cells(&mut x, s.position, &vertices, |_| VTK_VERTEX);
+    end_piece(&mut x);
+    x
+}

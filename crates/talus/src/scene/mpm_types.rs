@@ -1,0 +1,178 @@
+//! The spec of a material-point (MPM) scene: a `[grid]` instead of a `[mesh]`, bodies of
+//! particles, walls and prescribed-velocity boxes on the grid, surface loads on particles.
+//! `[material]`, `[time]`, `[solver]` and `[initial_stress]` are those of FEM scenes.
+use serde::Deserialize;
+
+use super::{InitialStressSpec, MaterialSpec, SolverSpec, TimeSpec};
+
+/// The whole MPM scene (see docs/scenes.md, "MPM scenes").
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MpmSceneSpec {
+    #[serde(default)]
+    pub title: Option<String>,
+    /// Body acceleration (m/s²); absent means weightless.
+    #[serde(default)]
+    pub gravity: Option<[f64; 2]>,
+    pub grid: GridSpec,
+    /// Rectangles filled with particles, all of `material`.
+    #[serde(default)]
+    pub body: Vec<BodySpec>,
+    pub material: MaterialSpec,
+    #[serde(default)]
+    pub wall: Vec<WallSpec>,
+    #[serde(default)]
+    pub prescribed: Vec<PrescribedSpec>,
+    #[serde(default)]
+    pub surface_load: Vec<SurfaceLoadSpec>,
+    /// K₀ stress at every particle (default: stress free).
+    #[serde(default)]
+    pub initial_stress: Option<InitialStressSpec>,
+    pub time: TimeSpec,
+    #[serde(default)]
+    pub mpm: MpmSpec,
+    #[serde(default)]
+    pub solver: SolverSpec,
+    #[serde(default)]
+    pub output: MpmOutputSpec,
+}
+
+/// Square cells of side `spacing` (m) from `origin` (lower-left corner, m).
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GridSpec {
+    pub origin: [f64; 2],
+    pub spacing: f64,
+    pub cells: [usize; 2],
+    #[serde(default)]
+    pub shape: ShapeSpec,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ShapeSpec {
+    Linear,
+    /// Quadratic B-splines (C¹: no cell-crossing noise).
+    #[default]
+    Quadratic,
+}
+
+/// `[[xmin, ymin], [xmax, ymax]]` filled with `particles_per_cell²` particles per cell.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    pub rectangle: [[f64; 2]; 2],
+    /// Per axis; default 2.
+    #[serde(default = "two")]
+    pub particles_per_cell: usize,
+}
+
+fn two() -> usize {
+    2
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SideSpec {
+    Left,
+    Right,
+    Bottom,
+    Top,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WallConditionSpec {
+    Fixed,
+    Slip,
+    Friction,
+}
+
+/// A wall on a side of the grid; `friction` (μ ≥ 0) is required iff `condition = "friction"`.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WallSpec {
+    pub side: SideSpec,
+    pub condition: WallConditionSpec,
+    #[serde(default)]
+    pub friction: Option<f64>,
+}
+
+/// Grid nodes inside `region` move with the given velocity (m/s): `velocity = [vx, vy]`
+/// prescribes both components, `velocity_x` / `velocity_y` one each (the other stays free).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PrescribedSpec {
+    #[serde(default)]
+    pub name: Option<String>,
+    pub region: [[f64; 2]; 2],
+    #[serde(default)]
+    pub velocity: Option<[f64; 2]>,
+    #[serde(default)]
+    pub velocity_x: Option<f64>,
+    #[serde(default)]
+    pub velocity_y: Option<f64>,
+}
+
+/// A downward pressure (Pa) carried by the particles whose centres lie in `region`.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SurfaceLoadSpec {
+    pub region: [[f64; 2]; 2],
+    pub pressure: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PredictorSpec {
+    #[default]
+    Previous,
+    Elastic,
+}
+
+/// The MPM transfer and stress-update options.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MpmSpec {
+    /// FLIP weight α in `v = α v_FLIP + (1 − α) v_PIC`, in [0, 1].
+    pub flip_ratio: f64,
+    pub rotate_stress: bool,
+    pub predictor: PredictorSpec,
+}
+
+impl Default for MpmSpec {
+    fn default() -> Self {
+        Self {
+            flip_ratio: 0.95,
+            rotate_stress: true,
+            predictor: PredictorSpec::Previous,
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MpmOutputSpec {
+    /// Particle VTU every this many steps (0: only the first and the last).
+    pub vtu_every: usize,
+    /// PNG of the particles every this many steps (0: only the first and the last).
+    pub snapshot_every: usize,
+    /// The `[[prescribed]]` box (by `name`) whose force goes into history.csv.
+    pub reaction: Option<String>,
+    /// Report the final normalized runout in the summary.
+    pub runout: bool,
+    /// Summary plots (force–displacement of the `reaction` box).
+    pub plots: bool,
+}
+
+impl Default for MpmOutputSpec {
+    fn default() -> Self {
+        Self {
+            vtu_every: 10,
+            snapshot_every: 0,
+            reaction: None,
+            runout: false,
+            plots: true,
+        }
+    }
+}

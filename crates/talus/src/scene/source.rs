@@ -1,0 +1,109 @@
+//! What FEM and MPM scenes share as files: TOML parsing into a spec, and errors placed on
+//! the line where their field stands.
+use std::path::{Path, PathBuf};
+
+use serde::de::DeserializeOwned;
+use toml::de::{DeTable, DeValue};
+
+use super::SceneError;
+
+/// A parsed scene that can place an error on the line of a field path such as
+/// `material.young_modulus` or `wall[1].friction`.
+pub trait Locate {
+    fn error(&self, field: &str, message: impl Into<String>) -> SceneError;
+}
+
+/// Reads a scene file.
+pub(super) fn read(path: &Path) -> Result<String, SceneError> {
+    std::fs::read_to_string(path).map_err(|e| SceneError {
+        file: Some(path.to_path_buf()),
+        field: "file".into(),
+        line: None,
+        message: e.to_string(),
+    })
+}
+
+/// Parses `source` into a spec; a TOML or schema error names the line it found.
+pub(super) fn parse_spec<S: DeserializeOwned>(
+    source: &str,
+    path: Option<&PathBuf>,
+) -> Result<S, SceneError> {
+    toml::from_str::<S>(source).map_err(|e| SceneError {
+        file: path.cloned(),
+        field: "toml".into(),
+        line: e.span().map(|s| line_of_offset(source, s.start)),
+        message: e.message().to_string(),
+    })
+}
+
+/// An error at `field` with the line where that field stands in `source`.
+pub(super) fn error_at(
+    source: &str,
+    path: Option<&PathBuf>,
+    field: &str,
+    message: String,
+) -> SceneError {
+    SceneError {
+        file: path.cloned(),
+        field: field.to_string(),
+        line: line_of_field(source, field),
+        message,
+    }
+}
+
+/// As [`error_at`], but a field absent from the file (a missing key) is placed on the line
+/// of its nearest enclosing table or array entry.
+pub(super) fn error_near(
+    source: &str,
+    path: Option<&PathBuf>,
+    field: &str,
+    message: String,
+) -> SceneError {
+    let mut at = field;
+    let line = loop {
+        if let Some(line) = line_of_field(source, at) {
+            break Some(line);
+        }
+        match at.rfind(['.', '[']) {
+            Some(i) => at = &at[..i],
+            None => break None,
+        }
+    };
+    SceneError {
+        file: path.cloned(),
+        field: field.to_string(),
+        line,
+        message,
+    }
+}
+
+/// The line of a field path (`a.b[2].c`) in `source`, if it is there.
+fn line_of_field(source: &str, field: &str) -> Option<usize> {
+    let doc = DeTable::parse(source).ok()?;
+    let mut span = doc.span();
+    let root = DeValue::Table(doc.into_inner());
+    let mut value = &root;
+    for segment in field.split('.') {
+        let (key, index) = match segment.split_once('[') {
+            Some((k, rest)) => (k, rest.trim_end_matches(']').parse::<usize>().ok()),
+            None => (segment, None),
+        };
+        let next = value.get(key)?;
+        span = next.span();
+        value = next.get_ref();
+        if let Some(i) = index {
+            let item = value.get(i)?;
+            span = item.span();
+            value = item.get_ref();
+        }
+    }
+    Some(line_of_offset(source, span.start))
+}
+
+fn line_of_offset(source: &str, offset: usize) -> usize {
+    source[..offset.min(source.len())]
+        .bytes()
+        .filter(|b| *b == b'\n')
+        .count()
+        + 1
+}

@@ -1,0 +1,295 @@
+//! Readers shared by the output tests: VTU arrays by name, PNG pixels (decoded by the
+//! minimal inflate below; `image` is not a dependency of this crate), the field an error
+//! names.
+#![allow(dead_code)]
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+use talus::output::OutputError;
+
+/// `target/tmp/<test>/<name>`, created.
+pub fn target_tmp_dir(test: &str, name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(test).join(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+// ---------------------------------------------------------------- VTU reading
+
+pub fn attr(xml: &str, name: &str) -> String {
+    let key = format!("{name}=\"");
+    let start = xml.find(&key).unwrap_or_else(|| panic!("no {name}")) + key.len();
+    xml[start..start + xml[start..].find('"').unwrap()].to_string()
+}
+
+/// The whitespace-separated numbers of the `<DataArray Name="name">`.
+pub fn array(xml: &str, name: &str) -> Vec<f64> {
+    let key = format!("Name=\"{name}\"");
+    let at = xml
+        .find(&key)
+        .unwrap_or_else(|| panic!("no DataArray {name}"));
+    let body = at + xml[at..].find('>').unwrap() + 1;
+    let end = body + xml[body..].find("</DataArray>").unwrap();
+    xml[body..end]
+        .split_whitespace()
+        .map(|t| {
+            t.parse::<f64>()
+                .unwrap_or_else(|_| panic!("{name}: bad number {t}"))
+        })
+        .collect()
+}
+
+// ---------------------------------------------------------------- PNG reading
+
+const PNG_SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', b'\r', b'\n', 0x1a, b'\n'];
+
+pub struct Png {
+    pub width: u32,
+    pub height: u32,
+    pub rgb: Vec<[u8; 3]>,
+}
+
+/// Checks the signature and IHDR, then inflates and unfilters 8-bit RGB or RGBA.
+pub fn read_png(path: &Path) -> Png {
+    let bytes = std::fs::read(path).unwrap();
+    assert_eq!(bytes[..8], PNG_SIGNATURE, "{} is not a PNG", path.display());
+    assert_eq!(&bytes[12..16], b"IHDR");
+    let be = |b: &[u8]| u32::from_be_bytes([b[0], b[1], b[2], b[3]]);
+    let (width, height) = (be(&bytes[16..20]), be(&bytes[20..24]));
+    let (depth, colour_type, interlace) = (bytes[24], bytes[25], bytes[28]);
+    assert_eq!((depth, interlace), (8, 0));
+    let channels = match colour_type {
+        2 => 3,
+        6 => 4,
+        t => panic!("unexpected PNG colour type {t}"),
+    };
+    let mut idat = Vec::new();
+    let mut at = 8;
+    while at + 8 <= bytes.len() {
+        let len = be(&bytes[at..]) as usize;
+        if &bytes[at + 4..at + 8] == b"IDAT" {
+            idat.extend_from_slice(&bytes[at + 8..at + 8 + len]);
+        }
+        at += 12 + len;
+    }
+    let raw = inflate(&idat[2..]); // skip the zlib header
+    let stride = width as usize * channels;
+    assert_eq!(raw.len(), height as usize * (stride + 1));
+    let mut img = vec![0u8; height as usize * stride];
+    for y in 0..height as usize {
+        let filter = raw[y * (stride + 1)];
+        let line = &raw[y * (stride + 1) + 1..(y + 1) * (stride + 1)];
+        for x in 0..stride {
+            let a = if x >= channels {
+                img[y * stride + x - channels]
+            } else {
+                0
+            } as i32;
+            let b = if y > 0 { img[(y - 1) * stride + x] } else { 0 } as i32;
+            let c = if x >= channels && y > 0 {
+                img[(y - 1) * stride + x - channels]
+            } else {
+                0
+            } as i32;
+            let predicted = match filter {
+                0 => 0,
+                1 => a,
+                2 => b,
+                3 => (a + b) / 2,
+                4 => {
+                    let p = a + b - c;
+                    let (pa, pb, pc) = ((p - a).abs(), (p - b).abs(), (p - c).abs());
+                    if pa <= pb && pa <= pc {
+                        a
+                    } else if pb <= pc {
+                        b
+                    } else {
+                        c
+                    }
+                }
+                f => panic!("bad PNG filter {f}"),
+            };
+            img[y * stride + x] = (line[x] as i32 + predicted) as u8;
+        }
+    }
+    let rgb = img.chunks(channels).map(|p| [p[0], p[1], p[2]]).collect();
+    Png { width, height, rgb }
+}
+
+struct Bits<'a> {
+    data: &'a [u8],
+    pos: usize,
+    bit: u32,
+}
+
+impl Bits<'_> {
+    fn bits(&mut self, n: u32) -> usize {
+        let mut v = 0;
+        for i in 0..n {
+            let b = (self.data[self.pos] >> self.bit) & 1;
+            v |= (b as usize) << i;
+            self.bit += 1;
+            if self.bit == 8 {
+                self.bit = 0;
+                self.pos += 1;
+            }
+        }
+        v
+    }
+
+    fn decode(&mut self, h: &Huffman) -> usize {
+        let (mut code, mut first, mut index) = (0usize, 0usize, 0usize);
+        for len in 1..16 {
+            code |= self.bits(1);
+            let count = h.count[len];
+            if code < first + count {
+                return h.symbol[index + code - first];
+            }
+            index += count;
+            first = (first + count) << 1;
+            code <<= 1;
+        }
+        panic!("bad Huffman code");
+    }
+}
+
+struct Huffman {
+    count: [usize; 16],
+    symbol: Vec<usize>,
+}
+
+impl Huffman {
+    fn new(lengths: &[usize]) -> Self {
+        let mut count = [0; 16];
+        for &l in lengths {
+            count[l] += 1;
+        }
+        count[0] = 0;
+        let mut offs = [0; 16];
+        for l in 1..15 {
+            offs[l + 1] = offs[l] + count[l];
+        }
+        let mut symbol = vec![0; lengths.len()];
+        for (s, &l) in lengths.iter().enumerate() {
+            if l != 0 {
+                symbol[offs[l]] = s;
+                offs[l] += 1;
+            }
+        }
+        Self { count, symbol }
+    }
+}
+
+/// Raw DEFLATE (RFC 1951), enough for a test.
+fn inflate(data: &[u8]) -> Vec<u8> {
+    const LBASE: [usize; 29] = [
+        3, 4, 5, 6, 7, 8, 9, 10, 11, 13, 15, 17, 19, 23, 27, 31, 35, 43, 51, 59, 67, 83, 99, 115,
+        131, 163, 195, 227, 258,
+    ];
+    const LEXT: [u32; 29] = [
+        0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0,
+    ];
+    const DBASE: [usize; 30] = [
+        1, 2, 3, 4, 5, 7, 9, 13, 17, 25, 33, 49, 65, 97, 129, 193, 257, 385, 513, 769, 1025, 1537,
+        2049, 3073, 4097, 6145, 8193, 12289, 16385, 24577,
+    ];
+    const DEXT: [u32; 30] = [
+        0, 0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8, 8, 9, 9, 10, 10, 11, 11, 12, 12,
+        13, 13,
+    ];
+    const ORDER: [usize; 19] = [
+        16, 17, 18, 0, 8, 7, 9, 6, 10, 5, 11, 4, 12, 3, 13, 2, 14, 1, 15,
+    ];
+    let mut out = Vec::new();
+    let mut r = Bits {
+        data,
+        pos: 0,
+        bit: 0,
+    };
+    loop {
+        let last = r.bits(1);
+        let (lit, dist) = match r.bits(2) {
+            0 => {
+                if r.bit != 0 {
+                    r.bit = 0;
+                    r.pos += 1;
+                }
+                let len = data[r.pos] as usize | (data[r.pos + 1] as usize) << 8;
+                out.extend_from_slice(&data[r.pos + 4..r.pos + 4 + len]);
+                r.pos += 4 + len;
+                if last == 1 {
+                    return out;
+                }
+                continue;
+            }
+            1 => {
+                let mut l = vec![8; 288];
+                l[144..256].fill(9);
+                l[256..280].fill(7);
+                (Huffman::new(&l), Huffman::new(&[5; 30]))
+            }
+            2 => {
+                let (nlen, ndist, ncode) = (r.bits(5) + 257, r.bits(5) + 1, r.bits(4) + 4);
+                let mut cl = [0; 19];
+                for &o in &ORDER[..ncode] {
+                    cl[o] = r.bits(3);
+                }
+                let ch = Huffman::new(&cl);
+                let mut lengths = Vec::with_capacity(nlen + ndist);
+                while lengths.len() < nlen + ndist {
+                    match r.decode(&ch) {
+                        s @ 0..=15 => lengths.push(s),
+                        16 => {
+                            let prev = *lengths.last().unwrap();
+                            let n = 3 + r.bits(2);
+                            lengths.extend(std::iter::repeat_n(prev, n));
+                        }
+                        17 => {
+                            let n = 3 + r.bits(3);
+                            lengths.extend(std::iter::repeat_n(0, n));
+                        }
+                        _ => {
+                            let n = 11 + r.bits(7);
+                            lengths.extend(std::iter::repeat_n(0, n));
+                        }
+                    }
+                }
+                (
+                    Huffman::new(&lengths[..nlen]),
+                    Huffman::new(&lengths[nlen..]),
+                )
+            }
+            _ => panic!("bad DEFLATE block type"),
+        };
+        loop {
+            let s = r.decode(&lit);
+            if s < 256 {
+                out.push(s as u8);
+            } else if s == 256 {
+                break;
+            } else {
+                let len = LBASE[s - 257] + r.bits(LEXT[s - 257]);
+                let d = r.decode(&dist);
+                let back = DBASE[d] + r.bits(DEXT[d]);
+                let start = out.len() - back;
+                for k in 0..len {
+                    out.push(out[start + k]);
+                }
+            }
+        }
+        if last == 1 {
+            return out;
+        }
+    }
+}
+
+pub fn distinct_colours(png: &Png) -> usize {
+    png.rgb.iter().collect::<HashSet<_>>().len()
+}
+
+pub fn field_of(err: OutputError) -> &'static str {
+    match err {
+        OutputError::Invalid { field, .. } => field,
+        other => panic!("expected Invalid, got {other:?}"),
+    }
+}
