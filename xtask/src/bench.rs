@@ -1,5 +1,5 @@
-//! `cargo xtask bench`: the divan benchmarks, then the figures of merit as ratios of medians
-//! measured in the same run.
+//! `cargo xtask bench`: the divan benchmarks and the MPM column benchmark (a harness of its
+//! own), then the figures of merit as ratios of medians measured in the same run.
 use std::path::Path;
 
 use crate::run_checked;
@@ -28,6 +28,9 @@ pub fn run(root: &Path) -> Result<bool, String> {
         ("talus-cone", "projection"),
         ("talus-ssn", "footing"),
         ("talus", "step"),
+        // Minutes: the 100k column takes several per step; TALUS_MPM_BENCH_SIZES=10k
+        // skips it.
+        ("talus-mpm", "column_step"),
     ] {
         println!("== cargo bench -p {package} --bench {bench}");
         let out = run_checked(
@@ -85,6 +88,19 @@ pub fn run(root: &Path) -> Result<bool, String> {
                 ok = false;
             }
         }
+    }
+    let column = &outputs[3];
+    println!("\nMPM column collapse: plastic step / elastic step, same particles");
+    let ratios: Vec<&str> = column
+        .lines()
+        .filter_map(|l| l.strip_prefix("plastic step / elastic step, "))
+        .collect();
+    if ratios.is_empty() {
+        println!("column_step: ratio not found in the benchmark output");
+        ok = false;
+    }
+    for line in ratios {
+        println!("{line}");
     }
     Ok(ok)
 }
