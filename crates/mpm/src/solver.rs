@@ -18,7 +18,8 @@ pub struct StepReport {
     /// Sub-steps taken: 1 unless a failed solve split the step.
     pub substeps: usize,
     pub smallest_h: f64,
-    /// Newton iterations over all sub-steps, and the most in one sub-step.
+    /// Newton iterations over all sub-steps (failed attempts before a halving included),
+    /// and the most in one converged sub-step.
     pub newton_iterations: usize,
     pub max_newton_iterations: usize,
     /// `‖F‖∞ / max(1, ‖σ‖∞)` reached by the last sub-step.
@@ -164,6 +165,9 @@ impl Mpm {
                 Ok(())
             }
             Err(SubstepError::NotConverged(r)) => {
+                // The failed attempt's work counts too.
+                report.newton_iterations += r.iterations;
+                report.solve_seconds += r.seconds;
                 if level >= self.settings.max_step_halvings {
                     return Err(MpmError::NotConverged {
                         h,
