@@ -77,12 +77,6 @@ impl Grid {
         self
     }
 
-    /// Whether a wall stands on `side`.
-    pub fn has_wall(&self, side: Side) -> bool {
-        let (axis, end) = side.axis_and_end();
-        self.walls[axis][end]
-    }
-
     /// Index along the wall's normal of the nodes that carry a wall's velocity: the wall's
     /// node line for linear hats, the first ghost line for wall-conforming B-splines.
     pub fn wall_node(&self, side: Side) -> i64 {

@@ -1,16 +1,10 @@
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use super::source::{error_at, parse_spec, read, Locate};
+use super::source::{error_at, Locate, SceneDocument};
 use super::{SceneError, SceneSpec};
 
-/// A parsed scene with its source, kept to locate errors found after parsing.
-#[derive(Debug, Clone)]
-pub struct Scene {
-    pub spec: SceneSpec,
-    pub source: String,
-    /// The file, or `None` for the built-in scene.
-    pub path: Option<PathBuf>,
-}
+/// A parsed FEM scene.
+pub type Scene = SceneDocument<SceneSpec>;
 
 /// The paper's footing (Fig. 3), shipped in the binary: `scenes/footing.toml`.
 pub fn builtin_footing() -> Scene {
@@ -19,19 +13,6 @@ pub fn builtin_footing() -> Scene {
 }
 
 impl Scene {
-    pub fn from_path(path: &Path) -> Result<Self, SceneError> {
-        let source = read(path)?;
-        Self::parse(&source, Some(path.to_path_buf()))
-    }
-
-    pub fn parse(source: &str, path: Option<PathBuf>) -> Result<Self, SceneError> {
-        Ok(Self {
-            spec: parse_spec(source, path.as_ref())?,
-            source: source.to_string(),
-            path,
-        })
-    }
-
     /// An error at `field` (a path such as `material.young_modulus` or `boundary[1].nodes`),
     /// with the line where that field stands in the file.
     pub fn error(&self, field: &str, message: impl Into<String>) -> SceneError {

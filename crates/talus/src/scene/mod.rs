@@ -17,5 +17,5 @@ pub use file::SceneFile;
 pub use load::{builtin_footing, Scene};
 pub use mpm_load::MpmScene;
 pub use mpm_types::*;
-pub use source::Locate;
+pub use source::{Locate, SceneDocument};
 pub use types::*;

@@ -7,6 +7,31 @@ use toml::de::{DeTable, DeValue};
 
 use super::SceneError;
 
+/// A parsed scene file: its spec, and the source kept to locate errors found after parsing.
+/// FEM and MPM scenes are [`Scene`](super::Scene) and [`MpmScene`](super::MpmScene).
+#[derive(Debug, Clone)]
+pub struct SceneDocument<S> {
+    pub spec: S,
+    pub source: String,
+    /// The file, or `None` for a built-in or in-memory scene.
+    pub path: Option<PathBuf>,
+}
+
+impl<S: DeserializeOwned> SceneDocument<S> {
+    pub fn from_path(path: &Path) -> Result<Self, SceneError> {
+        let source = read(path)?;
+        Self::parse(&source, Some(path.to_path_buf()))
+    }
+
+    pub fn parse(source: &str, path: Option<PathBuf>) -> Result<Self, SceneError> {
+        Ok(Self {
+            spec: parse_spec(source, path.as_ref())?,
+            source: source.to_string(),
+            path,
+        })
+    }
+}
+
 /// A parsed scene that can place an error on the line of a field path such as
 /// `material.young_modulus` or `wall[1].friction`.
 pub trait Locate {
