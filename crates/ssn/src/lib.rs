@@ -17,6 +17,7 @@
 //! ```
 
 mod error;
+pub mod factorization;
 mod local_lu;
 mod newton;
 mod operator;

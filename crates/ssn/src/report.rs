@@ -54,6 +54,9 @@ pub struct Report {
     pub schur_steps: usize,
     /// Steps solved through the stress-sized system (including fallbacks).
     pub stress_sized_steps: usize,
+    /// Schur steps whose no-pivot LU refused a pivot or gave an inaccurate direction, and
+    /// were solved by the pivoting LU instead (`docs/solver.md`, "The factorization").
+    pub pivoting_fallbacks: usize,
     /// Smallest and largest ρ over the points.
     pub rho_range: (f64, f64),
 }
@@ -72,6 +75,7 @@ impl Report {
             backtracks: 0,
             schur_steps: 0,
             stress_sized_steps: 0,
+            pivoting_fallbacks: 0,
             rho_range,
         }
     }

@@ -45,6 +45,9 @@ pub enum LinearSolver {
     Auto,
     /// Always the stress-sized system `J_F d = −F` (for checking the Schur path).
     StressSized,
+    /// The Schur system with faer's partial-pivoting LU at every step (for checking the
+    /// no-pivot LU that `Auto` uses for non-associative flow).
+    SchurPivoting,
 }
 
 /// Solver settings; `Settings::default()` documents the defaults.
@@ -61,6 +64,10 @@ pub struct Settings {
     /// Start from the σ passed to `solve` (true, default) or from σ = 0.
     pub warm_start: bool,
     pub linear_solver: LinearSolver,
+    /// The no-pivot LU refuses a pivot `|u_jj| ≤ pivot_tolerance · |k_jj|` and solves that
+    /// iteration with the pivoting LU (`Report::pivoting_fallbacks`). Default `1e-10`; in
+    /// `(0, 1]`.
+    pub pivot_tolerance: f64,
     /// Spread per-point work over rayon's pool; results do not depend on it.
     pub parallel: bool,
 }
@@ -74,6 +81,7 @@ impl Default for Settings {
             line_search: Some(LineSearch::default()),
             warm_start: true,
             linear_solver: LinearSolver::Auto,
+            pivot_tolerance: crate::factorization::DEFAULT_PIVOT_TOLERANCE,
             parallel: true,
         }
     }

@@ -5,7 +5,7 @@ use talus_bipotential::NaturalMapLinearization;
 
 use crate::error::invalid;
 use crate::newton::schur::SchurFailure;
-use crate::newton::{DenseSystem, SchurSystem, StressSizedSystem};
+use crate::newton::{DenseSystem, Factorized, LuChoice, SchurSystem, StressSizedSystem};
 use crate::operator::{apply, block, PointBlocks};
 use crate::{LinearSolver, Operator, ReducedSystem, Report, Rho, Settings, SolveError, Status};
 
@@ -59,6 +59,12 @@ fn validate(settings: &Settings) -> Result<(), SolveError> {
         return Err(invalid(
             "settings.tolerance",
             format!("{} must be finite and > 0", settings.tolerance),
+        ));
+    }
+    if !(settings.pivot_tolerance > 0.0 && settings.pivot_tolerance <= 1.0) {
+        return Err(invalid(
+            "settings.pivot_tolerance",
+            format!("{} must be in (0, 1]", settings.pivot_tolerance),
         ));
     }
     if settings.max_iterations == 0 {
@@ -122,7 +128,7 @@ impl<const D: usize> Solver<D> {
         let symmetric = solver.problem.is_associative();
         match (&solver.problem.operator, settings.linear_solver) {
             (Operator::Dense(_), _) if n <= DENSE_LIMIT => solver.dense = Some(DenseSystem::new(n)),
-            (Operator::Structured(s), LinearSolver::Auto) => {
+            (Operator::Structured(s), LinearSolver::Auto | LinearSolver::SchurPivoting) => {
                 let blocks = solver
                     .blocks
                     .as_ref()
@@ -342,59 +348,103 @@ impl<const D: usize> Solver<D> {
         worst
     }
 
-    /// Solves `J_F d = −F` into `self.direction`.
+    /// Solves `J_F d = −F` into `self.direction`. A no-pivot LU direction that fails the
+    /// accuracy check is recomputed once with the pivoting LU (`Report::pivoting_fallbacks`).
     fn newton_direction(&mut self, report: &mut Report) -> Result<(), Status> {
         for (i, l) in self.lin.iter().enumerate() {
             for a in 0..D {
                 self.f[D * i + a] = -l.residual[a];
             }
         }
-        let mut used_schur = false;
-        if let (Some(schur), Operator::Structured(s)) =
-            (self.schur.as_mut(), &self.problem.operator)
-        {
-            let blocks = self
-                .blocks
-                .as_ref()
-                .expect("structured operators carry point blocks");
-            match schur.solve(
-                s,
-                blocks,
-                &self.lin,
-                &self.rho,
-                &self.f,
-                &mut self.direction,
-            ) {
-                Ok(()) => used_schur = true,
-                Err(SchurFailure::SingularBlock(i)) => {
-                    tracing::debug!(point = i, "singular local block: stress-sized step");
+        let forced = self.settings.linear_solver == LinearSolver::SchurPivoting;
+        let mut pivoting = forced;
+        loop {
+            let used = self.direction_by_schur(pivoting);
+            if used.is_none() {
+                self.direction_stress_sized()?;
+            }
+            let accurate = self.direction_is_accurate();
+            if !accurate && used == Some(Factorized::NoPivotLu) {
+                tracing::warn!("inaccurate no-pivot LU direction: retried with pivoting");
+                pivoting = true;
+                continue;
+            }
+            match used {
+                Some(f) => {
+                    report.schur_steps += 1;
+                    if f == Factorized::PivotingLu && !forced {
+                        report.pivoting_fallbacks += 1;
+                    }
                 }
-                Err(SchurFailure::Factorization(e)) => {
-                    tracing::debug!(error = %e, "Schur factorization failed: stress-sized step");
+                None => report.stress_sized_steps += 1,
+            }
+            return if accurate {
+                Ok(())
+            } else {
+                Err(Status::SingularJacobian)
+            };
+        }
+    }
+
+    /// The direction through the velocity-sized Schur system, if the operator is structured
+    /// and every local block is regular; `None` sends the step to the stress-sized system.
+    fn direction_by_schur(&mut self, pivoting: bool) -> Option<Factorized> {
+        let (Some(schur), Operator::Structured(s)) = (self.schur.as_mut(), &self.problem.operator)
+        else {
+            return None;
+        };
+        let blocks = self
+            .blocks
+            .as_ref()
+            .expect("structured operators carry point blocks");
+        match schur.solve(
+            s,
+            blocks,
+            &self.lin,
+            &self.rho,
+            &self.f,
+            &mut self.direction,
+            if pivoting {
+                LuChoice::Pivoting
+            } else {
+                LuChoice::NoPivot {
+                    pivot_tolerance: self.settings.pivot_tolerance,
                 }
+            },
+        ) {
+            Ok(used) => Some(used),
+            Err(SchurFailure::SingularBlock(i)) => {
+                tracing::debug!(point = i, "singular local block: stress-sized step");
+                None
+            }
+            Err(SchurFailure::Factorization(e)) => {
+                tracing::debug!(error = %e, "Schur factorization failed: stress-sized step");
+                None
             }
         }
-        if used_schur {
-            report.schur_steps += 1;
-        } else if let (Some(dense), Operator::Dense(w)) =
-            (self.dense.as_mut(), &self.problem.operator)
-        {
+    }
+
+    /// The direction through the stress-sized system `J_F d = −F` (dense or sparse).
+    fn direction_stress_sized(&mut self) -> Result<(), Status> {
+        if let (Some(dense), Operator::Dense(w)) = (self.dense.as_mut(), &self.problem.operator) {
             dense.solve(w, &self.lin, &self.rho, &self.f, &mut self.direction);
-            report.stress_sized_steps += 1;
-        } else {
-            self.ensure_stress_sized()
-                .map_err(|_| Status::SingularJacobian)?;
-            let sys = self.stress_sized.as_mut().expect("just built");
-            sys.solve(&self.lin, &self.rho, &self.f, &mut self.direction)
-                .map_err(|e| {
-                    tracing::warn!(error = %e, "sparse LU failed");
-                    Status::SingularJacobian
-                })?;
-            report.stress_sized_steps += 1;
+            return Ok(());
         }
-        // faer returns finite garbage on a numerically singular matrix: check J d = −F.
+        self.ensure_stress_sized()
+            .map_err(|_| Status::SingularJacobian)?;
+        let sys = self.stress_sized.as_mut().expect("just built");
+        sys.solve(&self.lin, &self.rho, &self.f, &mut self.direction)
+            .map_err(|e| {
+                tracing::warn!(error = %e, "sparse LU failed");
+                Status::SingularJacobian
+            })
+    }
+
+    /// `d` finite and `‖J_F d + F‖∞ ≤ 1e-3 ‖F‖∞`: faer returns finite garbage on a
+    /// numerically singular matrix, and a no-pivot LU may lose accuracy to growth.
+    fn direction_is_accurate(&mut self) -> bool {
         if !self.direction.iter().all(|v| v.is_finite()) {
-            return Err(Status::SingularJacobian);
+            return false;
         }
         apply(
             &self.problem.operator,
@@ -413,16 +463,16 @@ impl<const D: usize> Solver<D> {
         }
         let scale = inf_norm(&self.f);
         // An inexact Newton step with forcing term 1e-3 keeps fast local convergence;
-        // beyond it the matrix is numerically singular (or faer's answer is garbage).
-        if !(worst <= LINEAR_FORCING * scale) {
+        // beyond it the matrix is numerically singular (or the answer is garbage).
+        let accurate = worst <= LINEAR_FORCING * scale;
+        if !accurate {
             tracing::warn!(
                 linear_residual = worst,
                 rhs = scale,
                 "inaccurate Newton direction"
             );
-            return Err(Status::SingularJacobian);
         }
-        Ok(())
+        accurate
     }
 
     /// Armijo backtracking on `‖F‖²` along `self.direction`; moves `sigma` and returns the

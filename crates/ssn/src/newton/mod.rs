@@ -2,9 +2,11 @@
 //! generalised by the notes §5: `D`, `G` block diagonal, `R = diag(ρ_i)`).
 mod dense;
 pub(crate) mod schur;
+mod schur_factor;
 
 mod stress_sized;
 
 pub(crate) use dense::DenseSystem;
 pub(crate) use schur::SchurSystem;
+pub(crate) use schur_factor::{Factorized, LuChoice};
 pub(crate) use stress_sized::StressSizedSystem;

@@ -1,30 +1,10 @@
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuSymbolicParams, NumericLu, SymbolicLu};
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{Pair, SparseColMatRef, SymbolicSparseColMat};
-use faer::{Conj, Mat, Par, Side};
 use nalgebra::{SMatrix, SVector};
 use talus_bipotential::NaturalMapLinearization;
 
+use super::schur_factor::{Factorized, LuChoice, SchurFactor};
 use crate::local_lu::LocalLu;
 use crate::operator::{block, PointBlocks, Structured};
-
-// One per solver, never moved in a hot loop: its size does not matter.
-#[allow(clippy::large_enum_variant)]
-enum Factorization {
-    /// Associative: `ρ A⁻¹ D` is symmetric positive semi-definite, K is SPD.
-    Cholesky(SymbolicLlt<usize>),
-    /// Non-associative: supernodal LU, its numeric storage and workspace reused across
-    /// iterations (faer's default picks the simplicial LU for these 2D patterns, measured
-    /// several times slower).
-    Lu {
-        symbolic: SymbolicLu<usize>,
-        numeric: NumericLu<usize, f64>,
-        scratch: MemBuffer,
-    },
-}
 
 /// The velocity-sized Newton system of the notes §5:
 /// `(M + h² Bᵀ C B) u = Bᵀ A⁻¹ r`, `d = A⁻¹ r − h² C B u`,
@@ -37,10 +17,10 @@ pub(crate) struct SchurSystem<const D: usize> {
     /// the matrix is refilled in place every iteration (duplicates add up).
     positions: Vec<usize>,
     csc_values: Vec<f64>,
-    factorization: Factorization,
+    factorization: SchurFactor,
     local_a: Vec<LocalLu<D>>,
     local_c: Vec<SMatrix<f64, D, D>>,
-    rhs: Mat<f64>,
+    rhs: Vec<f64>,
     a_inv_r: Vec<f64>,
 }
 
@@ -84,29 +64,7 @@ impl<const D: usize> SchurSystem<D> {
             })
             .collect::<Result<Vec<_>, _>>()?;
         let nnz = row_idx.len();
-        let factorization = if symmetric {
-            Factorization::Cholesky(
-                SymbolicLlt::try_new(symbolic.as_ref(), Side::Lower)
-                    .map_err(|e| format!("{e:?}"))?,
-            )
-        } else {
-            let lu = factorize_symbolic_lu(
-                symbolic.as_ref(),
-                LuSymbolicParams {
-                    supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-                    ..Default::default()
-                },
-            )
-            .map_err(|e| format!("{e:?}"))?;
-            let req = lu
-                .factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default())
-                .or(lu.solve_in_place_scratch::<f64>(1, Par::Seq));
-            Factorization::Lu {
-                symbolic: lu,
-                numeric: NumericLu::new(),
-                scratch: MemBuffer::try_new(req).map_err(|e| format!("{e:?}"))?,
-            }
-        };
+        let factorization = SchurFactor::analyse(symbolic.as_ref(), symmetric)?;
         Ok(Self {
             symmetric,
             symbolic,
@@ -115,12 +73,13 @@ impl<const D: usize> SchurSystem<D> {
             factorization,
             local_a: Vec::with_capacity(n_points),
             local_c: Vec::with_capacity(n_points),
-            rhs: Mat::zeros(n_v, 1),
+            rhs: vec![0.0; n_v],
             a_inv_r: vec![0.0; D * n_points],
         })
     }
 
-    /// Writes the direction into `d`.
+    /// Writes the direction into `d`, factorizing K with `choice` (Cholesky if symmetric).
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn solve(
         &mut self,
         structured: &Structured<D>,
@@ -129,7 +88,8 @@ impl<const D: usize> SchurSystem<D> {
         rho: &[f64],
         r: &[f64],
         d: &mut [f64],
-    ) -> Result<(), SchurFailure> {
+        choice: LuChoice,
+    ) -> Result<Factorized, SchurFailure> {
         let h2 = structured.h * structured.h;
         self.local_a.clear();
         self.local_c.clear();
@@ -177,36 +137,16 @@ impl<const D: usize> SchurSystem<D> {
         }
         let k = SparseColMatRef::new(self.symbolic.as_ref(), &self.csc_values);
         self.rhs.fill(0.0);
-        {
-            let mut tmp = vec![0.0; n_v];
-            blocks.add_transpose(&self.a_inv_r, &mut tmp);
-            for (j, v) in tmp.into_iter().enumerate() {
-                self.rhs[(j, 0)] = v;
-            }
-        }
-        match &mut self.factorization {
-            Factorization::Cholesky(sym) => {
-                let llt = Llt::try_new_with_symbolic(sym.clone(), k, Side::Lower)
-                    .map_err(|e| SchurFailure::Factorization(format!("{e:?}")))?;
-                llt.solve_in_place(self.rhs.as_mut());
-            }
-            Factorization::Lu {
-                symbolic,
-                numeric,
-                scratch,
-            } => {
-                let stack = MemStack::new(scratch);
-                let lu = symbolic
-                    .factorize_numeric_lu(numeric, k, Par::Seq, stack, Default::default())
-                    .map_err(|e| SchurFailure::Factorization(format!("{e:?}")))?;
-                lu.solve_in_place_with_conj(Conj::No, self.rhs.as_mut(), Par::Seq, stack);
-            }
-        }
-        let u: Vec<f64> = (0..n_v).map(|j| self.rhs[(j, 0)]).collect();
+        blocks.add_transpose(&self.a_inv_r, &mut self.rhs);
+        let used = self
+            .factorization
+            .solve(k, &mut self.rhs, choice)
+            .map_err(SchurFailure::Factorization)?;
+        let u = &self.rhs;
         for (i, c) in self.local_c.iter().enumerate() {
-            let di = block::<D>(&self.a_inv_r, i) - c * blocks.apply_point(i, &u) * h2;
+            let di = block::<D>(&self.a_inv_r, i) - c * blocks.apply_point(i, u) * h2;
             d[D * i..D * i + D].copy_from_slice(di.as_slice());
         }
-        Ok(())
+        Ok(used)
     }
 }

@@ -2,6 +2,7 @@ use nalgebra::{SMatrix, SVector};
 use talus_bipotential::{DruckerPrager, FlowRule};
 use talus_fem::assembly::add_mul;
 use talus_fem::{Assembly, BoundaryEdge, Constraint, DofMap, ElementOrder, Mesh};
+use talus_ssn::{Operator, ReducedSystem, SolveError, Structured};
 
 use super::State;
 
@@ -129,6 +130,21 @@ impl Model {
             state.sigma = super::k0_stress(scene, self, initial)?;
         }
         Ok(state)
+    }
+
+    /// The reduced problem of eq. 16 for steps of length `h`: `W = S + h² B M⁻¹ Bᵀ` kept in
+    /// factors, `q = 0` until [`Solver::set_q`](talus_ssn::Solver::set_q) with
+    /// [`reduced_rhs`](Self::reduced_rhs).
+    pub fn reduced_system(&self, h: f64) -> Result<ReducedSystem<4>, SolveError> {
+        let asm = &self.assembly;
+        let operator = Operator::Structured(Structured {
+            compliance: asm.compliance_blocks(&self.compliance),
+            b: asm.b_free.clone(),
+            lumped_mass: asm.lumped_mass_free.clone(),
+            h,
+        });
+        let rules = vec![self.flow_rule; asm.n_points()];
+        ReducedSystem::try_new(operator, vec![0.0; 4 * asm.n_points()], rules)
     }
 
     /// `q` of eq. 16 for the step of length `h` after `state`:

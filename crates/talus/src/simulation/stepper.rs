@@ -1,7 +1,7 @@
 use std::time::Instant;
 
 use talus_fem::assembly::add_mul_transpose;
-use talus_ssn::{Operator, ReducedSystem, Report, Settings, SolveError, Solver, Structured};
+use talus_ssn::{Report, Settings, SolveError, Solver};
 
 use super::{Model, State};
 
@@ -169,16 +169,7 @@ impl<'m> Stepper<'m> {
         let pos = match self.solvers.iter().position(|(hh, _)| *hh == h) {
             Some(p) => p,
             None => {
-                let asm = &self.model.assembly;
-                let operator = Operator::Structured(Structured {
-                    compliance: asm.compliance_blocks(&self.model.compliance),
-                    b: asm.b_free.clone(),
-                    lumped_mass: asm.lumped_mass_free.clone(),
-                    h,
-                });
-                let rules = vec![self.model.flow_rule; asm.n_points()];
-                let system =
-                    ReducedSystem::try_new(operator, vec![0.0; 4 * asm.n_points()], rules)?;
+                let system = self.model.reduced_system(h)?;
                 self.solvers.push((h, Solver::new(system, self.settings)?));
                 self.solvers.len() - 1
             }

@@ -1,0 +1,29 @@
+//! Sparse factorizations of the Newton (Schur) matrix `M + h² Σ Bᵢᵀ Cᵢ Bᵢ`.
+//!
+//! [`SymmetricPatternLu`] is the LU without pivoting on the Cholesky structure of its
+//! symmetric pattern: the default for non-associative flow rules, guarded by a pivot test
+//! with a pivoting LU as fallback (`docs/solver.md`, "The factorization").
+//!
+//! ```
+//! use std::sync::Arc;
+//! use talus_ssn::factorization::{SymbolicSymmetricPatternLu, SymmetricPatternLu, DEFAULT_PIVOT_TOLERANCE};
+//! use talus_ssn::faer::sparse::{SparseColMat, Triplet};
+//! // [[4, 1], [2, 3]]
+//! let a = SparseColMat::<usize, f64>::try_new_from_triplets(2, 2, &[
+//!     Triplet::new(0, 0, 4.0), Triplet::new(1, 0, 2.0),
+//!     Triplet::new(0, 1, 1.0), Triplet::new(1, 1, 3.0),
+//! ]).unwrap();
+//! let symbolic = Arc::new(SymbolicSymmetricPatternLu::try_new(a.symbolic()).unwrap());
+//! let mut lu = SymmetricPatternLu::new(symbolic);
+//! lu.factorize(a.val(), DEFAULT_PIVOT_TOLERANCE).unwrap();
+//! let mut x = vec![5.0, 5.0];
+//! lu.solve_in_place(&mut x);
+//! assert!((x[0] - 1.0).abs() < 1e-15 && (x[1] - 1.0).abs() < 1e-15);
+//! ```
+mod dense_lu;
+mod symmetric_pattern_lu;
+
+pub use symmetric_pattern_lu::{
+    PivotBreakdown, SymbolicError, SymbolicSymmetricPatternLu, SymmetricPatternLu,
+    DEFAULT_PIVOT_TOLERANCE,
+};

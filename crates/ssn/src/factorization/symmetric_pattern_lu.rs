@@ -1,0 +1,561 @@
+//! Sparse LU without pivoting on a structurally symmetric pattern, laid out on the
+//! supernodal Cholesky structure of that pattern.
+//!
+//! The Newton matrix of the Schur path, `M + h² Σ Bᵢᵀ Cᵢ Bᵢ`, has the symmetric pattern of
+//! `Bᵀ B` but unsymmetric values (non-associative flow). Measured on our own Newton matrices
+//! (`docs/performance.md`, "The factorization"), an LU without row exchanges on a symmetric
+//! fill-reducing ordering gives the same residual and fill as partial pivoting, for about
+//! twice a Cholesky's flops: `L` has the Cholesky pattern and `U` its transpose. A pivoting
+//! LU reserves room for row exchanges and pays 2.5–5× that. Pivots are guarded
+//! ([`PivotBreakdown`]); the caller falls back to a pivoting LU when one is refused.
+//!
+//! Symbolic phase once per pattern ([`SymbolicSymmetricPatternLu`], shareable), numeric
+//! phase per matrix ([`SymmetricPatternLu::factorize`]) into storage reused across calls.
+//! Everything runs on one thread in a fixed order: the factors do not depend on the thread
+//! count.
+use std::sync::Arc;
+
+use faer::linalg::matmul::matmul;
+use faer::linalg::triangular_solve::{
+    solve_lower_triangular_in_place, solve_unit_lower_triangular_in_place,
+};
+use faer::reborrow::{Reborrow, ReborrowMut};
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholeskyRaw, SymmetricOrdering,
+};
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::{Pair, SymbolicSparseColMat, SymbolicSparseColMatRef};
+use faer::{Accum, MatMut, MatRef, Par, Side};
+
+use super::dense_lu::lu_in_place;
+
+/// Default pivot guard: `|u_jj| ≤ 1e-10 |a_jj|` is refused. The Newton matrices seen never
+/// come within 1e-4 of it (`docs/performance.md`); a matrix that needs row exchanges does.
+pub const DEFAULT_PIVOT_TOLERANCE: f64 = 1e-10;
+
+/// Below this many multiply-adds an update is done by plain loops (faer's product has a
+/// fixed cost per call that the smallest supernodes would pay many times over).
+const SMALL_UPDATE: usize = 512;
+
+/// The pattern could not be analysed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("symbolic LU: {0}")]
+pub struct SymbolicError(String);
+
+/// The numeric factorization met a pivot it does not trust.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[error("pivot {pivot:e} at column {column} (|a_jj| = {diagonal:e}) is below the guard")]
+pub struct PivotBreakdown {
+    /// Column of the input matrix (original numbering).
+    pub column: usize,
+    pub pivot: f64,
+    /// `|a_jj|` of the input: the guard's scale.
+    pub diagonal: f64,
+}
+
+/// What one descendant supernode `d` subtracts from a supernode `s`: the rows of `d`'s
+/// pattern from `start` on lie in `s` or beyond, the first `mid` of them inside `s`.
+#[derive(Debug, Clone, Copy)]
+struct Update {
+    d: usize,
+    start: usize,
+    mid: usize,
+}
+
+/// The symbolic analysis of [`SymmetricPatternLu`] for one pattern: the fill-reducing
+/// ordering (approximate minimum degree on the pattern), the supernodes of the Cholesky
+/// factor of the permuted pattern, which supernode updates which, and where each stored
+/// entry of the input lands in the factors.
+#[derive(Debug)]
+pub struct SymbolicSymmetricPatternLu {
+    n: usize,
+    input_nnz: usize,
+    /// `perm_fwd[new] = old`.
+    perm_fwd: Vec<usize>,
+    /// `n_supernodes + 1` column boundaries.
+    supernode_begin: Vec<usize>,
+    /// Off-diagonal-block rows of each supernode (permuted numbering, ascending).
+    pattern_ptr: Vec<usize>,
+    pattern: Vec<usize>,
+    /// Each supernode's `(ncols + pattern) × ncols` column-major block, in `L` and in `Uᵀ`.
+    value_ptr: Vec<usize>,
+    update_ptr: Vec<usize>,
+    updates: Vec<Update>,
+    /// Destination of each stored input entry in `[L | Uᵀ]` (the diagonal blocks hold `L`
+    /// and `U` together in `L`'s storage).
+    scatter: Vec<usize>,
+    /// Input position of `a_jj` for each permuted column (`usize::MAX` if not stored).
+    diagonal: Vec<usize>,
+    update_scratch: usize,
+}
+
+impl SymbolicSymmetricPatternLu {
+    /// Analyses a square pattern (CSC, sorted rows). An unsymmetric pattern is analysed as
+    /// its symmetric closure `A + Aᵀ`.
+    pub fn try_new(pattern: SymbolicSparseColMatRef<'_, usize>) -> Result<Self, SymbolicError> {
+        let n = pattern.nrows();
+        if pattern.ncols() != n {
+            return Err(SymbolicError(format!(
+                "matrix is {}×{}, not square",
+                n,
+                pattern.ncols()
+            )));
+        }
+        let (col_ptr, row_idx) = (pattern.col_ptr(), pattern.row_idx());
+        let input_nnz = row_idx.len();
+        // Lower triangle of the symmetric closure, diagonal always present.
+        let mut pairs: Vec<Pair<usize, usize>> = (0..n).map(|j| Pair::new(j, j)).collect();
+        for c in 0..n {
+            for &r in &row_idx[col_ptr[c]..col_ptr[c + 1]] {
+                if r != c {
+                    pairs.push(Pair::new(r.max(c), r.min(c)));
+                }
+            }
+        }
+        let (lower, _) = SymbolicSparseColMat::try_new_from_indices(n, n, &pairs)
+            .map_err(|e| SymbolicError(format!("{e:?}")))?;
+        let cholesky = factorize_symbolic_cholesky(
+            lower.as_ref(),
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            CholeskySymbolicParams {
+                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+                ..Default::default()
+            },
+        )
+        .map_err(|e| SymbolicError(format!("{e:?}")))?;
+        let (perm_fwd, perm_inv) = match cholesky.perm() {
+            Some(p) => {
+                let (fwd, inv) = p.arrays();
+                (fwd.to_vec(), inv.to_vec())
+            }
+            None => ((0..n).collect(), (0..n).collect()),
+        };
+        let SymbolicCholeskyRaw::Supernodal(sn) = cholesky.raw() else {
+            return Err(SymbolicError("faer chose a simplicial structure".into()));
+        };
+        let n_super = sn.n_supernodes();
+        let mut supernode_begin = sn.supernode_begin().to_vec();
+        supernode_begin.push(n);
+        let mut pattern_ptr = vec![0];
+        let mut pattern_rows = Vec::new();
+        let mut value_ptr = vec![0];
+        for s in 0..n_super {
+            let rows = sn.supernode(s).pattern();
+            if rows.windows(2).any(|w| w[0] >= w[1]) {
+                return Err(SymbolicError(format!("supernode {s}: unsorted pattern")));
+            }
+            pattern_rows.extend_from_slice(rows);
+            pattern_ptr.push(pattern_rows.len());
+            let ncols = supernode_begin[s + 1] - supernode_begin[s];
+            value_ptr.push(value_ptr[s] + (ncols + rows.len()) * ncols);
+        }
+        let mut col_to_super = vec![0; n];
+        for s in 0..n_super {
+            col_to_super[supernode_begin[s]..supernode_begin[s + 1]].fill(s);
+        }
+
+        // Which supernodes each supernode updates, bucketed by target in ascending d.
+        let mut by_target: Vec<(usize, Update)> = Vec::new();
+        let mut update_scratch = 0;
+        for d in 0..n_super {
+            let rows = &pattern_rows[pattern_ptr[d]..pattern_ptr[d + 1]];
+            let mut i = 0;
+            while i < rows.len() {
+                let s = col_to_super[rows[i]];
+                let mid = rows[i..]
+                    .iter()
+                    .take_while(|&&r| r < supernode_begin[s + 1])
+                    .count();
+                by_target.push((s, Update { d, start: i, mid }));
+                update_scratch = update_scratch.max((rows.len() - i) * mid);
+                i += mid;
+            }
+        }
+        let mut update_ptr = vec![0; n_super + 1];
+        for (s, _) in &by_target {
+            update_ptr[s + 1] += 1;
+        }
+        for s in 0..n_super {
+            update_ptr[s + 1] += update_ptr[s];
+        }
+        let mut fill = update_ptr.clone();
+        let mut updates = vec![
+            Update {
+                d: 0,
+                start: 0,
+                mid: 0
+            };
+            by_target.len()
+        ];
+        for (s, u) in by_target {
+            updates[fill[s]] = u;
+            fill[s] += 1;
+        }
+
+        let len_val = value_ptr[n_super];
+        let local_row = |s: usize, row: usize| -> Result<usize, SymbolicError> {
+            let (begin, end) = (supernode_begin[s], supernode_begin[s + 1]);
+            if row < end {
+                return Ok(row - begin);
+            }
+            pattern_rows[pattern_ptr[s]..pattern_ptr[s + 1]]
+                .binary_search(&row)
+                .map(|k| end - begin + k)
+                .map_err(|_| SymbolicError(format!("row {row} missing from supernode {s}")))
+        };
+        let mut scatter = Vec::with_capacity(input_nnz);
+        let mut diagonal = vec![usize::MAX; n];
+        for c in 0..n {
+            for (p, &r) in row_idx[col_ptr[c]..col_ptr[c + 1]].iter().enumerate() {
+                let (i, j) = (perm_inv[r], perm_inv[c]);
+                if i == j {
+                    diagonal[j] = col_ptr[c] + p;
+                }
+                let dest = if i >= j {
+                    let s = col_to_super[j];
+                    let nrows = supernode_begin[s + 1] - supernode_begin[s] + pattern_ptr[s + 1]
+                        - pattern_ptr[s];
+                    value_ptr[s] + (j - supernode_begin[s]) * nrows + local_row(s, i)?
+                } else {
+                    // U entry (i, j), i < j: row j of the transposed block of i's supernode.
+                    let s = col_to_super[i];
+                    let nrows = supernode_begin[s + 1] - supernode_begin[s] + pattern_ptr[s + 1]
+                        - pattern_ptr[s];
+                    let base = value_ptr[s] + (i - supernode_begin[s]) * nrows + local_row(s, j)?;
+                    if j < supernode_begin[s + 1] {
+                        // Inside the diagonal block: U shares L's storage, at (i, j).
+                        value_ptr[s] + (j - supernode_begin[s]) * nrows + (i - supernode_begin[s])
+                    } else {
+                        len_val + base
+                    }
+                };
+                scatter.push(dest);
+            }
+        }
+        Ok(Self {
+            n,
+            input_nnz,
+            perm_fwd,
+            supernode_begin,
+            pattern_ptr,
+            pattern: pattern_rows,
+            value_ptr,
+            update_ptr,
+            updates,
+            scatter,
+            diagonal,
+            update_scratch,
+        })
+    }
+
+    /// Order of the matrix.
+    pub fn dimension(&self) -> usize {
+        self.n
+    }
+
+    /// Stored entries of `L` and `U` (diagonal counted once, explicit zeros of relaxed
+    /// supernodes included): the fill.
+    pub fn factor_nnz(&self) -> usize {
+        let mut nnz = 0;
+        for s in 0..self.n_supernodes() {
+            let (ncols, npat) = self.shape(s);
+            nnz += ncols * ncols + 2 * ncols * npat;
+        }
+        nnz
+    }
+
+    pub fn n_supernodes(&self) -> usize {
+        self.supernode_begin.len() - 1
+    }
+
+    /// Columns and off-diagonal rows of supernode `s`.
+    fn shape(&self, s: usize) -> (usize, usize) {
+        (
+            self.supernode_begin[s + 1] - self.supernode_begin[s],
+            self.pattern_ptr[s + 1] - self.pattern_ptr[s],
+        )
+    }
+
+    fn rows(&self, s: usize) -> &[usize] {
+        &self.pattern[self.pattern_ptr[s]..self.pattern_ptr[s + 1]]
+    }
+
+    fn len_val(&self) -> usize {
+        self.value_ptr[self.n_supernodes()]
+    }
+}
+
+/// The numeric LU `P A Pᵀ = L U` (no row exchanges) for one [`SymbolicSymmetricPatternLu`],
+/// its storage reused by every [`factorize`](Self::factorize).
+#[derive(Debug)]
+pub struct SymmetricPatternLu {
+    symbolic: Arc<SymbolicSymmetricPatternLu>,
+    /// `L` (with `U`'s diagonal blocks) then `Uᵀ`'s off-diagonal blocks.
+    values: Vec<f64>,
+    reference: Vec<f64>,
+    update: Vec<f64>,
+    local_rows: Vec<usize>,
+    global_to_local: Vec<usize>,
+    work: Vec<f64>,
+    factorized: bool,
+}
+
+impl SymmetricPatternLu {
+    pub fn new(symbolic: Arc<SymbolicSymmetricPatternLu>) -> Self {
+        let n = symbolic.n;
+        Self {
+            values: vec![0.0; 2 * symbolic.len_val()],
+            reference: vec![0.0; n],
+            update: vec![0.0; symbolic.update_scratch],
+            local_rows: Vec::new(),
+            global_to_local: vec![usize::MAX; n],
+            work: vec![0.0; n],
+            factorized: false,
+            symbolic,
+        }
+    }
+
+    pub fn symbolic(&self) -> &Arc<SymbolicSymmetricPatternLu> {
+        &self.symbolic
+    }
+
+    /// Factorizes the matrix whose stored values, in the order of the analysed pattern,
+    /// are `values`. A pivot `|u_jj| ≤ pivot_tolerance · |a_jj|` (or not finite) stops
+    /// the factorization with [`PivotBreakdown`]; the factors are then unusable.
+    pub fn factorize(
+        &mut self,
+        values: &[f64],
+        pivot_tolerance: f64,
+    ) -> Result<(), PivotBreakdown> {
+        let sym = Arc::clone(&self.symbolic);
+        assert_eq!(
+            values.len(),
+            sym.input_nnz,
+            "values do not match the analysed pattern"
+        );
+        self.factorized = false;
+        self.values.fill(0.0);
+        for (v, &dest) in values.iter().zip(&sym.scatter) {
+            self.values[dest] += v;
+        }
+        for (j, &p) in sym.diagonal.iter().enumerate() {
+            self.reference[j] = if p == usize::MAX {
+                0.0
+            } else {
+                values[p].abs()
+            };
+        }
+        let len_val = sym.len_val();
+        let (l_all, u_all) = self.values.split_at_mut(len_val);
+        for s in 0..sym.n_supernodes() {
+            let (begin, end) = (sym.supernode_begin[s], sym.supernode_begin[s + 1]);
+            let (ncols, npat) = sym.shape(s);
+            let nrows = ncols + npat;
+            for (k, &r) in sym.rows(s).iter().enumerate() {
+                self.global_to_local[r] = ncols + k;
+            }
+            let (l_done, l_rest) = l_all.split_at_mut(sym.value_ptr[s]);
+            let (u_done, u_rest) = u_all.split_at_mut(sym.value_ptr[s]);
+            let ls = &mut l_rest[..nrows * ncols];
+            let us = &mut u_rest[..nrows * ncols];
+            for upd in &sym.updates[sym.update_ptr[s]..sym.update_ptr[s + 1]] {
+                let (d_ncols, d_npat) = sym.shape(upd.d);
+                let d_nrows = d_ncols + d_npat;
+                let range = sym.value_ptr[upd.d]..sym.value_ptr[upd.d + 1];
+                let ld = &l_done[range.clone()];
+                let ud = &u_done[range];
+                let d_rows = &sym.rows(upd.d)[upd.start..];
+                let m1 = d_rows.len();
+                let k = upd.mid;
+                self.local_rows.clear();
+                self.local_rows.extend(d_rows.iter().map(|&r| {
+                    if r < end {
+                        r - begin
+                    } else {
+                        self.global_to_local[r]
+                    }
+                }));
+                let first = d_ncols + upd.start;
+                // L and U's diagonal block: rows ≥ begin of L_d times the mid rows of U_dᵀ.
+                subtract_product(
+                    ls,
+                    nrows,
+                    &self.local_rows,
+                    &self.local_rows[..k],
+                    ld,
+                    ud,
+                    d_nrows,
+                    d_ncols,
+                    first,
+                    m1,
+                    first,
+                    k,
+                    &mut self.update,
+                );
+                // Uᵀ below the diagonal block: rows past `end` of U_dᵀ times the mid rows of L_d.
+                if m1 > k {
+                    subtract_product(
+                        us,
+                        nrows,
+                        &self.local_rows[k..],
+                        &self.local_rows[..k],
+                        ud,
+                        ld,
+                        d_nrows,
+                        d_ncols,
+                        first + k,
+                        m1 - k,
+                        first,
+                        k,
+                        &mut self.update,
+                    );
+                }
+            }
+            let block = MatMut::from_column_major_slice_mut(ls, nrows, ncols);
+            let (mut top, mut bottom) = block.split_at_row_mut(ncols);
+            lu_in_place(top.rb_mut(), &self.reference[begin..end], pivot_tolerance).map_err(
+                |p| PivotBreakdown {
+                    column: sym.perm_fwd[begin + p.column],
+                    pivot: p.pivot,
+                    diagonal: self.reference[begin + p.column],
+                },
+            )?;
+            if npat > 0 {
+                // L21 = A21 U11⁻¹ and (U12)ᵀ = (L11⁻¹ A12)ᵀ.
+                solve_lower_triangular_in_place(
+                    top.rb().transpose(),
+                    bottom.rb_mut().transpose_mut(),
+                    Par::Seq,
+                );
+                let ut = MatMut::from_column_major_slice_mut(us, nrows, ncols);
+                let (_, mut ut_bottom) = ut.split_at_row_mut(ncols);
+                solve_unit_lower_triangular_in_place(
+                    top.rb(),
+                    ut_bottom.rb_mut().transpose_mut(),
+                    Par::Seq,
+                );
+            }
+            for &r in sym.rows(s) {
+                self.global_to_local[r] = usize::MAX;
+            }
+        }
+        self.factorized = true;
+        Ok(())
+    }
+
+    /// Solves `A x = b` in place with the last successful factorization.
+    pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
+        let sym = &*self.symbolic;
+        assert!(
+            self.factorized,
+            "solve_in_place before a successful factorize"
+        );
+        assert_eq!(rhs.len(), sym.n);
+        let x = &mut self.work;
+        for (new, &old) in sym.perm_fwd.iter().enumerate() {
+            x[new] = rhs[old];
+        }
+        let len_val = sym.len_val();
+        let (l_all, u_all) = self.values.split_at(len_val);
+        // L y = P b (unit lower), supernode by supernode.
+        for s in 0..sym.n_supernodes() {
+            let begin = sym.supernode_begin[s];
+            let (ncols, npat) = sym.shape(s);
+            let nrows = ncols + npat;
+            let ls = &l_all[sym.value_ptr[s]..sym.value_ptr[s + 1]];
+            for j in 0..ncols {
+                let xj = x[begin + j];
+                let col = &ls[j * nrows..(j + 1) * nrows];
+                for i in j + 1..ncols {
+                    x[begin + i] -= col[i] * xj;
+                }
+                for (k, &r) in sym.rows(s).iter().enumerate() {
+                    x[r] -= col[ncols + k] * xj;
+                }
+            }
+        }
+        // U x = y, backwards.
+        for s in (0..sym.n_supernodes()).rev() {
+            let begin = sym.supernode_begin[s];
+            let (ncols, npat) = sym.shape(s);
+            let nrows = ncols + npat;
+            let ls = &l_all[sym.value_ptr[s]..sym.value_ptr[s + 1]];
+            let us = &u_all[sym.value_ptr[s]..sym.value_ptr[s + 1]];
+            for j in 0..ncols {
+                let col = &us[j * nrows + ncols..(j + 1) * nrows];
+                let mut acc = 0.0;
+                for (k, &r) in sym.rows(s).iter().enumerate() {
+                    acc += col[k] * x[r];
+                }
+                x[begin + j] -= acc;
+            }
+            for j in (0..ncols).rev() {
+                let col = &ls[j * nrows..j * nrows + ncols];
+                x[begin + j] /= col[j];
+                let xj = x[begin + j];
+                for i in 0..j {
+                    x[begin + i] -= col[i] * xj;
+                }
+            }
+        }
+        for (new, &old) in sym.perm_fwd.iter().enumerate() {
+            rhs[old] = x[new];
+        }
+    }
+}
+
+/// `target[rows[i], cols[j]] −= Σ_c a[a_first + i, c] · b[b_first + j, c]` for the
+/// column-major `(.. × d_ncols)` blocks `a`, `b` of leading dimension `d_nrows`, into the
+/// column-major `target` of leading dimension `ld`.
+#[allow(clippy::too_many_arguments)]
+fn subtract_product(
+    target: &mut [f64],
+    ld: usize,
+    rows: &[usize],
+    cols: &[usize],
+    a: &[f64],
+    b: &[f64],
+    d_nrows: usize,
+    d_ncols: usize,
+    a_first: usize,
+    m: usize,
+    b_first: usize,
+    k: usize,
+    scratch: &mut [f64],
+) {
+    if m * k * d_ncols <= SMALL_UPDATE {
+        for (j, &cj) in cols.iter().enumerate() {
+            let t = &mut target[cj * ld..(cj + 1) * ld];
+            for c in 0..d_ncols {
+                let bj = b[c * d_nrows + b_first + j];
+                if bj == 0.0 {
+                    continue;
+                }
+                let ac = &a[c * d_nrows + a_first..c * d_nrows + a_first + m];
+                for (&ri, &aic) in rows.iter().zip(ac) {
+                    t[ri] -= aic * bj;
+                }
+            }
+        }
+        return;
+    }
+    let a_block = MatRef::from_column_major_slice_with_stride(&a[a_first..], m, d_ncols, d_nrows);
+    let b_block = MatRef::from_column_major_slice_with_stride(&b[b_first..], k, d_ncols, d_nrows);
+    let mut product = MatMut::from_column_major_slice_mut(&mut scratch[..m * k], m, k);
+    matmul(
+        product.rb_mut(),
+        Accum::Replace,
+        a_block,
+        b_block.transpose(),
+        1.0,
+        Par::Seq,
+    );
+    for (j, &cj) in cols.iter().enumerate() {
+        let t = &mut target[cj * ld..(cj + 1) * ld];
+        let p = &scratch[j * m..(j + 1) * m];
+        for (&ri, &v) in rows.iter().zip(p) {
+            t[ri] -= v;
+        }
+    }
+}

@@ -1,0 +1,152 @@
+//! The factorization of the velocity-sized Newton matrix `K = M + h² Σ Bᵢᵀ Cᵢ Bᵢ`
+//! (`docs/solver.md`, "The factorization"): Cholesky when `K` is symmetric (associative
+//! flow), otherwise the no-pivot LU on the Cholesky structure of K's symmetric pattern, with
+//! faer's partial-pivoting LU as the guarded fallback for one iteration.
+use std::sync::Arc;
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuSymbolicParams, NumericLu, SymbolicLu};
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par, Side};
+
+use crate::factorization::{SymbolicSymmetricPatternLu, SymmetricPatternLu};
+
+/// Which factorization solved this iteration's system.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Factorized {
+    Cholesky,
+    NoPivotLu,
+    /// The pivoting LU, because the no-pivot LU refused a pivot or its direction failed
+    /// the accuracy check.
+    PivotingLu,
+}
+
+/// Which LU a non-symmetric `K` is factorized by.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum LuChoice {
+    /// The no-pivot LU, refusing `|u_jj| ≤ tolerance · |k_jj|` (then the pivoting LU).
+    NoPivot { pivot_tolerance: f64 },
+    /// The pivoting LU directly (a retry, or `LinearSolver::SchurPivoting`).
+    Pivoting,
+}
+
+/// faer's supernodal LU with partial pivoting: built on first use only.
+pub(crate) struct PivotingLu {
+    symbolic: SymbolicLu<usize>,
+    numeric: NumericLu<usize, f64>,
+    scratch: MemBuffer,
+}
+
+impl PivotingLu {
+    fn new(pattern: SymbolicSparseColMatRef<'_, usize>) -> Result<Self, String> {
+        let symbolic = factorize_symbolic_lu(
+            pattern,
+            LuSymbolicParams {
+                // faer's default picks the simplicial LU for these 2D patterns, several times
+                // slower.
+                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+                ..Default::default()
+            },
+        )
+        .map_err(|e| format!("{e:?}"))?;
+        let req = symbolic
+            .factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default())
+            .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+        Ok(Self {
+            symbolic,
+            numeric: NumericLu::new(),
+            scratch: MemBuffer::try_new(req).map_err(|e| format!("{e:?}"))?,
+        })
+    }
+
+    fn solve(&mut self, k: SparseColMatRef<'_, usize, f64>, rhs: &mut [f64]) -> Result<(), String> {
+        let stack = MemStack::new(&mut self.scratch);
+        let lu = self
+            .symbolic
+            .factorize_numeric_lu(&mut self.numeric, k, Par::Seq, stack, Default::default())
+            .map_err(|e| format!("{e:?}"))?;
+        let n = rhs.len();
+        lu.solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(rhs, n, 1),
+            Par::Seq,
+            stack,
+        );
+        Ok(())
+    }
+}
+
+// One per solver, never moved in a hot loop: its size does not matter.
+#[allow(clippy::large_enum_variant)]
+pub(crate) enum SchurFactor {
+    /// Associative: `ρ A⁻¹ D` is symmetric positive semi-definite, K is SPD.
+    Cholesky(SymbolicLlt<usize>),
+    Lu {
+        no_pivot: SymmetricPatternLu,
+        pivoting: Option<PivotingLu>,
+    },
+}
+
+impl SchurFactor {
+    /// The symbolic analysis of `pattern` (the lower triangle only when `symmetric`).
+    pub(crate) fn analyse(
+        pattern: SymbolicSparseColMatRef<'_, usize>,
+        symmetric: bool,
+    ) -> Result<Self, String> {
+        Ok(if symmetric {
+            SchurFactor::Cholesky(
+                SymbolicLlt::try_new(pattern, Side::Lower).map_err(|e| format!("{e:?}"))?,
+            )
+        } else {
+            let symbolic =
+                SymbolicSymmetricPatternLu::try_new(pattern).map_err(|e| e.to_string())?;
+            SchurFactor::Lu {
+                no_pivot: SymmetricPatternLu::new(Arc::new(symbolic)),
+                pivoting: None,
+            }
+        })
+    }
+
+    /// Factorizes `k` and solves `k x = rhs` in place (`choice` is ignored for Cholesky).
+    pub(crate) fn solve(
+        &mut self,
+        k: SparseColMatRef<'_, usize, f64>,
+        rhs: &mut [f64],
+        choice: LuChoice,
+    ) -> Result<Factorized, String> {
+        match self {
+            SchurFactor::Cholesky(symbolic) => {
+                let llt = Llt::try_new_with_symbolic(symbolic.clone(), k, Side::Lower)
+                    .map_err(|e| format!("{e:?}"))?;
+                let n = rhs.len();
+                llt.solve_in_place(MatMut::from_column_major_slice_mut(rhs, n, 1));
+                Ok(Factorized::Cholesky)
+            }
+            SchurFactor::Lu {
+                no_pivot,
+                pivoting: fallback,
+            } => {
+                if let LuChoice::NoPivot { pivot_tolerance } = choice {
+                    match no_pivot.factorize(k.val(), pivot_tolerance) {
+                        Ok(()) => {
+                            no_pivot.solve_in_place(rhs);
+                            return Ok(Factorized::NoPivotLu);
+                        }
+                        Err(breakdown) => {
+                            tracing::debug!(%breakdown, "no-pivot LU refused: pivoting LU");
+                        }
+                    }
+                }
+                if fallback.is_none() {
+                    *fallback = Some(PivotingLu::new(k.symbolic())?);
+                }
+                let lu = fallback.as_mut().expect("just built");
+                lu.solve(k, rhs)?;
+                Ok(Factorized::PivotingLu)
+            }
+        }
+    }
+}
