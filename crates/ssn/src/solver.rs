@@ -411,6 +411,7 @@ impl<const D: usize> Solver<D> {
                     pivot_tolerance: self.settings.pivot_tolerance,
                 }
             },
+            self.settings.parallel,
         ) {
             Ok(used) => Some(used),
             Err(SchurFailure::SingularBlock(i)) => {

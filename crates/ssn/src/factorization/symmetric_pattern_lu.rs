@@ -81,9 +81,13 @@ pub struct SymbolicSymmetricPatternLu {
     value_ptr: Vec<usize>,
     update_ptr: Vec<usize>,
     updates: Vec<Update>,
-    /// Destination of each stored input entry in `[L | Uᵀ]` (the diagonal blocks hold `L`
-    /// and `U` together in `L`'s storage).
-    scatter: Vec<usize>,
+    /// `(input position, destination)` of each stored input entry, grouped by the
+    /// supernode it lands in (`scatter_ptr`), so that a supernode's blocks are zeroed and
+    /// filled right before it is factorized (one pass over memory, not two). Destinations
+    /// are in `L`'s values when below `len_val` (the diagonal blocks hold `L` and `U`
+    /// together), in `Uᵀ`'s at `len_val + offset` otherwise.
+    scatter_ptr: Vec<usize>,
+    scatter: Vec<(usize, usize)>,
     /// Input position of `a_jj` for each permuted column (`usize::MAX` if not stored).
     diagonal: Vec<usize>,
     update_scratch: usize,
@@ -204,7 +208,7 @@ impl SymbolicSymmetricPatternLu {
                 .map(|k| end - begin + k)
                 .map_err(|_| SymbolicError(format!("row {row} missing from supernode {s}")))
         };
-        let mut scatter = Vec::with_capacity(input_nnz);
+        let mut scatter_by: Vec<(usize, usize, usize)> = Vec::with_capacity(input_nnz);
         let mut diagonal = vec![usize::MAX; n];
         for c in 0..n {
             for (p, &r) in row_idx[col_ptr[c]..col_ptr[c + 1]].iter().enumerate() {
@@ -212,6 +216,7 @@ impl SymbolicSymmetricPatternLu {
                 if i == j {
                     diagonal[j] = col_ptr[c] + p;
                 }
+                let owner = col_to_super[i.min(j)];
                 let dest = if i >= j {
                     let s = col_to_super[j];
                     let nrows = supernode_begin[s + 1] - supernode_begin[s] + pattern_ptr[s + 1]
@@ -230,9 +235,19 @@ impl SymbolicSymmetricPatternLu {
                         len_val + base
                     }
                 };
-                scatter.push(dest);
+                scatter_by.push((owner, col_ptr[c] + p, dest));
             }
         }
+        // Stable by supernode: within one, input order (the sum of duplicates keeps it).
+        scatter_by.sort_by_key(|&(owner, _, _)| owner);
+        let mut scatter_ptr = vec![0; n_super + 1];
+        for &(owner, _, _) in &scatter_by {
+            scatter_ptr[owner + 1] += 1;
+        }
+        for k in 0..n_super {
+            scatter_ptr[k + 1] += scatter_ptr[k];
+        }
+        let scatter = scatter_by.into_iter().map(|(_, p, d)| (p, d)).collect();
         Ok(Self {
             n,
             input_nnz,
@@ -243,6 +258,7 @@ impl SymbolicSymmetricPatternLu {
             value_ptr,
             update_ptr,
             updates,
+            scatter_ptr,
             scatter,
             diagonal,
             update_scratch,
@@ -298,6 +314,7 @@ pub struct SymmetricPatternLu {
     local_rows: Vec<usize>,
     global_to_local: Vec<usize>,
     work: Vec<f64>,
+    gathered: Vec<f64>,
     factorized: bool,
 }
 
@@ -311,6 +328,7 @@ impl SymmetricPatternLu {
             local_rows: Vec::new(),
             global_to_local: vec![usize::MAX; n],
             work: vec![0.0; n],
+            gathered: Vec::new(),
             factorized: false,
             symbolic,
         }
@@ -335,10 +353,6 @@ impl SymmetricPatternLu {
             "values do not match the analysed pattern"
         );
         self.factorized = false;
-        self.values.fill(0.0);
-        for (v, &dest) in values.iter().zip(&sym.scatter) {
-            self.values[dest] += v;
-        }
         for (j, &p) in sym.diagonal.iter().enumerate() {
             self.reference[j] = if p == usize::MAX {
                 0.0
@@ -359,6 +373,16 @@ impl SymmetricPatternLu {
             let (u_done, u_rest) = u_all.split_at_mut(sym.value_ptr[s]);
             let ls = &mut l_rest[..nrows * ncols];
             let us = &mut u_rest[..nrows * ncols];
+            ls.fill(0.0);
+            us.fill(0.0);
+            let base = sym.value_ptr[s];
+            for &(p, dest) in &sym.scatter[sym.scatter_ptr[s]..sym.scatter_ptr[s + 1]] {
+                if dest < len_val {
+                    ls[dest - base] += values[p];
+                } else {
+                    us[dest - len_val - base] += values[p];
+                }
+            }
             for upd in &sym.updates[sym.update_ptr[s]..sym.update_ptr[s + 1]] {
                 let (d_ncols, d_npat) = sym.shape(upd.d);
                 let d_nrows = d_ncols + d_npat;
@@ -458,21 +482,28 @@ impl SymmetricPatternLu {
         }
         let len_val = sym.len_val();
         let (l_all, u_all) = self.values.split_at(len_val);
-        // L y = P b (unit lower), supernode by supernode.
+        let gathered = &mut self.gathered;
+        // L y = P b (unit lower), supernode by supernode: the diagonal block, then the rows
+        // below through a dense buffer (contiguous columns, one scatter).
         for s in 0..sym.n_supernodes() {
             let begin = sym.supernode_begin[s];
             let (ncols, npat) = sym.shape(s);
             let nrows = ncols + npat;
             let ls = &l_all[sym.value_ptr[s]..sym.value_ptr[s + 1]];
+            gathered.clear();
+            gathered.resize(npat, 0.0);
             for j in 0..ncols {
-                let xj = x[begin + j];
                 let col = &ls[j * nrows..(j + 1) * nrows];
-                for i in j + 1..ncols {
-                    x[begin + i] -= col[i] * xj;
+                let xj = x[begin + j];
+                for (i, l) in (j + 1..ncols).zip(&col[j + 1..ncols]) {
+                    x[begin + i] -= l * xj;
                 }
-                for (k, &r) in sym.rows(s).iter().enumerate() {
-                    x[r] -= col[ncols + k] * xj;
+                for (g, l) in gathered.iter_mut().zip(&col[ncols..]) {
+                    *g += l * xj;
                 }
+            }
+            for (&r, g) in sym.rows(s).iter().zip(gathered.iter()) {
+                x[r] -= g;
             }
         }
         // U x = y, backwards.
@@ -482,20 +513,19 @@ impl SymmetricPatternLu {
             let nrows = ncols + npat;
             let ls = &l_all[sym.value_ptr[s]..sym.value_ptr[s + 1]];
             let us = &u_all[sym.value_ptr[s]..sym.value_ptr[s + 1]];
+            gathered.clear();
+            gathered.extend(sym.rows(s).iter().map(|&r| x[r]));
             for j in 0..ncols {
                 let col = &us[j * nrows + ncols..(j + 1) * nrows];
-                let mut acc = 0.0;
-                for (k, &r) in sym.rows(s).iter().enumerate() {
-                    acc += col[k] * x[r];
-                }
+                let acc: f64 = col.iter().zip(gathered.iter()).map(|(u, x)| u * x).sum();
                 x[begin + j] -= acc;
             }
             for j in (0..ncols).rev() {
                 let col = &ls[j * nrows..j * nrows + ncols];
                 x[begin + j] /= col[j];
                 let xj = x[begin + j];
-                for i in 0..j {
-                    x[begin + i] -= col[i] * xj;
+                for (i, u) in col[..j].iter().enumerate() {
+                    x[begin + i] -= u * xj;
                 }
             }
         }
@@ -525,32 +555,34 @@ fn subtract_product(
     scratch: &mut [f64],
 ) {
     if m * k * d_ncols <= SMALL_UPDATE {
-        for (j, &cj) in cols.iter().enumerate() {
-            let t = &mut target[cj * ld..(cj + 1) * ld];
+        // The product into `scratch` (dense, column-major), then one scatter.
+        let product = &mut scratch[..m * k];
+        product.fill(0.0);
+        for j in 0..k {
+            let p = &mut product[j * m..(j + 1) * m];
             for c in 0..d_ncols {
                 let bj = b[c * d_nrows + b_first + j];
-                if bj == 0.0 {
-                    continue;
-                }
                 let ac = &a[c * d_nrows + a_first..c * d_nrows + a_first + m];
-                for (&ri, &aic) in rows.iter().zip(ac) {
-                    t[ri] -= aic * bj;
+                for (pi, aic) in p.iter_mut().zip(ac) {
+                    *pi += aic * bj;
                 }
             }
         }
-        return;
+    } else {
+        let a_block =
+            MatRef::from_column_major_slice_with_stride(&a[a_first..], m, d_ncols, d_nrows);
+        let b_block =
+            MatRef::from_column_major_slice_with_stride(&b[b_first..], k, d_ncols, d_nrows);
+        let product = MatMut::from_column_major_slice_mut(&mut scratch[..m * k], m, k);
+        matmul(
+            product,
+            Accum::Replace,
+            a_block,
+            b_block.transpose(),
+            1.0,
+            Par::Seq,
+        );
     }
-    let a_block = MatRef::from_column_major_slice_with_stride(&a[a_first..], m, d_ncols, d_nrows);
-    let b_block = MatRef::from_column_major_slice_with_stride(&b[b_first..], k, d_ncols, d_nrows);
-    let mut product = MatMut::from_column_major_slice_mut(&mut scratch[..m * k], m, k);
-    matmul(
-        product.rb_mut(),
-        Accum::Replace,
-        a_block,
-        b_block.transpose(),
-        1.0,
-        Par::Seq,
-    );
     for (j, &cj) in cols.iter().enumerate() {
         let t = &mut target[cj * ld..(cj + 1) * ld];
         let p = &scratch[j * m..(j + 1) * m];

@@ -1,5 +1,6 @@
 use faer::sparse::{Pair, SparseColMatRef, SymbolicSparseColMat};
 use nalgebra::{SMatrix, SVector};
+use rayon::prelude::*;
 use talus_bipotential::NaturalMapLinearization;
 
 use super::schur_factor::{Factorized, LuChoice, SchurFactor};
@@ -18,7 +19,6 @@ pub(crate) struct SchurSystem<const D: usize> {
     positions: Vec<usize>,
     csc_values: Vec<f64>,
     factorization: SchurFactor,
-    local_a: Vec<LocalLu<D>>,
     local_c: Vec<SMatrix<f64, D, D>>,
     rhs: Vec<f64>,
     a_inv_r: Vec<f64>,
@@ -71,8 +71,7 @@ impl<const D: usize> SchurSystem<D> {
             positions,
             csc_values: vec![0.0; nnz],
             factorization,
-            local_a: Vec::with_capacity(n_points),
-            local_c: Vec::with_capacity(n_points),
+            local_c: vec![SMatrix::zeros(); n_points],
             rhs: vec![0.0; n_v],
             a_inv_r: vec![0.0; D * n_points],
         })
@@ -89,23 +88,44 @@ impl<const D: usize> SchurSystem<D> {
         r: &[f64],
         d: &mut [f64],
         choice: LuChoice,
+        parallel: bool,
     ) -> Result<Factorized, SchurFailure> {
         let h2 = structured.h * structured.h;
-        self.local_a.clear();
-        self.local_c.clear();
-        for (i, (l, &rho_i)) in lin.iter().zip(rho).enumerate() {
-            let g = l.coupling * rho_i;
-            let a = SMatrix::<f64, D, D>::identity() - l.projection_jacobian
+        // Per point and independent: spread over threads when `parallel` (the results do
+        // not depend on it); the first singular block in point order is reported.
+        let symmetric = self.symmetric;
+        let one = |i: usize, c: &mut SMatrix<f64, D, D>, ar: &mut [f64]| -> bool {
+            let g = lin[i].coupling * rho[i];
+            let a = SMatrix::<f64, D, D>::identity() - lin[i].projection_jacobian
                 + g * structured.compliance[i];
-            let lu = LocalLu::factor(&a).ok_or(SchurFailure::SingularBlock(i))?;
-            let mut c = lu.solve_matrix(&g);
-            if self.symmetric {
-                c = (c + c.transpose()) * 0.5;
+            let Some(lu) = LocalLu::factor(&a) else {
+                return false;
+            };
+            *c = lu.solve_matrix(&g);
+            if symmetric {
+                *c = (*c + c.transpose()) * 0.5;
             }
-            self.local_a.push(lu);
-            self.local_c.push(c);
-            let ar = lu.solve(&block::<D>(r, i));
-            self.a_inv_r[D * i..D * i + D].copy_from_slice(ar.as_slice());
+            ar.copy_from_slice(lu.solve(&block::<D>(r, i)).as_slice());
+            true
+        };
+        let regular: Vec<bool> = if parallel {
+            self.local_c
+                .par_iter_mut()
+                .zip(self.a_inv_r.par_chunks_mut(D))
+                .enumerate()
+                .with_min_len(256)
+                .map(|(i, (c, ar))| one(i, c, ar))
+                .collect()
+        } else {
+            self.local_c
+                .iter_mut()
+                .zip(self.a_inv_r.chunks_mut(D))
+                .enumerate()
+                .map(|(i, (c, ar))| one(i, c, ar))
+                .collect()
+        };
+        if let Some(i) = regular.iter().position(|ok| !ok) {
+            return Err(SchurFailure::SingularBlock(i));
         }
         // Values in the order of `new`: masses, then h² Bᵢᵀ Cᵢ Bᵢ per point, summed in
         // place into the CSC values.
@@ -143,9 +163,18 @@ impl<const D: usize> SchurSystem<D> {
             .solve(k, &mut self.rhs, choice)
             .map_err(SchurFailure::Factorization)?;
         let u = &self.rhs;
-        for (i, c) in self.local_c.iter().enumerate() {
-            let di = block::<D>(&self.a_inv_r, i) - c * blocks.apply_point(i, u) * h2;
-            d[D * i..D * i + D].copy_from_slice(di.as_slice());
+        let (local_c, a_inv_r) = (&self.local_c, &self.a_inv_r);
+        let back = |(i, di): (usize, &mut [f64])| {
+            let v = block::<D>(a_inv_r, i) - local_c[i] * blocks.apply_point(i, u) * h2;
+            di.copy_from_slice(v.as_slice());
+        };
+        if parallel {
+            d.par_chunks_mut(D)
+                .enumerate()
+                .with_min_len(256)
+                .for_each(back);
+        } else {
+            d.chunks_mut(D).enumerate().for_each(back);
         }
         Ok(used)
     }
