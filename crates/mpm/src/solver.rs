@@ -152,6 +152,14 @@ impl Mpm {
             Ok(outcome) => {
                 *particles = trial;
                 let r = &outcome.report;
+                if let Some(floor) = r.round_off_floor {
+                    tracing::warn!(
+                        h,
+                        residual = floor.reached / r.scale,
+                        floor_estimate = floor.estimate / r.scale,
+                        "MPM step accepted at the round-off floor, above the tolerance"
+                    );
+                }
                 report.substeps += 1;
                 report.smallest_h = report.smallest_h.min(h);
                 report.newton_iterations += r.iterations;

@@ -27,11 +27,12 @@ mod settings;
 pub mod siconos;
 mod siconos_system;
 mod solver;
+mod stopping;
 
 pub use error::SolveError;
 pub use operator::{Operator, Structured};
 pub use problem::ReducedSystem;
-pub use report::{Report, Status};
+pub use report::{Report, RoundOffFloor, Status};
 pub use settings::{LineSearch, LinearSolver, Rho, Settings};
 pub use siconos_system::reduced_system_from_siconos;
 pub use solver::Solver;

@@ -1,7 +1,13 @@
-/// How a solve ended. Only `Converged` is a solution.
+/// How a solve ended. `Converged` and `RoundOffFloor` are accepted ([`Report::is_accepted`]);
+/// only `Converged` met the tolerance.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Status {
+    /// `‖F‖∞ ≤ tolerance · max(1, ‖σ‖∞)`.
     Converged,
+    /// Above the tolerance, but stagnated within a factor of the estimated round-off floor
+    /// of `F` (`docs/solver.md`, "The round-off floor"): the best σ floating point allows.
+    /// [`Report::round_off_floor`] has the floor reached and the estimate.
+    RoundOffFloor,
     /// `max_iterations` reached with the residual above tolerance.
     MaxIterations,
     /// No step length gave sufficient decrease of `‖F‖²`.
@@ -17,6 +23,7 @@ impl Status {
     pub fn as_str(&self) -> &'static str {
         match self {
             Status::Converged => "converged",
+            Status::RoundOffFloor => "round_off_floor",
             Status::MaxIterations => "max_iterations",
             Status::LineSearchFailed => "line_search_failed",
             Status::SingularJacobian => "singular_jacobian",
@@ -29,6 +36,16 @@ impl std::fmt::Display for Status {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.as_str())
     }
+}
+
+/// Where a solve ended at its round-off floor, in the units of `Report::residual`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RoundOffFloor {
+    /// `‖F‖∞` at which the iteration stagnated (equal to `Report::residual`).
+    pub reached: f64,
+    /// `ε · max(‖σ‖∞, max_i ρ_i (|W||σ| + |q|)_i)` at the last iterate, with the stopping
+    /// test's ρ_i: the rounding error of `F` there.
+    pub estimate: f64,
 }
 
 /// What one solve did.
@@ -59,6 +76,8 @@ pub struct Report {
     pub pivoting_fallbacks: usize,
     /// Smallest and largest ρ over the points.
     pub rho_range: (f64, f64),
+    /// `Some` exactly when the status is `RoundOffFloor`.
+    pub round_off_floor: Option<RoundOffFloor>,
 }
 
 impl Report {
@@ -77,10 +96,18 @@ impl Report {
             stress_sized_steps: 0,
             pivoting_fallbacks: 0,
             rho_range,
+            round_off_floor: None,
         }
     }
 
+    /// The tolerance was met.
     pub fn is_converged(&self) -> bool {
         self.status == Status::Converged
+    }
+
+    /// σ is a solution to the tolerance or to the problem's round-off floor: a time step
+    /// may be accepted (not halved).
+    pub fn is_accepted(&self) -> bool {
+        matches!(self.status, Status::Converged | Status::RoundOffFloor)
     }
 }

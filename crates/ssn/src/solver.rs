@@ -7,7 +7,10 @@ use crate::error::invalid;
 use crate::newton::schur::SchurFailure;
 use crate::newton::{DenseSystem, Factorized, LuChoice, SchurSystem, StressSizedSystem};
 use crate::operator::{apply, block, PointBlocks};
-use crate::{LinearSolver, Operator, ReducedSystem, Report, Rho, Settings, SolveError, Status};
+use crate::stopping;
+use crate::{
+    LinearSolver, Operator, ReducedSystem, Report, Rho, RoundOffFloor, Settings, SolveError, Status,
+};
 
 /// A linearization that is never read (placeholder before the first evaluation).
 fn blank<const D: usize>() -> NaturalMapLinearization<D> {
@@ -195,7 +198,9 @@ impl<const D: usize> Solver<D> {
     }
 
     /// Solves from `sigma` (or from 0 without warm start) and leaves the last iterate in it.
-    /// `Err(NotConverged)` carries the report; `sigma` is then not a solution.
+    /// `Ok` when the report [is accepted](Report::is_accepted): converged, or at the
+    /// round-off floor. `Err(NotConverged)` carries the report; `sigma` is then not a
+    /// solution.
     pub fn solve(&mut self, sigma: &mut [f64]) -> Result<Report, SolveError> {
         let start = Instant::now();
         let n = self.problem.operator.size();
@@ -231,6 +236,13 @@ impl<const D: usize> Solver<D> {
                 report.status = Status::Converged;
                 break;
             }
+            if stopping::stagnated(&report.residual_history) {
+                if let Some(floor) = self.floor_reached(sigma, residual) {
+                    report.status = Status::RoundOffFloor;
+                    report.round_off_floor = Some(floor);
+                    break;
+                }
+            }
             if report.iterations == self.settings.max_iterations {
                 report.status = Status::MaxIterations;
                 break;
@@ -239,6 +251,13 @@ impl<const D: usize> Solver<D> {
                 report.status = status;
                 break;
             }
+            let regions_before: Vec<talus_bipotential::Region> =
+                if tracing::enabled!(tracing::Level::TRACE) {
+                    self.lin.iter().map(|l| l.region).collect()
+                } else {
+                    Vec::new()
+                };
+            let backtracks_before = report.backtracks;
             match self.line_search(sigma, merit, residual, &mut report) {
                 Some(m) => merit = m,
                 None => {
@@ -253,7 +272,15 @@ impl<const D: usize> Solver<D> {
                 let count = |r: talus_bipotential::Region| {
                     self.lin.iter().filter(|l| l.region == r).count()
                 };
+                let changed = regions_before
+                    .iter()
+                    .zip(&self.lin)
+                    .filter(|(r, l)| **r != l.region)
+                    .count();
                 tracing::trace!(
+                    changed,
+                    step_backtracks = report.backtracks - backtracks_before,
+                    merit = merit.sqrt(),
                     interior = count(talus_bipotential::Region::Interior),
                     boundary = count(talus_bipotential::Region::Boundary),
                     polar = count(talus_bipotential::Region::Polar),
@@ -268,6 +295,17 @@ impl<const D: usize> Solver<D> {
                 "ssn step"
             );
         }
+        // A failure at the floor is the floor: no step can make progress there.
+        if matches!(
+            report.status,
+            Status::MaxIterations | Status::LineSearchFailed | Status::SingularJacobian
+        ) {
+            if let Some(floor) = self.floor_reached(sigma, residual) {
+                tracing::debug!(failure = %report.status, "failure at the round-off floor");
+                report.status = Status::RoundOffFloor;
+                report.round_off_floor = Some(floor);
+            }
+        }
         report.residual = residual;
         report.scale = inf_norm(sigma).max(1.0);
         report.seconds = start.elapsed().as_secs_f64();
@@ -279,11 +317,27 @@ impl<const D: usize> Solver<D> {
             backtracks = report.backtracks,
             "ssn solve"
         );
-        if report.is_converged() {
+        if report.is_accepted() {
             Ok(report)
         } else {
             Err(SolveError::NotConverged(Box::new(report)))
         }
+    }
+
+    /// `Some` when `residual` (at `sigma`) is within `FLOOR_FACTOR` of the estimated
+    /// round-off floor there.
+    fn floor_reached(&self, sigma: &[f64], residual: f64) -> Option<RoundOffFloor> {
+        let estimate = stopping::floor_estimate(
+            &self.problem.operator,
+            self.blocks.as_ref(),
+            sigma,
+            &self.problem.q,
+            &self.residual_rho,
+        );
+        (residual <= stopping::FLOOR_FACTOR * estimate).then_some(RoundOffFloor {
+            reached: residual,
+            estimate,
+        })
     }
 
     /// `z`, `F` and the linearization at `sigma` (into the trial buffers when `trial`);

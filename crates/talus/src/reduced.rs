@@ -4,7 +4,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use talus_ssn::siconos::SiconosProblem;
-use talus_ssn::{reduced_system_from_siconos, Report, Rho, Settings, SolveError, Solver};
+use talus_ssn::{reduced_system_from_siconos, Report, Rho, Settings, SolveError, Solver, Status};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -63,9 +63,9 @@ pub fn run(args: &Args) -> Result<ExitCode, ReducedError> {
     };
     let mut solver = Solver::new(system, settings).map_err(ReducedError::Solve)?;
     let mut sigma = vec![0.0; problem.n()];
-    let (report, converged) = match solver.solve(&mut sigma) {
-        Ok(r) => (r, true),
-        Err(SolveError::NotConverged(r)) => (*r, false),
+    let report = match solver.solve(&mut sigma) {
+        Ok(r) => r,
+        Err(SolveError::NotConverged(r)) => *r,
         Err(e) => return Err(ReducedError::Solve(e)),
     };
     let sigma_inf = sigma.iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -76,11 +76,17 @@ pub fn run(args: &Args) -> Result<ExitCode, ReducedError> {
             source,
         })?;
     }
-    Ok(if converged {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::from(2)
-    })
+    Ok(exit_code(report.status))
+}
+
+/// 0 converged, 2 not converged, 3 stopped at the round-off floor above the tolerance
+/// (σ is the best attainable, the tolerance is not met); 1 is bad input (in `main`).
+pub fn exit_code(status: Status) -> ExitCode {
+    match status {
+        Status::Converged => ExitCode::SUCCESS,
+        Status::RoundOffFloor => ExitCode::from(3),
+        _ => ExitCode::from(2),
+    }
 }
 
 fn print_report(args: &Args, report: &Report, sigma_inf: f64) {
@@ -97,6 +103,10 @@ fn print_report(args: &Args, report: &Report, sigma_inf: f64) {
             "backtracks": report.backtracks,
             "rho_min": report.rho_range.0,
             "rho_max": report.rho_range.1,
+            "round_off_floor": report.round_off_floor.map(|f| serde_json::json!({
+                "reached": f.reached,
+                "estimate": f.estimate,
+            })),
         });
         println!("{json}");
     } else {
@@ -107,6 +117,12 @@ fn print_report(args: &Args, report: &Report, sigma_inf: f64) {
             report.residual,
             report.residual / sigma_inf.max(1.0)
         );
+        if let Some(f) = report.round_off_floor {
+            println!(
+                "round-off floor: reached {:.3e}, estimated {:.3e}",
+                f.reached, f.estimate
+            );
+        }
         println!("seconds: {:.6}", report.seconds);
     }
 }

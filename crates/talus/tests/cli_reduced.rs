@@ -73,3 +73,20 @@ fn reduced_names_a_bad_file() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("line 8"), "{err}");
 }
+
+#[test]
+fn reduced_reports_the_round_off_floor_with_exit_code_3() {
+    // 1e-18 is below what floating point allows on this problem (docs/solver.md).
+    let out = Command::new(env!("CARGO_BIN_EXE_talus"))
+        .args(["reduced", FILE, "--json", "--tol", "1e-18"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(3));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["status"], "round_off_floor");
+    let reached = json["round_off_floor"]["reached"].as_f64().unwrap();
+    let estimate = json["round_off_floor"]["estimate"].as_f64().unwrap();
+    assert_eq!(reached, json["residual"].as_f64().unwrap());
+    assert!(reached > 1e-18 * json["sigma_inf"].as_f64().unwrap().max(1.0));
+    assert!(reached <= 1e3 * estimate);
+}

@@ -9,7 +9,8 @@ use super::{Model, State};
 #[derive(Debug, Clone, PartialEq)]
 pub struct StepRecord {
     pub time: f64,
-    /// Sub-steps taken (1 unless the step was split after a failed solve).
+    /// Sub-steps taken (1 unless the step was split after a failed solve). A solve that ends
+    /// at its round-off floor is accepted, not split (see `statuses`).
     pub substeps: usize,
     /// Smallest sub-step used (s).
     pub smallest_h: f64,
@@ -17,6 +18,13 @@ pub struct StepRecord {
     pub newton_iterations: usize,
     /// Largest iteration count of a single sub-step.
     pub max_newton_iterations: usize,
+    /// Newton iterations of the attempts that failed and were redone as two half steps (not
+    /// in `newton_iterations`).
+    pub failed_newton_iterations: usize,
+    /// Line-search backtracks over all accepted sub-steps.
+    pub backtracks: usize,
+    /// How each accepted sub-step's solve ended.
+    pub statuses: Vec<talus_ssn::Status>,
     /// Final `‖F‖∞` of the last sub-step.
     pub residual: f64,
     /// `‖F‖∞ / max(1, ‖σ‖∞)` per iteration, per sub-step (the quantity compared with the
@@ -76,6 +84,17 @@ impl<'m> Stepper<'m> {
         }
     }
 
+    /// `(σₙ − σₙ₋₁)/h` of the last sub-step, if the next step will extrapolate from it.
+    pub fn stress_rate(&self) -> Option<&[f64]> {
+        self.stress_rate.as_deref()
+    }
+
+    /// Restores a stress rate saved with [`Stepper::stress_rate`] (to resume a run from a
+    /// saved state with the same predictor).
+    pub fn set_stress_rate(&mut self, rate: Option<Vec<f64>>) {
+        self.stress_rate = rate;
+    }
+
     /// The reaction of the reported boundary in a state at rest (`M a = 0`): `Bᵀσ − f` on
     /// its vertical prescribed dofs, positive downward (N/m).
     pub fn reaction(&self, state: &State) -> f64 {
@@ -101,6 +120,9 @@ impl<'m> Stepper<'m> {
             smallest_h: h,
             newton_iterations: 0,
             max_newton_iterations: 0,
+            failed_newton_iterations: 0,
+            backtracks: 0,
+            statuses: Vec::new(),
             residual: 0.0,
             residual_histories: Vec::new(),
             merit_histories: Vec::new(),
@@ -123,12 +145,23 @@ impl<'m> Stepper<'m> {
         let mut trial = state.clone();
         match self.substep(&mut trial, h) {
             Ok((report, reaction)) => {
+                if let Some(floor) = report.round_off_floor {
+                    tracing::warn!(
+                        time = state.time,
+                        h,
+                        residual = floor.reached / report.scale,
+                        floor_estimate = floor.estimate / report.scale,
+                        "step accepted at the round-off floor, above the tolerance"
+                    );
+                }
                 *state = trial;
                 record.substeps += 1;
                 record.smallest_h = record.smallest_h.min(h);
                 record.newton_iterations += report.iterations;
                 record.max_newton_iterations = record.max_newton_iterations.max(report.iterations);
                 record.residual = report.residual;
+                record.backtracks += report.backtracks;
+                record.statuses.push(report.status);
                 record.merit_histories.push(
                     report
                         .merit_history
@@ -157,6 +190,7 @@ impl<'m> Stepper<'m> {
                         residual: report.residual,
                     });
                 }
+                record.failed_newton_iterations += report.iterations;
                 tracing::warn!(time = state.time, h, status = %report.status, "step did not converge: halving h");
                 self.advance_level(state, 0.5 * h, level + 1, record)?;
                 self.advance_level(state, 0.5 * h, level + 1, record)
