@@ -71,7 +71,9 @@ fn main() {
         ],
         prescribed: vec![],
     };
-    let mpm = Mpm::try_new(grid, boundary, &soil, [0.0, -9.81], settings).expect("mpm");
+    let mut mpm = Mpm::try_new(grid, boundary, &soil, [0.0, -9.81], settings).expect("mpm");
+    // A new solver for every friction pass (the cost before the passes shared one).
+    mpm.set_analysis_reuse(!args.iter().any(|a| a == "--no-reuse"));
     let mut particles =
         Particles::fill_rectangle([[0.0, 0.0], [WIDTH, HEIGHT]], DX, per_cell, 1800.0)
             .expect("particles");
