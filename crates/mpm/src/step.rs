@@ -266,8 +266,8 @@ impl StepContext<'_> {
             if !active[i] {
                 continue;
             }
-            for a in 0..2 {
-                dofs[i][a] = match c.velocity[a] {
+            for (dof, velocity) in dofs[i].iter_mut().zip(c.velocity) {
+                *dof = match velocity {
                     Some(v) => Dof::Prescribed(v),
                     None => {
                         mass_free.push(mass[i]);
