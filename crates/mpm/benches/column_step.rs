@@ -264,7 +264,7 @@ fn measure(n: usize, steps: usize, verbose: bool) -> Measurement {
     };
     let gravity = [0.0, -9.81];
     let settings = MpmSettings::default();
-    let plastic = Mpm::try_new(
+    let mut plastic = Mpm::try_new(
         grid.clone(),
         boundary.clone(),
         &material(0.0),
@@ -272,6 +272,9 @@ fn measure(n: usize, steps: usize, verbose: bool) -> Measurement {
         settings,
     )
     .expect("plastic mpm");
+    // TALUS_MPM_BENCH_NO_REUSE=1: a new solver (pattern and symbolic analysis) for every
+    // friction pass, the cost before the passes shared one analysis.
+    plastic.set_analysis_reuse(std::env::var("TALUS_MPM_BENCH_NO_REUSE").is_err());
     let elastic = Mpm::try_new(
         grid,
         boundary,
@@ -286,8 +289,9 @@ fn measure(n: usize, steps: usize, verbose: bool) -> Measurement {
     let log = |what: &str, r: &StepReport| {
         if verbose {
             eprintln!(
-                "column {n}: {what}: {} its, {} substeps, {:.3} s (solve {:.3} s), residual {:.1e}, {} free dofs",
-                r.newton_iterations, r.substeps, r.seconds, r.solve_seconds, r.residual, r.free_dofs
+                "column {n}: {what}: {} its (first pass {}, {} backtracks of {}), {} passes ({} reused analyses), {} substeps, {:.3} s (solve {:.3} s), residual {:.1e}, {} free dofs",
+                r.newton_iterations, r.first_pass_iterations, r.first_pass_backtracks, r.backtracks,
+                r.contact_passes, r.reused_analyses, r.substeps, r.seconds, r.solve_seconds, r.residual, r.free_dofs
             );
         }
     };

@@ -35,6 +35,15 @@ pub struct StepReport {
     pub solve_seconds: f64,
     /// Most solves one sub-step took to settle the friction walls' stick/slide states.
     pub contact_passes: usize,
+    /// Newton iterations of the converged sub-steps' first friction pass (all of them
+    /// without friction walls), and line-search backtracks: of those first passes, and of
+    /// all passes.
+    pub first_pass_iterations: usize,
+    pub first_pass_backtracks: usize,
+    pub backtracks: usize,
+    /// Friction passes after the first that kept the first pass's Schur analysis (same
+    /// pattern): every later pass of every sub-step, unless the pattern changed.
+    pub reused_analyses: usize,
 }
 
 /// The implicit MPM: a grid with its boundary conditions, one Drucker-Prager material,
@@ -48,6 +57,9 @@ pub struct Mpm {
     compliance: SMatrix<f64, 4, 4>,
     gravity: [f64; 2],
     settings: MpmSettings,
+    /// Friction passes after the first keep its Schur analysis (true, the default) or
+    /// build a new solver each (to check that both give the same step).
+    reuse_analysis: bool,
 }
 
 impl Mpm {
@@ -83,7 +95,14 @@ impl Mpm {
             compliance: material.compliance::<4>(),
             gravity,
             settings,
+            reuse_analysis: true,
         })
+    }
+
+    /// Whether friction passes after the first keep its Schur analysis (default true). The
+    /// result is the same bit for bit either way; false rebuilds the solver every pass.
+    pub fn set_analysis_reuse(&mut self, reuse: bool) {
+        self.reuse_analysis = reuse;
     }
 
     pub fn grid(&self) -> &Grid {
@@ -123,6 +142,10 @@ impl Mpm {
             seconds: 0.0,
             solve_seconds: 0.0,
             contact_passes: 0,
+            first_pass_iterations: 0,
+            first_pass_backtracks: 0,
+            backtracks: 0,
+            reused_analyses: 0,
         };
         let mut trial = particles.clone();
         self.advance_level(&mut trial, h, 0, &mut report)?;
@@ -146,6 +169,7 @@ impl Mpm {
             compliance: &self.compliance,
             gravity: self.gravity,
             settings: &self.settings,
+            reuse_analysis: self.reuse_analysis,
         };
         let mut trial = particles.clone();
         match context.substep(&mut trial, h) {
@@ -170,11 +194,16 @@ impl Mpm {
                 report.group_forces = outcome.group_forces;
                 report.solve_seconds += outcome.solve_seconds;
                 report.contact_passes = report.contact_passes.max(outcome.contact_passes);
+                report.first_pass_iterations += outcome.first_pass_iterations;
+                report.first_pass_backtracks += outcome.first_pass_backtracks;
+                report.backtracks += outcome.backtracks;
+                report.reused_analyses += outcome.reused_analyses;
                 Ok(())
             }
             Err(SubstepError::NotConverged(r)) => {
                 // The failed attempt's work counts too.
                 report.newton_iterations += r.iterations;
+                report.backtracks += r.backtracks;
                 report.solve_seconds += r.seconds;
                 if level >= self.settings.max_step_halvings {
                     return Err(MpmError::NotConverged {

@@ -28,6 +28,12 @@ pub(crate) struct SubstepOutcome {
     pub solve_seconds: f64,
     /// Solves taken to settle the friction walls' stick/slide states (1 without them).
     pub contact_passes: usize,
+    /// Newton iterations and line-search backtracks of the first friction pass.
+    pub first_pass_iterations: usize,
+    pub first_pass_backtracks: usize,
+    pub backtracks: usize,
+    /// Friction passes that reused the first pass's Schur analysis.
+    pub reused_analyses: usize,
 }
 
 pub(crate) enum SubstepError {
@@ -58,6 +64,7 @@ pub(crate) struct StepContext<'a> {
     pub compliance: &'a SMatrix<f64, 4, 4>,
     pub gravity: [f64; 2],
     pub settings: &'a MpmSettings,
+    pub reuse_analysis: bool,
 }
 
 /// Stick or slide of a node on a friction wall (Coulomb, solved by an active set: stick
@@ -73,13 +80,21 @@ enum Contact {
 /// Passes of the friction active set before the last one is accepted.
 const MAX_CONTACT_PASSES: usize = 8;
 
-/// The grid after P2G (eq. 11).
+/// The grid after P2G (eq. 11), with the step's dof numbering and `B`, shared by the
+/// friction passes.
 struct Prepared {
     stencils: Vec<Stencil>,
     mass: Vec<f64>,
     force: Vec<[f64; 2]>,
     v_old: Vec<[f64; 2]>,
     active: Vec<bool>,
+    /// Every active node's components; a friction node's tangential component is a free
+    /// velocity in every pass, stick or slide, so that all passes share one pattern.
+    dofs: Vec<[Dof; 2]>,
+    /// Lumped mass of each free velocity.
+    mass_free: Vec<f64>,
+    /// `B` on the free velocities (eq. 16), stuck tangential columns included.
+    b: SparseColMat<usize, f64>,
 }
 
 /// One solve of eqs. 15–16 on a given set of grid conditions.
@@ -93,6 +108,8 @@ struct Solved {
     reaction: Vec<[f64; 2]>,
     free_dofs: usize,
     seconds: f64,
+    /// Whether the solver kept the previous pass's Schur analysis.
+    reused_analysis: bool,
 }
 
 impl StepContext<'_> {
@@ -107,25 +124,39 @@ impl StepContext<'_> {
         let g = particles_to_grid(self.grid, particles, &stencils, self.gravity);
         let active: Vec<bool> = g.mass.iter().map(|m| *m > 0.0).collect();
         avoid_empty_nodes(self.grid, particles, &mut stencils, &active)?;
+        let (dofs, mass_free) = self.numbering(&active, &g.mass);
+        let b = free_strain_operator(&stencils, &particles.volume, &dofs, mass_free.len())?;
         let prep = Prepared {
             v_old: g.velocity(),
             active,
             stencils,
             mass: g.mass,
             force: g.force,
+            dofs,
+            mass_free,
+            b,
         };
         let friction_nodes: Vec<usize> = (0..prep.mass.len())
             .filter(|&i| prep.active[i] && self.conditions[i].friction.is_some())
             .collect();
         let mut contact = vec![Contact::Stick; prep.mass.len()];
         let mut start: Vec<f64> = particles.stress.iter().flatten().copied().collect();
+        let mut solver = None;
         let mut iterations = 0;
+        let mut backtracks = 0;
+        let mut first_pass = (0, 0);
+        let mut reused_analyses = 0;
         let mut solve_seconds = 0.0;
         let mut pass = 0;
         let solved = loop {
             pass += 1;
-            let mut solved = self.solve(particles, &prep, &contact, &start, h, pass == 1)?;
+            let mut solved = self.solve(particles, &prep, &contact, &start, h, &mut solver)?;
             iterations += solved.report.iterations;
+            backtracks += solved.report.backtracks;
+            if pass == 1 {
+                first_pass = (solved.report.iterations, solved.report.backtracks);
+            }
+            reused_analyses += solved.reused_analysis as usize;
             solve_seconds += solved.seconds;
             solved.report.iterations = iterations;
             // Slide forces are settled to 1% of the largest friction force the floor can
@@ -219,10 +250,40 @@ impl StepContext<'_> {
             group_forces,
             solve_seconds,
             contact_passes: pass,
+            first_pass_iterations: first_pass.0,
+            first_pass_backtracks: first_pass.1,
+            backtracks,
+            reused_analyses,
         })
     }
 
-    /// Eqs. 15–16 with the walls' conditions and the friction nodes' contact states.
+    /// Numbers the active nodes' velocity components: prescribed ones keep their velocity;
+    /// the others, a friction node's tangential component included, are free velocities.
+    fn numbering(&self, active: &[bool], mass: &[f64]) -> (Vec<[Dof; 2]>, Vec<f64>) {
+        let mut dofs = vec![[Dof::Inactive; 2]; active.len()];
+        let mut mass_free = Vec::new();
+        for (i, c) in self.conditions.iter().enumerate() {
+            if !active[i] {
+                continue;
+            }
+            for (dof, velocity) in dofs[i].iter_mut().zip(c.velocity) {
+                *dof = match velocity {
+                    Some(v) => Dof::Prescribed(v),
+                    None => {
+                        mass_free.push(mass[i]);
+                        Dof::Free(mass_free.len() - 1)
+                    }
+                };
+            }
+        }
+        (dofs, mass_free)
+    }
+
+    /// Eqs. 15–16 with the walls' conditions and the friction nodes' contact states. A
+    /// stuck tangential velocity stays a free velocity of the numbering but its column of
+    /// `B` is zeroed: it then strains nothing, exactly as the prescribed velocity 0 it is,
+    /// and the Newton matrix keeps the pattern of the step (`solver` is reused by
+    /// `Solver::replace_problem`).
     fn solve(
         &self,
         particles: &Particles,
@@ -230,37 +291,35 @@ impl StepContext<'_> {
         contact: &[Contact],
         start: &[f64],
         h: f64,
-        first: bool,
+        solver: &mut Option<Solver<4>>,
     ) -> Result<Solved, SubstepError> {
         let n_p = particles.len();
         let n_nodes = prep.mass.len();
-        // Dof numbering on active nodes; prescribed components keep their velocity, sliding
-        // friction nodes get the friction force as an external load.
-        let mut dofs = vec![[Dof::Inactive; 2]; n_nodes];
+        // The pass's view of each component: a stuck friction component is prescribed to 0,
+        // a sliding one carries the friction force as an external load.
+        let mut dofs = prep.dofs.clone();
         let mut force = prep.force.clone();
-        let mut mass_free = Vec::new();
+        let mut b = prep.b.clone();
         for (i, c) in self.conditions.iter().enumerate() {
+            let Some((axis, _, _)) = c.friction else {
+                continue;
+            };
             if !prep.active[i] {
                 continue;
             }
-            let mut velocity = c.velocity;
-            if let Some((axis, _, _)) = c.friction {
-                match contact[i] {
-                    Contact::Stick => velocity[1 - axis] = Some(0.0),
-                    Contact::Slide(f) => force[i][1 - axis] += f,
-                }
-            }
-            for a in 0..2 {
-                dofs[i][a] = match velocity[a] {
-                    Some(v) => Dof::Prescribed(v),
-                    None => {
-                        mass_free.push(prep.mass[i]);
-                        Dof::Free(mass_free.len() - 1)
+            let t = 1 - axis;
+            match contact[i] {
+                Contact::Stick => {
+                    if let Dof::Free(j) = dofs[i][t] {
+                        let range = b.symbolic().col_range(j);
+                        b.val_mut()[range].fill(0.0);
                     }
-                };
+                    dofs[i][t] = Dof::Prescribed(0.0);
+                }
+                Contact::Slide(f) => force[i][t] += f,
             }
         }
-        let n_free = mass_free.len();
+        let n_free = prep.mass_free.len();
 
         // q of eq. 16 (notes §4): −(S σₙ + B w) with w = h vₙ + h² M⁻¹ f on free
         // components and h v_D on prescribed ones.
@@ -290,17 +349,27 @@ impl StepContext<'_> {
             compliance.push(s_p);
         }
 
-        let b = free_strain_operator(&prep.stencils, &particles.volume, &dofs, n_free)?;
         let rules = vec![*self.flow_rule; n_p];
         let operator = Operator::Structured(Structured {
             compliance,
             b,
-            lumped_mass: mass_free,
+            lumped_mass: prep.mass_free.clone(),
             h,
         });
         let clock = Instant::now();
         let system = ReducedSystem::try_new(operator, q, rules).map_err(MpmError::Solver)?;
-        let mut solver = Solver::new(system, self.settings.solver).map_err(MpmError::Solver)?;
+        let first = solver.is_none();
+        let reused_analysis = match solver {
+            Some(s) if self.reuse_analysis => {
+                s.replace_problem(system).map_err(MpmError::Solver)?
+            }
+            _ => {
+                *solver =
+                    Some(Solver::new(system, self.settings.solver).map_err(MpmError::Solver)?);
+                false
+            }
+        };
+        let solver = solver.as_mut().expect("just set");
         let mut sigma = start.to_vec();
         if first
             && self.settings.predictor == Predictor::Elastic
@@ -367,6 +436,7 @@ impl StepContext<'_> {
             reaction,
             free_dofs: n_free,
             seconds,
+            reused_analysis,
         })
     }
 }
