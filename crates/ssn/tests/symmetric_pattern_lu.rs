@@ -161,3 +161,27 @@ fn a_matrix_that_needs_row_exchanges_is_refused_at_its_zero_pivot() {
     assert!(err.column == 5 || err.column == 6, "{err}");
     assert_eq!(err.pivot, 0.0);
 }
+
+/// For a full 2 × 2 matrix the second pivot is `det A / a_kk` whichever column the ordering
+/// takes first, so the smallest ratio `|u_jj| / |a_jj|` is `det A / (a_11 a_22)`.
+#[test]
+fn smallest_pivot_ratio_of_a_two_by_two_matrix_is_det_over_diagonal_product() {
+    // [[4, 1], [2, 3]]: det 10, ratio 10 / 12.
+    let a = SparseColMat::<usize, f64>::try_new_from_triplets(
+        2,
+        2,
+        &[
+            Triplet::new(0, 0, 4.0),
+            Triplet::new(1, 0, 2.0),
+            Triplet::new(0, 1, 1.0),
+            Triplet::new(1, 1, 3.0),
+        ],
+    )
+    .unwrap();
+    let symbolic = Arc::new(SymbolicSymmetricPatternLu::try_new(a.symbolic()).unwrap());
+    let mut lu = SymmetricPatternLu::new(symbolic);
+    assert_eq!(lu.smallest_pivot_ratio(), None);
+    lu.factorize(a.val(), DEFAULT_PIVOT_TOLERANCE).unwrap();
+    let ratio = lu.smallest_pivot_ratio().unwrap();
+    assert!((ratio - 10.0 / 12.0).abs() < 1e-15, "{ratio}");
+}

@@ -1,82 +1,69 @@
 //! One Newton iteration of the paper footing (`scenes/footing.toml`) against one elastic
-//! factorization and solve of the same mesh: the ratio of the two medians is the figure of
-//! merit (issue 4: target ≤ 1.3), printed by `cargo xtask bench`.
+//! Cholesky factorization and solve of the same mesh (issue 10: target ≤ 2.0 at 10k and
+//! 100k elements), printed as `ratio CASE: …` lines that `cargo xtask bench` collects.
 //!
-//! Cases (the divan argument): `lu` is the paper's non-associative soil (tan θ = tan φ / 2:
-//! sparse LU of the velocity-sized Newton matrix), `llt` the associative variant (θ = φ:
-//! sparse Cholesky); `32x14` is the paper mesh (896 P2 triangles), `104x48` a finer one
-//! (9984). The state is reached outside the timed region by stepping the scene as `talus
-//! run` does: to step 100 on the paper mesh (the force plateau), to step 4 on the finer one
-//! (early plastic loading; stepping it to the plateau would take minutes). The solver is
-//! then a `Solver` of our own on the same operator, `q` of the next step, and
-//! `max_iterations = 1`, no line search.
+//! Cases: `lu` is the paper's non-associative soil (tan θ = tan φ / 2: the no-pivot LU of
+//! the velocity-sized Newton matrix), `llt` the associative variant (θ = φ: Cholesky);
+//! `32x14` is the paper mesh (896 P2 triangles), `104x48` 9 984 and `320x156` 99 840
+//! triangles, graded as the paper's mesh. The state is reached outside the timed region by
+//! stepping the scene 4 steps as `talus run` does (early plastic loading).
 //!
-//! - `newton_iteration`: `solve` from the stepper's starting point σₙ + h σ̇, which returns
-//!   `Err(NotConverged)` after exactly one Newton iteration: residual at the start, local
-//!   blocks, assembly, numeric factorization and solve of the velocity-sized system, the
-//!   check `‖J d + F‖`, residual at the new iterate.
-//! - `elastic_solve`: `Solver::elastic_predictor` from σₙ on the same solver: one evaluation
-//!   of `z`, the same Schur path with every point elastic (factorization and solve), the
-//!   same check. Same factorization kind as the Newton iteration (LU for `lu`).
-//! - the parts: `local_evaluation` (`Solver::residual_at`: `z = Wσ + q`, the natural-map
-//!   linearization at every Gauss point, `‖F‖∞`), and on the elastic matrix
-//!   `K = M + h² Σ Bᵢᵀ Sᵢ⁻¹ Bᵢ` (the pattern of the Newton matrix, assembled here with faer
-//!   directly, symbolic analysis outside the timed region) `factorization` (numeric LU or
-//!   Cholesky) and `triangular_solve` (one right-hand side).
+//! - `newton iteration`: a `Solver` on the operator and `q` of the next step with
+//!   `max_iterations = 1` and no line search, `solve` from the stepper's start σₙ + h σ̇:
+//!   residual at the start, local blocks, assembly, numeric factorization and solve, the
+//!   check `‖J d + F‖`, residual at the new iterate (one evaluation more than an iteration
+//!   inside a longer solve). The symbolic analysis is done once, outside the timed region.
+//! - `cholesky`: the baseline, faer's supernodal Cholesky of the elastic matrix
+//!   `K = M + h² Σ Bᵢᵀ Sᵢ⁻¹ Bᵢ` (the Newton matrix's pattern) with its own AMD symbolic
+//!   analysis done once: numeric factorization and one solve.
+//! - `lu on K`: our no-pivot LU (`talus_ssn::factorization`) of the same SPD `K`, numeric
+//!   factorization and one solve: the factorization's share of the ratio.
+//! - `evaluation`: `Solver::residual_at` (`z = Wσ + q`, the linearization at every point).
 //!
-//! Run with `cargo bench -p talus --bench step` (about 1 minute on 2 cores).
+//! Each time is the median of `REPEATS` runs (3 at 100k). Sizes: `TALUS_STEP_BENCH_SIZES`
+//! (comma-separated `NXxNY`, default `32x14,104x48,320x156`; 100k takes about 10 minutes).
+//!
+//! Run with `cargo bench -p talus --bench step`.
 
-use std::collections::HashMap;
-use std::sync::{LazyLock, Mutex};
+use std::sync::Arc;
+use std::time::Instant;
 
-use divan::Bencher;
 use nalgebra::{SMatrix, SVector};
 use talus::run::solver_settings;
 use talus::scene::{builtin_footing, MeshSpec, Scene};
 use talus::simulation::{Model, Stepper};
+use talus_ssn::factorization::{
+    SymbolicSymmetricPatternLu, SymmetricPatternLu, DEFAULT_PIVOT_TOLERANCE,
+};
 use talus_ssn::faer::linalg::solvers::Solve;
-use talus_ssn::faer::sparse::linalg::solvers::{Llt, Lu, SymbolicLlt, SymbolicLu};
+use talus_ssn::faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use talus_ssn::faer::sparse::{SparseColMat, Triplet};
 use talus_ssn::faer::{Mat, Side};
-use talus_ssn::{Operator, ReducedSystem, SolveError, Solver, Structured};
+use talus_ssn::{SolveError, Solver};
 
-const CASES: [&str; 4] = ["lu 32x14", "llt 32x14", "lu 104x48", "llt 104x48"];
+/// Steps taken before timing: early plastic loading on every mesh.
+const STEPS: usize = 4;
 
 fn main() {
-    divan::main();
+    let sizes = std::env::var("TALUS_STEP_BENCH_SIZES")
+        .unwrap_or_else(|_| "32x14,104x48,320x156".to_string());
+    // `cargo bench` passes `--bench`; nothing else is understood.
+    for cells in sizes.split(',').filter(|s| !s.is_empty()) {
+        let Some((nx, ny)) = cells.split_once('x') else {
+            eprintln!("TALUS_STEP_BENCH_SIZES: `{cells}` is not NXxNY");
+            std::process::exit(2);
+        };
+        let (Ok(nx), Ok(ny)) = (nx.parse::<usize>(), ny.parse::<usize>()) else {
+            eprintln!("TALUS_STEP_BENCH_SIZES: `{cells}` is not NXxNY");
+            std::process::exit(2);
+        };
+        for associative in [false, true] {
+            run_case([nx, ny], associative);
+        }
+    }
 }
 
-/// What one case needs, built once and shared by the benchmarks.
-struct Fixture {
-    solver: Solver<4>,
-    /// σₙ + h σ̇: where the stepper starts the Newton iteration of the next step.
-    start: Vec<f64>,
-    /// σₙ: where the stepper applies the elastic predictor.
-    sigma_n: Vec<f64>,
-    /// `K = M + h² Σ Bᵢᵀ Sᵢ⁻¹ Bᵢ`, full (for LU) or its lower triangle (for Cholesky).
-    k: SparseColMat<usize, f64>,
-    symbolic: Symbolic,
-    rhs: Mat<f64>,
-}
-
-enum Symbolic {
-    Lu(SymbolicLu<usize>),
-    Llt(SymbolicLlt<usize>),
-}
-
-static FIXTURES: LazyLock<Mutex<HashMap<&'static str, Fixture>>> =
-    LazyLock::new(|| Mutex::new(HashMap::new()));
-
-fn with_fixture<R>(case: &'static str, f: impl FnOnce(&mut Fixture) -> R) -> R {
-    let mut map = FIXTURES.lock().unwrap_or_else(|e| e.into_inner());
-    let fixture = map.entry(case).or_insert_with(|| fixture(case));
-    f(fixture)
-}
-
-fn scene(case: &str) -> (Scene, usize) {
-    let (kind, cells) = case.split_once(' ').expect("`kind NXxNY`");
-    let (nx, ny) = cells.split_once('x').expect("NXxNY");
-    let cells = [nx.parse().expect("NX"), ny.parse().expect("NY")];
+fn scene(cells: [usize; 2], associative: bool) -> Scene {
     let mut scene = builtin_footing();
     if let MeshSpec::Rectangle {
         cells: c, ratio, ..
@@ -86,15 +73,25 @@ fn scene(case: &str) -> (Scene, usize) {
         // The paper's grading, 1.1 per cell over 14 cells, at any size.
         ratio[1] = 1.1f64.powf(14.0 / cells[1] as f64);
     }
-    if kind == "llt" {
+    if associative {
         scene.spec.material.dilatancy_angle = Some(scene.spec.material.friction_angle);
     }
-    let steps = if cells == [32, 14] { 100 } else { 4 };
-    (scene, steps)
+    scene
 }
 
-fn fixture(case: &'static str) -> Fixture {
-    let (scene, steps) = scene(case);
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn run_case(cells: [usize; 2], associative: bool) {
+    let case = format!(
+        "{} {}x{}",
+        if associative { "llt" } else { "lu" },
+        cells[0],
+        cells[1]
+    );
+    let scene = scene(cells, associative);
     let model = Model::from_scene(&scene).expect("model");
     let asm = &model.assembly;
     let h = scene.spec.time.step;
@@ -102,57 +99,98 @@ fn fixture(case: &'static str) -> Fixture {
     let settings = solver_settings(&scene);
     let mut stepper = Stepper::new(&model, settings, scene.spec.solver.max_step_halvings);
     let mut previous = state.sigma.clone();
-    for _ in 0..steps {
+    for _ in 0..STEPS {
         previous.clone_from(&state.sigma);
         stepper.advance(&mut state, h).expect("step converges");
     }
     drop(stepper);
+    let repeats = if asm.n_points() > 200_000 { 3 } else { 9 };
 
-    // The operator and q of the next step, as `Stepper` builds them.
-    let compliance = asm.compliance_blocks(&model.compliance);
-    let operator = Operator::Structured(Structured {
-        compliance: compliance.clone(),
-        b: asm.b_free.clone(),
-        lumped_mass: asm.lumped_mass_free.clone(),
-        h,
-    });
-    let rules = vec![model.flow_rule; asm.n_points()];
-    let system = ReducedSystem::try_new(operator, model.reduced_rhs(&state, h), rules).expect("W");
     let mut one = settings;
     one.max_iterations = 1;
     one.line_search = None;
-    let solver = Solver::new(system, one).expect("solver");
+    let system = model.reduced_system(h).expect("W");
+    let mut solver = Solver::new(system, one).expect("solver");
+    solver
+        .set_q(model.reduced_rhs(&state, h))
+        .expect("q of the next step");
     let start: Vec<f64> = state
         .sigma
         .iter()
         .zip(&previous)
         .map(|(s, p)| s + (s - p))
         .collect();
-
-    let symmetric = case.starts_with("llt");
-    let k = elastic_matrix(&model, &compliance, h, symmetric);
-    let symbolic = if symmetric {
-        Symbolic::Llt(SymbolicLlt::try_new(k.symbolic(), Side::Lower).expect("symbolic"))
-    } else {
-        Symbolic::Lu(SymbolicLu::try_new(k.symbolic()).expect("symbolic"))
-    };
-    let rhs = Mat::from_fn(k.nrows(), 1, |i, _| 1.0 + (i % 7) as f64);
-    let mut fixture = Fixture {
-        solver,
-        start,
-        sigma_n: state.sigma.clone(),
-        k,
-        symbolic,
-        rhs,
-    };
-    // One Newton iteration exactly, through the velocity-sized system.
-    match fixture.solver.solve(&mut fixture.start.clone()) {
-        Err(SolveError::NotConverged(r)) => {
-            assert_eq!((r.iterations, r.schur_steps), (1, 1), "{case}: {r:?}")
+    let mut iteration = Vec::new();
+    for _ in 0..repeats {
+        let mut sigma = start.clone();
+        let t = Instant::now();
+        match solver.solve(&mut sigma) {
+            Err(SolveError::NotConverged(r)) => {
+                assert_eq!((r.iterations, r.schur_steps), (1, 1), "{case}: {r:?}")
+            }
+            other => panic!("{case}: expected one iteration, got {other:?}"),
         }
-        other => panic!("{case}: expected one iteration, got {other:?}"),
+        iteration.push(t.elapsed().as_secs_f64());
     }
-    fixture
+    let mut evaluation = Vec::new();
+    for _ in 0..repeats {
+        let t = Instant::now();
+        solver.residual_at(&start).expect("evaluation");
+        evaluation.push(t.elapsed().as_secs_f64());
+    }
+    drop(solver);
+
+    let compliance = asm.compliance_blocks(&model.compliance);
+    let lower = elastic_matrix(&model, &compliance, h, true);
+    let rhs = Mat::from_fn(lower.nrows(), 1, |i, _| 1.0 + (i % 7) as f64);
+    let llt_symbolic = SymbolicLlt::try_new(lower.symbolic(), Side::Lower).expect("symbolic");
+    let mut cholesky = Vec::new();
+    for _ in 0..repeats {
+        let t = Instant::now();
+        let llt = Llt::try_new_with_symbolic(llt_symbolic.clone(), lower.as_ref(), Side::Lower)
+            .expect("K is SPD");
+        let mut x = rhs.clone();
+        llt.solve_in_place(x.as_mut());
+        cholesky.push(t.elapsed().as_secs_f64());
+    }
+    drop((lower, llt_symbolic));
+
+    let full = elastic_matrix(&model, &compliance, h, false);
+    let lu_symbolic =
+        Arc::new(SymbolicSymmetricPatternLu::try_new(full.symbolic()).expect("LU symbolic"));
+    let fill = lu_symbolic.factor_nnz();
+    let mut lu = SymmetricPatternLu::new(lu_symbolic);
+    let mut lu_times = Vec::new();
+    for _ in 0..repeats {
+        let t = Instant::now();
+        lu.factorize(full.val(), DEFAULT_PIVOT_TOLERANCE)
+            .expect("K is SPD: no pivot breaks down");
+        let mut x: Vec<f64> = (0..full.nrows()).map(|i| rhs[(i, 0)]).collect();
+        lu.solve_in_place(&mut x);
+        lu_times.push(t.elapsed().as_secs_f64());
+    }
+
+    let (it, ch, lu, ev) = (
+        median(iteration),
+        median(cholesky),
+        median(lu_times),
+        median(evaluation),
+    );
+    println!(
+        "{case}: {} dofs, {} points, LU fill {fill}; medians of {repeats}: newton iteration \
+         {:.2} ms, cholesky {:.2} ms, lu on K {:.2} ms, evaluation {:.2} ms",
+        full.nrows(),
+        asm.n_points(),
+        it * 1e3,
+        ch * 1e3,
+        lu * 1e3,
+        ev * 1e3
+    );
+    println!(
+        "ratio {case}: newton iteration / cholesky {:.2}, lu on K / cholesky {:.2}",
+        it / ch,
+        lu / ch
+    );
 }
 
 /// `M + h² Σ Bᵢᵀ Sᵢ⁻¹ Bᵢ` on the pattern of the Newton matrix (lower triangle if `lower`).
@@ -200,76 +238,4 @@ fn elastic_matrix(
         }
     }
     SparseColMat::try_new_from_triplets(n, n, &triplets).expect("K")
-}
-
-/// One Newton iteration (see the module doc); the figure of merit's numerator.
-#[divan::bench(args = CASES, sample_count = 30, sample_size = 1, max_time = 4)]
-fn newton_iteration(bencher: Bencher, case: &'static str) {
-    with_fixture(case, |fx| {
-        let Fixture { solver, start, .. } = fx;
-        bencher
-            .with_inputs(|| start.clone())
-            .bench_local_refs(|sigma| solver.solve(sigma))
-    });
-}
-
-/// One elastic factorization and solve on the same solver (the elastic predictor).
-#[divan::bench(args = CASES, sample_count = 30, sample_size = 1, max_time = 4)]
-fn elastic_solve(bencher: Bencher, case: &'static str) {
-    with_fixture(case, |fx| {
-        let Fixture {
-            solver, sigma_n, ..
-        } = fx;
-        bencher
-            .with_inputs(|| sigma_n.clone())
-            .bench_local_refs(|sigma| solver.elastic_predictor(sigma))
-    });
-}
-
-/// `z = Wσ + q`, the linearization at every point and `‖F‖∞` at the Newton start.
-#[divan::bench(args = CASES, sample_count = 30, sample_size = 1, max_time = 3)]
-fn local_evaluation(bencher: Bencher, case: &'static str) {
-    with_fixture(case, |fx| {
-        let Fixture { solver, start, .. } = fx;
-        bencher.bench_local(|| solver.residual_at(start))
-    });
-}
-
-/// Numeric LU or Cholesky of the elastic matrix (symbolic analysis done once, untimed).
-#[divan::bench(args = CASES, sample_count = 30, sample_size = 1, max_time = 3)]
-fn factorization(bencher: Bencher, case: &'static str) {
-    with_fixture(case, |fx| {
-        let k = fx.k.as_ref();
-        match &fx.symbolic {
-            Symbolic::Lu(s) => bencher.bench_local(|| {
-                Lu::try_new_with_symbolic(s.clone(), k).expect("LU");
-            }),
-            Symbolic::Llt(s) => bencher.bench_local(|| {
-                Llt::try_new_with_symbolic(s.clone(), k, Side::Lower).expect("LLT");
-            }),
-        }
-    });
-}
-
-/// Forward and back substitution with the factors of `factorization`, one right-hand side.
-#[divan::bench(args = CASES, sample_count = 30, sample_size = 1, max_time = 3)]
-fn triangular_solve(bencher: Bencher, case: &'static str) {
-    with_fixture(case, |fx| {
-        let k = fx.k.as_ref();
-        let rhs = &fx.rhs;
-        match &fx.symbolic {
-            Symbolic::Lu(s) => {
-                let lu = Lu::try_new_with_symbolic(s.clone(), k).expect("LU");
-                bencher
-                    .with_inputs(|| rhs.clone())
-                    .bench_local_refs(|x| lu.solve_in_place(x.as_mut()));
-            }
-            Symbolic::Llt(s) => {
-                let llt = Llt::try_new_with_symbolic(s.clone(), k, Side::Lower).expect("LLT");
-                bencher
-                    .with_inputs(|| rhs.clone())
-                    .bench_local_refs(|x| llt.solve_in_place(x.as_mut()));
-            }
-        }
-    });
 }

@@ -9,7 +9,7 @@
 //!     --steps 60 --histories 30-40
 //! ```
 //! The mesh is `scenes/footing.toml` with `cells = [nx, ny]` and the y-grading of the paper's
-//! 32×14 (`ratio = [1, 1.1^(14/ny)]`), as the scaling example builds it. One line per step:
+//! 32×14 (`ratio = [1, 1.1^(14/ny)]`), as `benches/footing_steps.rs` builds it. One line per step:
 //! `STEP k substeps iterations failed_iterations backtracks max_iterations residual
 //! reaction_kN seconds statuses` (iterations of accepted sub-steps; failed: of halved attempts)..
 use std::io::{Read, Write};

@@ -468,6 +468,30 @@ impl SymmetricPatternLu {
         Ok(())
     }
 
+    /// `min_j |u_jj| / |a_jj|` of the last successful factorization (columns with
+    /// `a_jj = 0` skipped): how far the factorization stayed from the pivot guard.
+    /// `None` before a successful factorization.
+    pub fn smallest_pivot_ratio(&self) -> Option<f64> {
+        if !self.factorized {
+            return None;
+        }
+        let sym = &*self.symbolic;
+        let mut smallest = f64::INFINITY;
+        for s in 0..sym.n_supernodes() {
+            let begin = sym.supernode_begin[s];
+            let (ncols, npat) = sym.shape(s);
+            let nrows = ncols + npat;
+            let ls = &self.values[sym.value_ptr[s]..sym.value_ptr[s + 1]];
+            for j in 0..ncols {
+                let reference = self.reference[begin + j];
+                if reference > 0.0 {
+                    smallest = smallest.min(ls[j * nrows + j].abs() / reference);
+                }
+            }
+        }
+        Some(smallest)
+    }
+
     /// Solves `A x = b` in place with the last successful factorization.
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
         let sym = &*self.symbolic;

@@ -132,6 +132,12 @@ impl SchurFactor {
                 if let LuChoice::NoPivot { pivot_tolerance } = choice {
                     match no_pivot.factorize(k.val(), pivot_tolerance) {
                         Ok(()) => {
+                            if tracing::enabled!(tracing::Level::TRACE) {
+                                tracing::trace!(
+                                    smallest_pivot_ratio = no_pivot.smallest_pivot_ratio(),
+                                    "no-pivot LU"
+                                );
+                            }
                             no_pivot.solve_in_place(rhs);
                             return Ok(Factorized::NoPivotLu);
                         }

@@ -1,0 +1,212 @@
+//! Seconds per implicit step, Newton iterations and peak memory of the paper footing
+//! (`scenes/footing.toml`, non-associative) at about 1k, 10k, 40k and 100k P2 triangles,
+//! in the same two windows of the paper's loading (1 mm/s, h = 1e-2 s) for every size:
+//! early plastic loading (steps 3–5, 0.03–0.05 mm) and the force plateau (steps 101–103,
+//! 1.01–1.03 mm; the plateau starts near step 65 on the paper mesh).
+//!
+//! Each size runs in a child process (this binary re-invoked with `--child`), so that each
+//! peak (`VmHWM` of `/proc/self/status`) is its own. A child builds the model and steps the
+//! scene from the K₀ state as `talus run` does, to step 103, or to step 300 (the whole
+//! loading) on meshes of at most 10k triangles, and reports each window and the whole run:
+//! Newton iterations per step (mean and largest), halved steps, seconds.
+//!
+//! Sizes: `TALUS_FOOTING_BENCH_SIZES` (comma-separated `NXxNY`, default
+//! `32x14,104x48,208x96,320x156`; the 100k mesh takes tens of minutes).
+//!
+//! Run with `cargo bench -p talus --bench footing_steps`.
+use std::process::{Command, Stdio};
+use std::time::Instant;
+
+use talus::run::solver_settings;
+use talus::scene::{builtin_footing, MeshSpec, Scene};
+use talus::simulation::{Model, Stepper};
+
+/// Steps of the two windows (1-based, inclusive).
+const EARLY: [usize; 2] = [3, 5];
+const PLATEAU: [usize; 2] = [101, 103];
+/// The paper's whole loading, run on meshes up to `FULL_RUN_ELEMENTS` triangles.
+const FULL_RUN: usize = 300;
+const FULL_RUN_ELEMENTS: usize = 10_000;
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.first().map(String::as_str) == Some("--child") {
+        let parse = |k: usize| args.get(k).and_then(|s| s.parse().ok());
+        match (parse(1), parse(2)) {
+            (Some(nx), Some(ny)) => child([nx, ny]),
+            _ => {
+                eprintln!("usage: --child NX NY");
+                std::process::exit(2);
+            }
+        }
+        return;
+    }
+    let sizes = std::env::var("TALUS_FOOTING_BENCH_SIZES")
+        .unwrap_or_else(|_| "32x14,104x48,208x96,320x156".to_string());
+    let exe = match std::env::current_exe() {
+        Ok(exe) => exe,
+        Err(e) => {
+            eprintln!("own path: {e}");
+            std::process::exit(1);
+        }
+    };
+    let mut failed = false;
+    println!(
+        "| cells | elements | free dofs | window | steps | s/step | Newton its/step | max its | halved steps | peak MiB |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    for cells in sizes.split(',').filter(|s| !s.is_empty()) {
+        let Some((nx, ny)) = cells.split_once('x') else {
+            eprintln!("TALUS_FOOTING_BENCH_SIZES: `{cells}` is not NXxNY");
+            std::process::exit(2);
+        };
+        let out = Command::new(&exe)
+            .args(["--child", nx, ny])
+            .stderr(Stdio::inherit())
+            .output();
+        let text = match out {
+            Ok(out) if out.status.success() => String::from_utf8_lossy(&out.stdout).into_owned(),
+            Ok(out) => {
+                eprintln!("{cells}: child failed ({})", out.status);
+                failed = true;
+                continue;
+            }
+            Err(e) => {
+                eprintln!("{cells}: child not started: {e}");
+                failed = true;
+                continue;
+            }
+        };
+        for line in text.lines().filter_map(|l| l.strip_prefix("ROW ")) {
+            println!("{line}");
+        }
+    }
+    if failed {
+        std::process::exit(1);
+    }
+}
+
+/// The built-in footing on an `nx × ny` grid, with the same y-grading as the paper's 32 × 14
+/// (1.1 per cell over 14 cells).
+fn scene(cells: [usize; 2]) -> Scene {
+    let mut scene = builtin_footing();
+    if let MeshSpec::Rectangle {
+        cells: c, ratio, ..
+    } = &mut scene.spec.mesh
+    {
+        *c = cells;
+        ratio[1] = 1.1f64.powf(14.0 / cells[1] as f64);
+    }
+    scene
+}
+
+/// One step's figures.
+struct Step {
+    seconds: f64,
+    iterations: usize,
+    max_iterations: usize,
+    halved: bool,
+}
+
+fn child(cells: [usize; 2]) {
+    if std::env::var_os("TALUS_LOG").is_some() {
+        tracing_subscriber::fmt()
+            .with_env_filter(tracing_subscriber::EnvFilter::from_env("TALUS_LOG"))
+            .with_writer(std::io::stderr)
+            .init();
+    }
+    let scene = scene(cells);
+    let model = match Model::from_scene(&scene) {
+        Ok(m) => m,
+        Err(e) => {
+            eprintln!("model: {e}");
+            std::process::exit(1);
+        }
+    };
+    let mut state = match model.initial_state(&scene) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("K0 state: {e}");
+            std::process::exit(1);
+        }
+    };
+    let elements = model.mesh.triangles.len();
+    let dofs = model.assembly.dofs().n_free();
+    let last = if elements <= FULL_RUN_ELEMENTS {
+        FULL_RUN
+    } else {
+        PLATEAU[1]
+    };
+    let h = scene.spec.time.step;
+    let mut stepper = Stepper::new(
+        &model,
+        solver_settings(&scene),
+        scene.spec.solver.max_step_halvings,
+    );
+    let start = Instant::now();
+    let mut steps = Vec::with_capacity(last);
+    for k in 1..=last {
+        let r = match stepper.advance(&mut state, h) {
+            Ok(r) => r,
+            Err(e) => {
+                eprintln!("{}×{} step {k}: {e}", cells[0], cells[1]);
+                std::process::exit(1);
+            }
+        };
+        eprintln!(
+            "{}×{} step {k}: {} its (largest sub-step {}), {} sub-steps, {:.3} s, F = {:.1} kN/m",
+            cells[0],
+            cells[1],
+            r.newton_iterations,
+            r.max_newton_iterations,
+            r.substeps,
+            r.seconds,
+            r.reaction_force * 1e-3
+        );
+        steps.push(Step {
+            seconds: r.seconds,
+            iterations: r.newton_iterations,
+            max_iterations: r.max_newton_iterations,
+            halved: r.substeps > 1,
+        });
+    }
+    let peak = peak_kib() as f64 / 1024.0;
+    let row = |name: &str, window: &[Step], range: String| {
+        let n = window.len() as f64;
+        println!(
+            "ROW | {}×{} | {elements} | {dofs} | {name} | {range} | {:.3} | {:.2} | {} | {} | {peak:.0} |",
+            cells[0],
+            cells[1],
+            window.iter().map(|s| s.seconds).sum::<f64>() / n,
+            window.iter().map(|s| s.iterations).sum::<usize>() as f64 / n,
+            window.iter().map(|s| s.max_iterations).max().unwrap_or(0),
+            window.iter().filter(|s| s.halved).count(),
+        );
+    };
+    let window = |w: [usize; 2]| &steps[w[0] - 1..w[1]];
+    row("early", window(EARLY), format!("{}–{}", EARLY[0], EARLY[1]));
+    row(
+        "plateau",
+        window(PLATEAU),
+        format!("{}–{}", PLATEAU[0], PLATEAU[1]),
+    );
+    row("whole run", &steps, format!("1–{last}"));
+    eprintln!(
+        "{}×{}: {last} steps in {:.1} s",
+        cells[0],
+        cells[1],
+        start.elapsed().as_secs_f64()
+    );
+}
+
+/// Peak resident set size of this process (`VmHWM`, KiB); 0 if unavailable.
+fn peak_kib() -> u64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find_map(|l| l.strip_prefix("VmHWM:"))
+                .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
+        })
+        .unwrap_or(0)
+}
