@@ -1,5 +1,8 @@
 //! Sparse factorizations of the Newton (Schur) matrix `M + h² Σ Bᵢᵀ Cᵢ Bᵢ`.
 //!
+//! [`SupernodalCholesky`] for associative flow rules (symmetric `K`): faer's supernodal
+//! Cholesky with its storage reused across factorizations.
+//!
 //! [`SymmetricPatternLu`] is the LU without pivoting on the Cholesky structure of its
 //! symmetric pattern: the default for non-associative flow rules, guarded by a pivot test
 //! with a pivoting LU as fallback (`docs/solver.md`, "The factorization").
@@ -20,9 +23,11 @@
 //! lu.solve_in_place(&mut x);
 //! assert!((x[0] - 1.0).abs() < 1e-15 && (x[1] - 1.0).abs() < 1e-15);
 //! ```
+mod cholesky;
 mod dense_lu;
 mod symmetric_pattern_lu;
 
+pub use cholesky::{NotPositiveDefinite, SupernodalCholesky};
 pub use symmetric_pattern_lu::{
     PivotBreakdown, SymbolicError, SymbolicSymmetricPatternLu, SymmetricPatternLu,
     DEFAULT_PIVOT_TOLERANCE,

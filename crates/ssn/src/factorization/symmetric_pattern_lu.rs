@@ -42,6 +42,12 @@ const SMALL_UPDATE: usize = 512;
 #[error("symbolic LU: {0}")]
 pub struct SymbolicError(String);
 
+impl SymbolicError {
+    pub(crate) fn new(message: String) -> Self {
+        Self(message)
+    }
+}
+
 /// The numeric factorization met a pivot it does not trust.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 #[error("pivot {pivot:e} at column {column} (|a_jj| = {diagonal:e}) is below the guard")]

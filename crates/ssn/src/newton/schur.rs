@@ -14,9 +14,15 @@ use crate::operator::{block, PointBlocks, Structured};
 pub(crate) struct SchurSystem<const D: usize> {
     symmetric: bool,
     symbolic: SymbolicSparseColMat<usize>,
-    /// Where each (row, column) pair of `new`'s enumeration lands in the CSC values:
-    /// the matrix is refilled in place every iteration (duplicates add up).
-    positions: Vec<usize>,
+    /// The contributions of `new`'s enumeration (masses, then each point's `h² Bᵢᵀ Cᵢ Bᵢ`
+    /// entries) that sum into each CSC value, in enumeration order (CSR-like: `gather[p]`
+    /// for value `p`). Each value is summed by one thread in that fixed order: the matrix
+    /// is the same whatever the thread count.
+    gather_ptr: Vec<usize>,
+    gather: Vec<u32>,
+    /// Start of point i's entries in `contributions` (masses first).
+    point_ptr: Vec<usize>,
+    contributions: Vec<f64>,
     csc_values: Vec<f64>,
     factorization: SchurFactor,
     local_c: Vec<SMatrix<f64, D, D>>,
@@ -63,12 +69,45 @@ impl<const D: usize> SchurSystem<D> {
                     .map_err(|_| format!("pair ({}, {}) missing from its pattern", p.row, p.col))
             })
             .collect::<Result<Vec<_>, _>>()?;
+        let count = u32::try_from(positions.len())
+            .map_err(|_| format!("{} Schur contributions exceed u32", positions.len()))?;
+        // Counting sort of the contributions by destination, stable: enumeration order kept.
+        let mut gather_ptr = vec![0usize; row_idx.len() + 1];
+        for &p in &positions {
+            gather_ptr[p + 1] += 1;
+        }
+        for p in 0..row_idx.len() {
+            gather_ptr[p + 1] += gather_ptr[p];
+        }
+        let mut next = gather_ptr.clone();
+        let mut gather = vec![0u32; positions.len()];
+        for (k, &p) in (0..count).zip(&positions) {
+            gather[next[p]] = k;
+            next[p] += 1;
+        }
+        let mut point_ptr = Vec::with_capacity(n_points + 1);
+        point_ptr.push(n_v);
+        for i in 0..n_points {
+            let m = blocks.point(i).0.len();
+            let entries = if symmetric {
+                let (dofs, _) = blocks.point(i);
+                dofs.iter()
+                    .map(|a| dofs.iter().filter(|b| a >= *b).count())
+                    .sum()
+            } else {
+                m * m
+            };
+            point_ptr.push(point_ptr[i] + entries);
+        }
         let nnz = row_idx.len();
         let factorization = SchurFactor::analyse(symbolic.as_ref(), symmetric)?;
         Ok(Self {
             symmetric,
             symbolic,
-            positions,
+            gather_ptr,
+            gather,
+            contributions: vec![0.0; point_ptr[n_points]],
+            point_ptr,
             csc_values: vec![0.0; nnz],
             factorization,
             local_c: vec![SMatrix::zeros(); n_points],
@@ -127,33 +166,66 @@ impl<const D: usize> SchurSystem<D> {
         if let Some(i) = regular.iter().position(|ok| !ok) {
             return Err(SchurFailure::SingularBlock(i));
         }
-        // Values in the order of `new`: masses, then h² Bᵢᵀ Cᵢ Bᵢ per point, summed in
-        // place into the CSC values.
+        // The contributions in the order of `new` (masses, then h² Bᵢᵀ Cᵢ Bᵢ per point),
+        // each point's into its own slice, then each CSC value summed from its list.
         let n_v = structured.lumped_mass.len();
-        self.csc_values.fill(0.0);
-        for (p, m) in self.positions[..n_v].iter().zip(&structured.lumped_mass) {
-            self.csc_values[*p] += m;
+        let (masses, mut rest) = self.contributions.split_at_mut(n_v);
+        masses.copy_from_slice(&structured.lumped_mass);
+        let mut per_point = Vec::with_capacity(self.local_c.len());
+        for w in self.point_ptr.windows(2) {
+            let (this, tail) = rest.split_at_mut(w[1] - w[0]);
+            per_point.push(this);
+            rest = tail;
         }
-        let mut pos = n_v;
-        for (i, c) in self.local_c.iter().enumerate() {
+        let fill = |(i, out): (usize, &mut &mut [f64])| {
+            let c = &self.local_c[i];
             let (dofs, bv) = blocks.point(i);
             let m = dofs.len();
+            let mut pos = 0;
             for a in 0..m {
                 // (C Bᵢ)[:, b] and Bᵢ[:, a]
                 let ba = SVector::<f64, D>::from_fn(|k, _| bv[k * m + a]);
                 let cta = c.transpose() * ba;
                 for b in 0..m {
-                    if self.symmetric && dofs[a] < dofs[b] {
+                    if symmetric && dofs[a] < dofs[b] {
                         continue;
                     }
                     let mut v = 0.0;
                     for k in 0..D {
                         v += cta[k] * bv[k * m + b];
                     }
-                    self.csc_values[self.positions[pos]] += h2 * v;
+                    out[pos] = h2 * v;
                     pos += 1;
                 }
             }
+        };
+        if parallel {
+            per_point
+                .par_iter_mut()
+                .enumerate()
+                .with_min_len(256)
+                .for_each(fill);
+        } else {
+            per_point.iter_mut().enumerate().for_each(fill);
+        }
+        drop(per_point);
+        let (contributions, gather, gather_ptr) =
+            (&self.contributions, &self.gather, &self.gather_ptr);
+        let sum = |(p, out): (usize, &mut f64)| {
+            let mut acc = 0.0;
+            for &k in &gather[gather_ptr[p]..gather_ptr[p + 1]] {
+                acc += contributions[k as usize];
+            }
+            *out = acc;
+        };
+        if parallel {
+            self.csc_values
+                .par_iter_mut()
+                .enumerate()
+                .with_min_len(4096)
+                .for_each(sum);
+        } else {
+            self.csc_values.iter_mut().enumerate().for_each(sum);
         }
         let k = SparseColMatRef::new(self.symbolic.as_ref(), &self.csc_values);
         self.rhs.fill(0.0);

@@ -5,14 +5,12 @@
 use std::sync::Arc;
 
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuSymbolicParams, NumericLu, SymbolicLu};
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Conj, MatMut, Par, Side};
+use faer::{Conj, MatMut, Par};
 
-use crate::factorization::{SymbolicSymmetricPatternLu, SymmetricPatternLu};
+use crate::factorization::{SupernodalCholesky, SymbolicSymmetricPatternLu, SymmetricPatternLu};
 
 /// Which factorization solved this iteration's system.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -83,7 +81,7 @@ impl PivotingLu {
 #[allow(clippy::large_enum_variant)]
 pub(crate) enum SchurFactor {
     /// Associative: `ρ A⁻¹ D` is symmetric positive semi-definite, K is SPD.
-    Cholesky(SymbolicLlt<usize>),
+    Cholesky(SupernodalCholesky),
     Lu {
         no_pivot: SymmetricPatternLu,
         pivoting: Option<PivotingLu>,
@@ -97,9 +95,7 @@ impl SchurFactor {
         symmetric: bool,
     ) -> Result<Self, String> {
         Ok(if symmetric {
-            SchurFactor::Cholesky(
-                SymbolicLlt::try_new(pattern, Side::Lower).map_err(|e| format!("{e:?}"))?,
-            )
+            SchurFactor::Cholesky(SupernodalCholesky::try_new(pattern).map_err(|e| e.to_string())?)
         } else {
             let symbolic =
                 SymbolicSymmetricPatternLu::try_new(pattern).map_err(|e| e.to_string())?;
@@ -118,11 +114,9 @@ impl SchurFactor {
         choice: LuChoice,
     ) -> Result<Factorized, String> {
         match self {
-            SchurFactor::Cholesky(symbolic) => {
-                let llt = Llt::try_new_with_symbolic(symbolic.clone(), k, Side::Lower)
-                    .map_err(|e| format!("{e:?}"))?;
-                let n = rhs.len();
-                llt.solve_in_place(MatMut::from_column_major_slice_mut(rhs, n, 1));
+            SchurFactor::Cholesky(cholesky) => {
+                cholesky.factorize(k).map_err(|e| e.to_string())?;
+                cholesky.solve_in_place(rhs);
                 Ok(Factorized::Cholesky)
             }
             SchurFactor::Lu {
