@@ -1,6 +1,7 @@
 use faer::sparse::{SparseColMat, Triplet};
 use faer::Mat;
 use nalgebra::{SMatrix, SVector};
+use rayon::prelude::*;
 
 use crate::error::invalid;
 use crate::SolveError;
@@ -33,6 +34,10 @@ pub(crate) struct PointBlocks<const D: usize> {
     pub dofs: Vec<usize>,
     /// Row-major `D × n_i` per point, concatenated.
     pub values: Vec<f64>,
+    /// For each velocity dof, the (point, position in the point's `dofs`) pairs that touch
+    /// it, in point order: `Bᵀσ` is summed per dof in that fixed order, by any thread.
+    by_dof_ptr: Vec<usize>,
+    by_dof: Vec<(usize, usize)>,
 }
 
 impl<const D: usize> PointBlocks<D> {
@@ -65,10 +70,28 @@ impl<const D: usize> PointBlocks<D> {
             values.extend_from_slice(&local);
             dof_ptr.push(dofs.len());
         }
+        let n_dofs = b.ncols();
+        let mut by_dof_ptr = vec![0usize; n_dofs + 1];
+        for &j in &dofs {
+            by_dof_ptr[j + 1] += 1;
+        }
+        for j in 0..n_dofs {
+            by_dof_ptr[j + 1] += by_dof_ptr[j];
+        }
+        let mut next = by_dof_ptr.clone();
+        let mut by_dof = vec![(0, 0); dofs.len()];
+        for i in 0..n_points {
+            for (a, &j) in dofs[dof_ptr[i]..dof_ptr[i + 1]].iter().enumerate() {
+                by_dof[next[j]] = (i, a);
+                next[j] += 1;
+            }
+        }
         Self {
             dof_ptr,
             dofs,
             values,
+            by_dof_ptr,
+            by_dof,
         }
     }
 
@@ -85,15 +108,28 @@ impl<const D: usize> PointBlocks<D> {
         SVector::from_fn(|r, _| (0..n_i).map(|a| vals[r * n_i + a] * u[dofs[a]]).sum())
     }
 
-    /// `out += Bᵀ s` for a flat `s` (points in order: the sum does not depend on threads).
-    pub(crate) fn add_transpose(&self, s: &[f64], out: &mut [f64]) {
-        for i in 0..self.dof_ptr.len() - 1 {
-            let si = &s[D * i..D * i + D];
-            let (dofs, vals) = self.point(i);
-            let n_i = dofs.len();
-            for (a, &j) in dofs.iter().enumerate() {
-                out[j] += (0..D).map(|r| vals[r * n_i + a] * si[r]).sum::<f64>();
+    /// `out += Bᵀ s` for a flat `s`: each `out[j]` adds its points' terms in point order,
+    /// so the sums do not depend on `parallel` or the thread count.
+    pub(crate) fn add_transpose(&self, s: &[f64], out: &mut [f64], parallel: bool) {
+        let one = |(j, o): (usize, &mut f64)| {
+            let mut acc = *o;
+            for &(i, a) in &self.by_dof[self.by_dof_ptr[j]..self.by_dof_ptr[j + 1]] {
+                let (start, end) = (self.dof_ptr[i], self.dof_ptr[i + 1]);
+                let n_i = end - start;
+                let vals = &self.values[D * start..D * end];
+                acc += (0..D)
+                    .map(|r| vals[r * n_i + a] * s[D * i + r])
+                    .sum::<f64>();
             }
+            *o = acc;
+        };
+        if parallel {
+            out.par_iter_mut()
+                .enumerate()
+                .with_min_len(1024)
+                .for_each(one);
+        } else {
+            out.iter_mut().enumerate().for_each(one);
         }
     }
 }
@@ -278,7 +314,8 @@ pub(crate) fn block<const D: usize>(v: &[f64], i: usize) -> SVector<f64, D> {
 }
 
 /// `z = Wσ + q` (or `Wσ` without `q`) into `z` (flat vectors of length `D × points`); `scratch` holds the
-/// velocity-sized intermediate of the structured form.
+/// velocity-sized intermediate of the structured form. `parallel` spreads the structured
+/// form over threads without changing any sum.
 pub(crate) fn apply<const D: usize>(
     op: &Operator<D>,
     blocks: Option<&PointBlocks<D>>,
@@ -286,6 +323,7 @@ pub(crate) fn apply<const D: usize>(
     q: Option<&[f64]>,
     z: &mut [f64],
     scratch: &mut Vec<f64>,
+    parallel: bool,
 ) {
     match q {
         Some(q) => z.copy_from_slice(q),
@@ -313,16 +351,25 @@ pub(crate) fn apply<const D: usize>(
             let blocks = blocks.expect("structured operators carry point blocks");
             scratch.clear();
             scratch.resize(s.lumped_mass.len(), 0.0);
-            blocks.add_transpose(sigma, scratch);
+            blocks.add_transpose(sigma, scratch, parallel);
             let h2 = s.h * s.h;
             for (u, m) in scratch.iter_mut().zip(&s.lumped_mass) {
                 *u *= h2 / m;
             }
-            for (i, c) in s.compliance.iter().enumerate() {
-                let zi = c * block::<D>(sigma, i) + blocks.apply_point(i, scratch);
+            let scratch = &*scratch;
+            let one = |(i, zi): (usize, &mut [f64])| {
+                let v = s.compliance[i] * block::<D>(sigma, i) + blocks.apply_point(i, scratch);
                 for r in 0..D {
-                    z[D * i + r] += zi[r];
+                    zi[r] += v[r];
                 }
+            };
+            if parallel {
+                z.par_chunks_mut(D)
+                    .enumerate()
+                    .with_min_len(256)
+                    .for_each(one);
+            } else {
+                z.chunks_mut(D).enumerate().for_each(one);
             }
         }
     }

@@ -355,6 +355,7 @@ impl<const D: usize> Solver<D> {
             Some(&self.problem.q),
             z,
             &mut self.scratch,
+            self.settings.parallel,
         );
         let rules = &self.problem.rules;
         let rho = &self.rho;
@@ -508,6 +509,7 @@ impl<const D: usize> Solver<D> {
             None,
             &mut self.check,
             &mut self.scratch,
+            self.settings.parallel,
         );
         let mut worst: f64 = 0.0;
         for (i, l) in self.lin.iter().enumerate() {

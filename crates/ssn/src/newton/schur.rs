@@ -229,7 +229,7 @@ impl<const D: usize> SchurSystem<D> {
         }
         let k = SparseColMatRef::new(self.symbolic.as_ref(), &self.csc_values);
         self.rhs.fill(0.0);
-        blocks.add_transpose(&self.a_inv_r, &mut self.rhs);
+        blocks.add_transpose(&self.a_inv_r, &mut self.rhs, parallel);
         let used = self
             .factorization
             .solve(k, &mut self.rhs, choice)
