@@ -37,7 +37,10 @@ pub(crate) struct PointBlocks<const D: usize> {
     /// For each velocity dof, the (point, position in the point's `dofs`) pairs that touch
     /// it, in point order: `Bᵀσ` is summed per dof in that fixed order, by any thread.
     by_dof_ptr: Vec<usize>,
-    by_dof: Vec<(usize, usize)>,
+    /// The point of each entry, and its D values of `B` (a transposed copy of `values`,
+    /// contiguous so that the gather streams through it).
+    by_dof_point: Vec<usize>,
+    by_dof_values: Vec<f64>,
 }
 
 impl<const D: usize> PointBlocks<D> {
@@ -79,10 +82,17 @@ impl<const D: usize> PointBlocks<D> {
             by_dof_ptr[j + 1] += by_dof_ptr[j];
         }
         let mut next = by_dof_ptr.clone();
-        let mut by_dof = vec![(0, 0); dofs.len()];
+        let mut by_dof_point = vec![0; dofs.len()];
+        let mut by_dof_values = vec![0.0; D * dofs.len()];
         for i in 0..n_points {
-            for (a, &j) in dofs[dof_ptr[i]..dof_ptr[i + 1]].iter().enumerate() {
-                by_dof[next[j]] = (i, a);
+            let (start, end) = (dof_ptr[i], dof_ptr[i + 1]);
+            let n_i = end - start;
+            for (a, &j) in dofs[start..end].iter().enumerate() {
+                let e = next[j];
+                by_dof_point[e] = i;
+                for r in 0..D {
+                    by_dof_values[D * e + r] = values[D * start + r * n_i + a];
+                }
                 next[j] += 1;
             }
         }
@@ -91,7 +101,8 @@ impl<const D: usize> PointBlocks<D> {
             dofs,
             values,
             by_dof_ptr,
-            by_dof,
+            by_dof_point,
+            by_dof_values,
         }
     }
 
@@ -113,13 +124,10 @@ impl<const D: usize> PointBlocks<D> {
     pub(crate) fn add_transpose(&self, s: &[f64], out: &mut [f64], parallel: bool) {
         let one = |(j, o): (usize, &mut f64)| {
             let mut acc = *o;
-            for &(i, a) in &self.by_dof[self.by_dof_ptr[j]..self.by_dof_ptr[j + 1]] {
-                let (start, end) = (self.dof_ptr[i], self.dof_ptr[i + 1]);
-                let n_i = end - start;
-                let vals = &self.values[D * start..D * end];
-                acc += (0..D)
-                    .map(|r| vals[r * n_i + a] * s[D * i + r])
-                    .sum::<f64>();
+            for e in self.by_dof_ptr[j]..self.by_dof_ptr[j + 1] {
+                let i = self.by_dof_point[e];
+                let vals = &self.by_dof_values[D * e..D * e + D];
+                acc += (0..D).map(|r| vals[r] * s[D * i + r]).sum::<f64>();
             }
             *o = acc;
         };
