@@ -85,6 +85,14 @@ impl Mpm {
                 format!("{a} must be in [0, 1] (0 = PIC, 1 = FLIP)"),
             ));
         }
+        if let Some(t) = settings.flip_reference_time {
+            if !(t.is_finite() && t > 0.0) {
+                return Err(MpmError::invalid(
+                    "flip_reference_time",
+                    format!("{t} s must be finite and > 0"),
+                ));
+            }
+        }
         let sides: Vec<Side> = boundary.walls.iter().map(|w| w.side).collect();
         let grid = grid.with_walls(&sides);
         Ok(Self {
