@@ -35,6 +35,11 @@ pub struct MpmSettings {
     /// A step whose solve fails is redone as two halves, at most this many times nested.
     /// Default 4.
     pub max_step_halvings: usize,
+    /// Step-size memory: a step that had to be halved starts the next one at the sub-step
+    /// that converged (its failed attempts at the larger size are skipped), and after this
+    /// many steps at that size without a halving, tries twice the size again. 0 forgets:
+    /// every step starts at the full h. Default 4.
+    pub halving_memory: usize,
     /// Rotate each particle's stress with its spin over the step (`σ ← R σ Rᵀ`,
     /// `R = exp(h ω)`), so that a rigid rotation carries the stress with it and the
     /// stress update is objective. Default true.
@@ -53,6 +58,7 @@ impl Default for MpmSettings {
                 ..Settings::default()
             },
             max_step_halvings: 4,
+            halving_memory: 4,
             rotate_stress: true,
             predictor: Predictor::Previous,
         }
