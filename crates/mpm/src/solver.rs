@@ -1,3 +1,4 @@
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use nalgebra::SMatrix;
@@ -15,7 +16,8 @@ use crate::step::{StepContext, SubstepError};
 pub struct StepReport {
     /// The step asked for (s).
     pub h: f64,
-    /// Sub-steps taken: 1 unless a failed solve split the step.
+    /// Sub-steps taken: 1 unless a failed solve split the step, or the step started at a
+    /// remembered sub-step size (`MpmSettings::halving_memory`).
     pub substeps: usize,
     pub smallest_h: f64,
     /// Newton iterations over all sub-steps (failed attempts before a halving included),
@@ -60,6 +62,24 @@ pub struct Mpm {
     /// Friction passes after the first keep its Schur analysis (true, the default) or
     /// build a new solver each (to check that both give the same step).
     reuse_analysis: bool,
+    memory: HalvingMemory,
+}
+
+/// The sub-step level the next step starts at, and the steps taken at it without a
+/// halving (`MpmSettings::halving_memory`). Atomics: `advance` takes `&self`.
+#[derive(Debug, Default)]
+struct HalvingMemory {
+    level: AtomicUsize,
+    clean_steps: AtomicUsize,
+}
+
+impl Clone for HalvingMemory {
+    fn clone(&self) -> Self {
+        Self {
+            level: AtomicUsize::new(self.level.load(Ordering::Relaxed)),
+            clean_steps: AtomicUsize::new(self.clean_steps.load(Ordering::Relaxed)),
+        }
+    }
 }
 
 impl Mpm {
@@ -85,6 +105,14 @@ impl Mpm {
                 format!("{a} must be in [0, 1] (0 = PIC, 1 = FLIP)"),
             ));
         }
+        if let Some(t) = settings.flip_reference_time {
+            if !(t.is_finite() && t > 0.0) {
+                return Err(MpmError::invalid(
+                    "flip_reference_time",
+                    format!("{t} s must be finite and > 0"),
+                ));
+            }
+        }
         let sides: Vec<Side> = boundary.walls.iter().map(|w| w.side).collect();
         let grid = grid.with_walls(&sides);
         Ok(Self {
@@ -96,6 +124,7 @@ impl Mpm {
             gravity,
             settings,
             reuse_analysis: true,
+            memory: HalvingMemory::default(),
         })
     }
 
@@ -103,6 +132,11 @@ impl Mpm {
     /// result is the same bit for bit either way; false rebuilds the solver every pass.
     pub fn set_analysis_reuse(&mut self, reuse: bool) {
         self.reuse_analysis = reuse;
+    }
+
+    /// Halvings the next step starts with (`MpmSettings::halving_memory`): 0 = full h.
+    pub fn remembered_halvings(&self) -> usize {
+        self.memory.level.load(Ordering::Relaxed)
     }
 
     pub fn grid(&self) -> &Grid {
@@ -119,7 +153,9 @@ impl Mpm {
 
     /// One step of `h` (s). A sub-step whose Newton solve fails is redone as two halves,
     /// down to `h / 2^max_step_halvings`; past that the step fails with
-    /// [`MpmError::NotConverged`] and `particles` is left as before the step.
+    /// [`MpmError::NotConverged`] and `particles` is left as before the step. With
+    /// `halving_memory > 0` the step starts at the sub-step size the last halved step
+    /// converged with (see [`MpmSettings::halving_memory`]).
     pub fn advance(&self, particles: &mut Particles, h: f64) -> Result<StepReport, MpmError> {
         if !(h.is_finite() && h > 0.0) {
             return Err(MpmError::invalid(
@@ -147,9 +183,34 @@ impl Mpm {
             backtracks: 0,
             reused_analyses: 0,
         };
+        // Start at the sub-step the last halved step converged with (its failed attempts
+        // at larger sizes would most likely fail again), still within max_step_halvings.
+        let remember = self.settings.halving_memory > 0;
+        let level = if remember {
+            self.remembered_halvings()
+                .min(self.settings.max_step_halvings)
+        } else {
+            0
+        };
         let mut trial = particles.clone();
-        self.advance_level(&mut trial, h, 0, &mut report)?;
+        let parts = 1usize << level;
+        for _ in 0..parts {
+            self.advance_level(&mut trial, h / parts as f64, level, &mut report)?;
+        }
         *particles = trial;
+        if remember {
+            let deepest = (h / report.smallest_h).log2().round() as usize;
+            let m = &self.memory;
+            if deepest > level {
+                m.level.store(deepest, Ordering::Relaxed);
+                m.clean_steps.store(0, Ordering::Relaxed);
+            } else if m.clean_steps.fetch_add(1, Ordering::Relaxed) + 1
+                >= self.settings.halving_memory
+            {
+                m.level.store(level.saturating_sub(1), Ordering::Relaxed);
+                m.clean_steps.store(0, Ordering::Relaxed);
+            }
+        }
         report.seconds = start.elapsed().as_secs_f64();
         Ok(report)
     }

@@ -213,7 +213,7 @@ impl StepContext<'_> {
         }
 
         // G2P (eqs. 13–14), volume and objective stress update.
-        let flip = self.settings.flip_ratio;
+        let flip = self.settings.flip_weight(h);
         for (p, s) in prep.stencils.iter().enumerate() {
             let l = velocity_gradient(s, &solved.v_new);
             let jacobian = (1.0 + h * l[0][0]) * (1.0 + h * l[1][1]) - h * h * l[0][1] * l[1][0];

@@ -3,6 +3,7 @@
 mod dense;
 pub(crate) mod schur;
 mod schur_factor;
+mod schur_pattern;
 
 mod stress_sized;
 

@@ -1,9 +1,10 @@
-use faer::sparse::{Pair, SparseColMatRef, SymbolicSparseColMat};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
 use talus_bipotential::NaturalMapLinearization;
 
 use super::schur_factor::{Factorized, LuChoice, SchurFactor};
+use super::schur_pattern::{schur_pattern, SchurPattern};
 use crate::local_lu::LocalLu;
 use crate::operator::{block, PointBlocks, Structured};
 
@@ -45,30 +46,11 @@ impl<const D: usize> SchurSystem<D> {
     ) -> Result<Self, String> {
         let n_v = structured.lumped_mass.len();
         let n_points = structured.compliance.len();
-        let mut pairs: Vec<Pair<usize, usize>> = (0..n_v).map(|j| Pair::new(j, j)).collect();
-        for i in 0..n_points {
-            let (dofs, _) = blocks.point(i);
-            for &ra in dofs {
-                for &cb in dofs {
-                    if !symmetric || ra >= cb {
-                        pairs.push(Pair::new(ra, cb));
-                    }
-                }
-            }
-        }
-        let (symbolic, _) = SymbolicSparseColMat::try_new_from_indices(n_v, n_v, &pairs)
-            .map_err(|e| format!("{e:?}"))?;
-        let (col_ptr, row_idx) = (symbolic.col_ptr(), symbolic.row_idx());
-        let positions = pairs
-            .iter()
-            .map(|p| {
-                let (start, end) = (col_ptr[p.col], col_ptr[p.col + 1]);
-                row_idx[start..end]
-                    .binary_search(&p.row)
-                    .map(|k| start + k)
-                    .map_err(|_| format!("pair ({}, {}) missing from its pattern", p.row, p.col))
-            })
-            .collect::<Result<Vec<_>, _>>()?;
+        let SchurPattern {
+            symbolic,
+            positions,
+        } = schur_pattern(n_v, blocks, symmetric)?;
+        let row_idx = symbolic.row_idx();
         let count = u32::try_from(positions.len())
             .map_err(|_| format!("{} Schur contributions exceed u32", positions.len()))?;
         // Counting sort of the contributions by destination, stable: enumeration order kept.

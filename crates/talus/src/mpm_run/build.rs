@@ -388,5 +388,6 @@ fn settings(scene: &MpmScene) -> Result<MpmSettings, SceneError> {
             PredictorSpec::Previous => Predictor::Previous,
             PredictorSpec::Elastic => Predictor::Elastic,
         },
+        ..MpmSettings::default()
     })
 }

@@ -1,0 +1,90 @@
+//! Step-size memory (`MpmSettings::halving_memory`): a step that had to be halved makes
+//! the next one start at the sub-step that converged, which must be exactly the same as
+//! taking those sub-steps by hand (no failed attempt, same particles bit for bit); after
+//! `halving_memory` clean steps the next step tries twice the size again.
+//!
+//! A small granular column whose first steps from rest need more Newton iterations at the
+//! full step than `max_iterations` allows, and fewer at a quarter of it.
+use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters};
+use talus_mpm::{
+    Grid, GridBoundary, Mpm, MpmSettings, Particles, ShapeFunction, Side, Wall, WallCondition,
+};
+
+const H: f64 = 1.0 / 60.0;
+
+fn column(memory: usize) -> (Mpm, Particles) {
+    let soil = DruckerPrager::try_new(DruckerPragerParameters {
+        young_modulus: 1e7,
+        poisson_ratio: 0.3,
+        friction_angle: 30.0,
+        cohesion: 0.0,
+        dilatancy_angle: 0.0,
+        cone_fit: ConeFit::PlaneStrain,
+    })
+    .unwrap();
+    let grid = Grid::try_new([0.0, 0.0], 0.02, [20, 12], ShapeFunction::QuadraticBSpline).unwrap();
+    let boundary = GridBoundary {
+        walls: vec![
+            Wall {
+                side: Side::Left,
+                condition: WallCondition::Slip,
+            },
+            Wall {
+                side: Side::Bottom,
+                condition: WallCondition::Fixed,
+            },
+        ],
+        prescribed: vec![],
+    };
+    let mut settings = MpmSettings {
+        halving_memory: memory,
+        ..MpmSettings::default()
+    };
+    settings.solver.max_iterations = 12;
+    let mpm = Mpm::try_new(grid, boundary, &soil, [0.0, -9.81], settings).unwrap();
+    let particles = Particles::fill_rectangle([[0.0, 0.0], [0.1, 0.2]], 0.02, 2, 1800.0).unwrap();
+    (mpm, particles)
+}
+
+#[test]
+fn a_halved_step_makes_the_next_start_at_the_converged_size() {
+    let (mpm, mut particles) = column(2);
+    let first = mpm.advance(&mut particles, H).unwrap();
+    let level = mpm.remembered_halvings();
+    assert!(
+        first.substeps > 1 && level > 0,
+        "the set-up must need a halving: {} sub-steps, level {level}",
+        first.substeps
+    );
+    assert_eq!(H / first.smallest_h, (1usize << level) as f64);
+
+    // The next step with memory, against the same sub-steps taken by hand without it.
+    let (plain, _) = column(0);
+    let mut by_hand = particles.clone();
+    let parts = 1usize << level;
+    for _ in 0..parts {
+        let r = plain.advance(&mut by_hand, H / parts as f64).unwrap();
+        assert_eq!(
+            r.substeps, 1,
+            "the remembered size converges without halving"
+        );
+    }
+    let second = mpm.advance(&mut particles, H).unwrap();
+    assert_eq!(second.substeps, parts, "started at the remembered size");
+    assert_eq!(
+        particles, by_hand,
+        "same sub-steps, same particles bit for bit"
+    );
+    // Two clean steps at that size (halving_memory = 2): the next tries twice the size.
+    assert_eq!(mpm.remembered_halvings(), level);
+    mpm.advance(&mut particles, H).unwrap();
+    assert_eq!(mpm.remembered_halvings(), level - 1);
+}
+
+#[test]
+fn without_memory_every_step_starts_at_full_h() {
+    let (mpm, mut particles) = column(0);
+    let first = mpm.advance(&mut particles, H).unwrap();
+    assert!(first.substeps > 1);
+    assert_eq!(mpm.remembered_halvings(), 0);
+}
