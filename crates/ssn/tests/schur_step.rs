@@ -158,8 +158,9 @@ fn structured_and_assembled_operators_give_the_same_solution() {
 
 #[test]
 fn same_bits_whatever_the_thread_count_on_a_problem_the_pool_splits() {
-    // 1200 points: the per-point loops run in parallel chunks (256 points at least).
-    let (problem, sigma0) = sized_random_problem(77, false, 1200, 800);
+    // 3000 points, 2400 velocities: the per-point loops (chunks of 256 points at least),
+    // the gather of Bᵀσ (1024 velocities) and of the Schur values (4096) are all split.
+    let (problem, sigma0) = sized_random_problem(77, false, 3000, 2400);
     let run = |threads: usize, parallel: bool| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
