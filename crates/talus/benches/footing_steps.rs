@@ -18,7 +18,7 @@ use std::process::{Command, Stdio};
 use std::time::Instant;
 
 use talus::run::solver_settings;
-use talus::scene::{builtin_footing, MeshSpec, Scene};
+use talus::scene::builtin_footing_with_cells;
 use talus::simulation::{Model, Stepper};
 
 /// Steps of the two windows (1-based, inclusive).
@@ -86,20 +86,6 @@ fn main() {
     }
 }
 
-/// The built-in footing on an `nx × ny` grid, with the same y-grading as the paper's 32 × 14
-/// (1.1 per cell over 14 cells).
-fn scene(cells: [usize; 2]) -> Scene {
-    let mut scene = builtin_footing();
-    if let MeshSpec::Rectangle {
-        cells: c, ratio, ..
-    } = &mut scene.spec.mesh
-    {
-        *c = cells;
-        ratio[1] = 1.1f64.powf(14.0 / cells[1] as f64);
-    }
-    scene
-}
-
 /// One step's figures.
 struct Step {
     seconds: f64,
@@ -115,7 +101,7 @@ fn child(cells: [usize; 2]) {
             .with_writer(std::io::stderr)
             .init();
     }
-    let scene = scene(cells);
+    let scene = builtin_footing_with_cells(cells);
     let model = match Model::from_scene(&scene) {
         Ok(m) => m,
         Err(e) => {

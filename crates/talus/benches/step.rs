@@ -31,7 +31,7 @@ use std::time::Instant;
 
 use nalgebra::{SMatrix, SVector};
 use talus::run::solver_settings;
-use talus::scene::{builtin_footing, MeshSpec, Scene};
+use talus::scene::{builtin_footing_with_cells, Scene};
 use talus::simulation::{Model, Stepper};
 use talus_ssn::factorization::{
     SupernodalCholesky, SymbolicSymmetricPatternLu, SymmetricPatternLu, DEFAULT_PIVOT_TOLERANCE,
@@ -62,15 +62,7 @@ fn main() {
 }
 
 fn scene(cells: [usize; 2], associative: bool) -> Scene {
-    let mut scene = builtin_footing();
-    if let MeshSpec::Rectangle {
-        cells: c, ratio, ..
-    } = &mut scene.spec.mesh
-    {
-        *c = cells;
-        // The paper's grading, 1.1 per cell over 14 cells, at any size.
-        ratio[1] = 1.1f64.powf(14.0 / cells[1] as f64);
-    }
+    let mut scene = builtin_footing_with_cells(cells);
     if associative {
         scene.spec.material.dilatancy_angle = Some(scene.spec.material.friction_angle);
     }

@@ -15,18 +15,11 @@
 use std::io::{Read, Write};
 
 use talus::run::solver_settings;
-use talus::scene::{builtin_footing, MeshSpec, Scene};
+use talus::scene::{builtin_footing_with_cells, Scene};
 use talus::simulation::{Model, State, Stepper};
 
 fn scene(cells: [usize; 2], associative: bool) -> Scene {
-    let mut scene = builtin_footing();
-    if let MeshSpec::Rectangle {
-        cells: c, ratio, ..
-    } = &mut scene.spec.mesh
-    {
-        *c = cells;
-        ratio[1] = 1.1f64.powf(14.0 / cells[1] as f64);
-    }
+    let mut scene = builtin_footing_with_cells(cells);
     if associative {
         scene.spec.material.dilatancy_angle = Some(scene.spec.material.friction_angle);
     }

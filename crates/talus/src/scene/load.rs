@@ -12,6 +12,21 @@ pub fn builtin_footing() -> Scene {
         .expect("the built-in scene is valid")
 }
 
+/// The built-in footing on `cells = [nx, ny]` with the paper mesh's vertical grading
+/// (1.1 per cell over 14 cells: `ratio = [1, 1.1^(14/ny)]`): the meshes of the scaling
+/// benchmarks (`docs/performance.md`).
+pub fn builtin_footing_with_cells(cells: [usize; 2]) -> Scene {
+    let mut scene = builtin_footing();
+    if let super::MeshSpec::Rectangle {
+        cells: c, ratio, ..
+    } = &mut scene.spec.mesh
+    {
+        *c = cells;
+        ratio[1] = 1.1f64.powf(14.0 / cells[1] as f64);
+    }
+    scene
+}
+
 impl Scene {
     /// An error at `field` (a path such as `material.young_modulus` or `boundary[1].nodes`),
     /// with the line where that field stands in the file.

@@ -14,7 +14,7 @@ mod types;
 
 pub use error::SceneError;
 pub use file::SceneFile;
-pub use load::{builtin_footing, Scene};
+pub use load::{builtin_footing, builtin_footing_with_cells, Scene};
 pub use mpm_load::MpmScene;
 pub use mpm_types::*;
 pub use source::{Locate, SceneDocument};
