@@ -8,4 +8,4 @@ mod stepper;
 pub use initial_stress::{k0_bounds, k0_bounds_without_cohesion, k0_stress, k0_stress_at};
 pub use model::Model;
 pub use state::State;
-pub use stepper::{StepError, StepRecord, Stepper};
+pub use stepper::{Predictor, StepError, StepRecord, Stepper};

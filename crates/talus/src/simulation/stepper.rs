@@ -25,6 +25,8 @@ pub struct StepRecord {
     pub backtracks: usize,
     /// How each accepted sub-step's solve ended.
     pub statuses: Vec<talus_ssn::Status>,
+    /// Where each accepted sub-step's Newton iteration started.
+    pub predictors: Vec<Predictor>,
     /// Final `‖F‖∞` of the last sub-step.
     pub residual: f64,
     /// `‖F‖∞ / max(1, ‖σ‖∞)` per iteration, per sub-step (the quantity compared with the
@@ -53,11 +55,14 @@ pub enum StepError {
     Solver(SolveError),
 }
 
-/// Where a step's Newton iteration starts.
+/// Where a sub-step's Newton iteration starts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Predictor {
+pub enum Predictor {
+    /// `σₙ + h σ̇`, the rate of the last accepted sub-step (smooth loading).
     Extrapolated,
+    /// The elastic predictor: first step, or right after a jump in the prescribed velocity.
     Elastic,
+    /// `σₙ`, when the elastic solve fails.
     Previous,
 }
 
@@ -123,6 +128,7 @@ impl<'m> Stepper<'m> {
             failed_newton_iterations: 0,
             backtracks: 0,
             statuses: Vec::new(),
+            predictors: Vec::new(),
             residual: 0.0,
             residual_histories: Vec::new(),
             merit_histories: Vec::new(),
@@ -144,7 +150,7 @@ impl<'m> Stepper<'m> {
     ) -> Result<(), StepError> {
         let mut trial = state.clone();
         match self.substep(&mut trial, h) {
-            Ok((report, reaction)) => {
+            Ok((report, reaction, predictor)) => {
                 if let Some(floor) = report.round_off_floor {
                     tracing::warn!(
                         time = state.time,
@@ -162,6 +168,7 @@ impl<'m> Stepper<'m> {
                 record.residual = report.residual;
                 record.backtracks += report.backtracks;
                 record.statuses.push(report.status);
+                record.predictors.push(predictor);
                 record.merit_histories.push(
                     report
                         .merit_history
@@ -213,8 +220,12 @@ impl<'m> Stepper<'m> {
 
     /// Eqs. 15–16: `h z = Wσ + q` with `q = −(S σ_n + h B v_n + h² B M⁻¹ f + h B_D v_D)`
     /// (notes §4: `B v` is the strain rate; prescribed velocities enter through `B_D`).
-    /// Returns the report and the reaction force.
-    fn substep(&mut self, state: &mut State, h: f64) -> Result<(Report, f64), SolveError> {
+    /// Returns the report, the reaction force and where the iteration started.
+    fn substep(
+        &mut self,
+        state: &mut State,
+        h: f64,
+    ) -> Result<(Report, f64, Predictor), SolveError> {
         let model = self.model;
         let asm = &model.assembly;
         let q = model.reduced_rhs(state, h);
@@ -249,7 +260,16 @@ impl<'m> Stepper<'m> {
         };
         tracing::trace!(?predictor, "start of step");
         let solver = self.solver(h)?;
-        let report = solver.solve(&mut sigma)?;
+        let report = match solver.solve(&mut sigma) {
+            Ok(report) => report,
+            Err(e) => {
+                // The halved retries start from the same rate: after a failure the
+                // elastic predictor is much further from the solution (`docs/solver.md`,
+                // "Non-associative Newton at the mechanism's onset").
+                self.stress_rate = rate;
+                return Err(e);
+            }
+        };
         // z = Wσ + q is h·(−V ε̇ᵖ) per point: the plastic strain increment is ‖z_p‖ / V_p.
         let z = solver.z();
         for (p, v) in asm.gauss_volumes.iter().enumerate() {
@@ -298,6 +318,6 @@ impl<'m> Stepper<'m> {
         });
         state.sigma = sigma;
         state.time += h;
-        Ok((report, reaction))
+        Ok((report, reaction, predictor))
     }
 }
