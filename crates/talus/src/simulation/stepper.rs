@@ -212,7 +212,8 @@ impl<'m> Stepper<'m> {
     }
 
     /// Eqs. 15–16: `h z = Wσ + q` with `q = −(S σ_n + h B v_n + h² B M⁻¹ f + h B_D v_D)`
-    /// (notes §4: `B v` is the strain rate; prescribed velocities enter through `B_D`).
+    /// (`docs/derivations.md`, 'The reduced system': `B v` is the strain rate; prescribed
+    /// velocities enter through `B_D`).
     /// Returns the report and the reaction force.
     fn substep(&mut self, state: &mut State, h: f64) -> Result<(Report, f64), SolveError> {
         let model = self.model;
