@@ -183,8 +183,8 @@ impl DruckerPrager {
     }
 
     /// The flow rule in Mandel coordinates: the cone with `n = −e`, apex `√3 (c/tan φ) e`,
-    /// `η = k_d tan φ / √3` and shift `κ = k_d α / √3` (notes §2–3); at φ = 0 the cylinder
-    /// `‖dev σ‖ ≤ k_d c`.
+    /// `η = k_d tan φ / √3` and shift `κ = k_d α / √3` (`docs/conventions.md`, 'Drucker-Prager
+    /// cone' and 'Flow rule'); at φ = 0 the cylinder `‖dev σ‖ ≤ k_d c`.
     pub fn flow_rule<const D: usize>(&self) -> FlowRule<D> {
         let e = hydrostatic_axis::<D>();
         let sqrt3 = 3f64.sqrt();

@@ -43,7 +43,8 @@ impl<const D: usize> Projector<D> for YieldSet<D> {
     }
 }
 
-/// The flow rule of one point in natural-map form (eq. 20, signs of the notes §3):
+/// The flow rule of one point in natural-map form (eq. 20, signs of `docs/conventions.md`,
+/// 'Flow rule'):
 /// `σ = P_K(σ − ρ y(z))` with `y(z) = z + κ ‖z_t‖ n`, `z = −ε̇ᵖ`, `z_t = z − (z·n) n`.
 ///
 /// `κ = k_d (tan φ − tan θ) / √3` for Drucker-Prager in Mandel notation; `κ = 0` is
@@ -118,7 +119,8 @@ impl<const D: usize> FlowRule<D> {
     }
 
     /// The residual and its Jacobian blocks. At `z_t = 0` the gradient of `‖z_t‖` is taken
-    /// as 0, an element of its Clarke subdifferential (notes §4).
+    /// as 0, an element of its Clarke subdifferential (`docs/derivations.md`, 'Clarke elements
+    /// at the kinks').
     #[inline]
     pub fn natural_map_linearization(
         &self,

@@ -1,5 +1,6 @@
 //! The Drucker-Prager flow rule in natural-map form (eqs. 7–10, 20), checked against the
-//! closed forms of the notes §2–3 and against finite differences.
+//! closed forms of `docs/conventions.md` ('Drucker-Prager cone', 'Flow rule') and against
+//! finite differences.
 mod common;
 
 use approx::assert_relative_eq;

@@ -1,7 +1,7 @@
 //! Degrees of freedom: two velocity (or displacement) components per node, each either
 //! free (an unknown of the solver, a column of `B_free`) or prescribed (Dirichlet, a
 //! column of `B_prescribed`; its value enters `q` of eq. 16 through `B`, see
-//! `paper-notes.md` §4). Components: 0 = x, 1 = y.
+//! `docs/derivations.md`, 'The reduced system'). Components: 0 = x, 1 = y.
 use crate::error::FemError;
 
 /// Which components of a node set are prescribed.

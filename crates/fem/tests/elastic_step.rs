@@ -1,5 +1,5 @@
-//! `paper-notes.md` §4: a purely elastic step of eq. 15–16 must equal a direct velocity
-//! solve. With `z = 0`, `Wσ = −q`, `W = S + h² B_f M⁻¹ B_fᵀ` and
+//! `docs/derivations.md`, 'The reduced system': a purely elastic step of eq. 15–16 must
+//! equal a direct velocity solve. With `z = 0`, `Wσ = −q`, `W = S + h² B_f M⁻¹ B_fᵀ` and
 //! `q = −(S σ_n + h B_f v_n + h B_p v_p + h² B_f M⁻¹ f)` (prescribed velocities `v_p`
 //! enter through `B_p`), then `v = v_n + h M⁻¹ (f − B_fᵀ σ)` must solve
 //! `(M + h² B_fᵀ S⁻¹ B_f) v = M v_n + h (f − B_fᵀ σ_n) − h² B_fᵀ S⁻¹ B_p v_p`.

@@ -321,8 +321,8 @@ impl StepContext<'_> {
         }
         let n_free = prep.mass_free.len();
 
-        // q of eq. 16 (notes §4): −(S σₙ + B w) with w = h vₙ + h² M⁻¹ f on free
-        // components and h v_D on prescribed ones.
+        // q of eq. 16 (`docs/derivations.md`, 'The reduced system'): −(S σₙ + B w) with
+        // w = h vₙ + h² M⁻¹ f on free components and h v_D on prescribed ones.
         let w: Vec<[f64; 2]> = (0..n_nodes)
             .map(|i| {
                 let mut wi = [0.0; 2];

@@ -1,6 +1,7 @@
 //! LU with partial pivoting for one point's D×D block (D ≤ 6), on the stack.
 //! nalgebra's fixed-size LU needs typenum bounds that a generic `const D` cannot name, and
-//! the Schur path must detect a singular block (notes §5) rather than divide by ~0.
+//! the Schur path must detect a singular block (`docs/derivations.md`, 'The Schur step')
+//! rather than divide by ~0.
 use nalgebra::{SMatrix, SVector};
 
 /// Relative pivot size under which a block counts as singular.

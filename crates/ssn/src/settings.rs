@@ -2,8 +2,9 @@
 /// strain; any ρ > 0 (per point) keeps the same solution but changes the iteration count.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Rho {
-    /// `ρ_i = factor / max_{k ∈ point i} W_kk`: normalised per point (notes §4), so graded
-    /// meshes and particle volumes spanning decades get comparable steps.
+    /// `ρ_i = factor / max_{k ∈ point i} W_kk`: normalised per point (`docs/derivations.md`,
+    /// 'ρ per point'), so graded meshes and particle volumes spanning decades get comparable
+    /// steps.
     PerPointDiagonal { factor: f64 },
     /// `ρ_i = factor / max diag S_i` for a structured `W = S + h² B M⁻¹ Bᵀ`: the scale of a
     /// return mapping (factor 1 gives `ρ_i = 2G / V_i` for isotropic elasticity), so the
@@ -39,8 +40,8 @@ impl Default for LineSearch {
 /// Which linear system gives the Newton direction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum LinearSolver {
-    /// Velocity-sized Schur complement for structured operators (notes §5), stress-sized
-    /// otherwise.
+    /// Velocity-sized Schur complement for structured operators (`docs/derivations.md`,
+    /// 'The Schur step'), stress-sized otherwise.
     #[default]
     Auto,
     /// Always the stress-sized system `J_F d = −F` (for checking the Schur path).

@@ -1,5 +1,6 @@
-//! The velocity-sized Schur-complement Newton step (notes §5) equals the stress-sized step
-//! `J_F d = −F` on random structured problems, associative (Cholesky) and not (LU).
+//! The velocity-sized Schur-complement Newton step (`docs/derivations.md`, 'The Schur step')
+//! equals the stress-sized step `J_F d = −F` on random structured problems, associative
+//! (Cholesky) and not (LU).
 use nalgebra::{SMatrix, SVector};
 use talus_bipotential::FlowRule;
 use talus_cone::SecondOrderCone;

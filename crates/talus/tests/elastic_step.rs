@@ -1,6 +1,7 @@
 //! Elastic checks of the time stepper, run through the same code as `talus verify`:
 //! - one implicit elastic step equals the direct solve `(M + h² K) v = M vₙ + h (f − Bᵀσₙ)
-//!   − h² K_fD v_D` with `K = Bᵀ S⁻¹ B` assembled densely (paper notes §4);
+//!   − h² K_fD v_D` with `K = Bᵀ S⁻¹ B` assembled densely (`docs/derivations.md`, 'The
+//!   reduced system');
 //! - the patch test: an affine velocity field is kept exactly and every Gauss point sees the
 //!   uniform strain rate, for P1 and P2 on a graded (irregular) mesh.
 use talus::verification::{elastic_patch_test, elastic_step_identity, CaseResult};

@@ -1,7 +1,7 @@
 //! Gauss points of a mesh: where stresses live. Each carries its volume
 //! `V_p = w_p · det J(ξ_p) · 1 m` (plane strain, unit thickness), which weights its row
-//! block of `B` and its compliance block (`paper-notes.md` §4), and the shape functions
-//! and physical gradients of its element's nodes.
+//! block of `B` and its compliance block (`docs/derivations.md`, 'Volume weights'), and the
+//! shape functions and physical gradients of its element's nodes.
 use crate::element::map_point;
 use crate::error::MeshError;
 use crate::mesh::Mesh;

@@ -1,6 +1,7 @@
 //! Consistent nodal forces `f` of eq. 12 (N per metre of thickness), split into free and
 //! prescribed dofs like the columns of `B`. Forces on prescribed dofs do not move the
-//! solution but enter the reaction (`paper-notes.md` §4).
+//! solution but enter the reaction (`docs/derivations.md`, 'Prescribed velocities and the
+//! reaction').
 use super::Assembly;
 use crate::dofs::Dof;
 use crate::element::edge::shape_and_derivative;

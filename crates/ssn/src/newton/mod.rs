@@ -1,5 +1,6 @@
 //! The linear system of one Newton step, `J_F d = r` with `J_F = I − D + R G W` (eq. 25
-//! generalised by the notes §5: `D`, `G` block diagonal, `R = diag(ρ_i)`).
+//! generalised in `docs/derivations.md`, 'The Newton matrix': `D`, `G` block diagonal,
+//! `R = diag(ρ_i)`).
 mod dense;
 pub(crate) mod schur;
 mod schur_factor;

@@ -8,7 +8,7 @@ use super::schur_pattern::{schur_pattern, SchurPattern};
 use crate::local_lu::LocalLu;
 use crate::operator::{block, PointBlocks, Structured};
 
-/// The velocity-sized Newton system of the notes §5:
+/// The velocity-sized Newton system (`docs/derivations.md`, 'The Schur step'):
 /// `(M + h² Bᵀ C B) u = Bᵀ A⁻¹ r`, `d = A⁻¹ r − h² C B u`,
 /// with per point `A_i = I − D_i + ρ_i G_i S_i` and `C_i = ρ_i A_i⁻¹ G_i`.
 /// The pattern of K is that of `Bᵀ B` plus the diagonal: fixed, factored symbolically once.

@@ -148,8 +148,8 @@ impl Model {
     }
 
     /// `q` of eq. 16 for the step of length `h` after `state`:
-    /// `q = −(S σₙ + h B vₙ + h² B M⁻¹ f + h B_D v_D)` (notes §4: `B v` is the strain rate;
-    /// prescribed velocities enter through `B_D`).
+    /// `q = −(S σₙ + h B vₙ + h² B M⁻¹ f + h B_D v_D)` (`docs/derivations.md`, 'The reduced
+    /// system': `B v` is the strain rate; prescribed velocities enter through `B_D`).
     pub fn reduced_rhs(&self, state: &State, h: f64) -> Vec<f64> {
         let asm = &self.assembly;
         let mut q = vec![0.0; 4 * asm.n_points()];

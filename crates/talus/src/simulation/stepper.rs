@@ -219,7 +219,8 @@ impl<'m> Stepper<'m> {
     }
 
     /// Eqs. 15–16: `h z = Wσ + q` with `q = −(S σ_n + h B v_n + h² B M⁻¹ f + h B_D v_D)`
-    /// (notes §4: `B v` is the strain rate; prescribed velocities enter through `B_D`).
+    /// (`docs/derivations.md`, 'The reduced system': `B v` is the strain rate; prescribed
+    /// velocities enter through `B_D`).
     /// Returns the report, the reaction force and where the iteration started.
     fn substep(
         &mut self,

@@ -104,7 +104,7 @@ fn dense(m: &SparseColMat<usize, f64>) -> DMatrix<f64> {
 }
 
 /// One implicit elastic step equals `(M + h² K) v = M vₙ + h (f − Bᵀσₙ) − h² K_fD v_D`,
-/// `K = Bᵀ S⁻¹ B` assembled densely here (notes §4).
+/// `K = Bᵀ S⁻¹ B` assembled densely here (`docs/derivations.md`, 'The reduced system').
 pub fn elastic_step_identity() -> Vec<CaseResult> {
     let computed = (|| {
         let scene = Scene::parse(&elastic_scene("P2", false, true), None).ok()?;
@@ -155,6 +155,6 @@ pub fn elastic_step_identity() -> Vec<CaseResult> {
         tolerance: 1e-9,
         check: Check::Absolute,
         seconds: 0.0,
-        source: "direct solve of (M + h²K) v = M vₙ + h (f − Bᵀσₙ) (notes §4)".into(),
+        source: "direct solve of (M + h²K) v = M vₙ + h (f − Bᵀσₙ) (docs/derivations.md, The reduced system)".into(),
     }]
 }

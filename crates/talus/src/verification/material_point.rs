@@ -45,7 +45,7 @@ fn shear_trial(k: usize) -> SVector<f64, 4> {
     dev / dev.norm() * 1e5 - SVector::from_fn(|i, _| if i < 3 { 2e4 } else { 0.0 })
 }
 
-/// `tr Δεᵖ / ‖dev Δεᵖ‖ = k_d tan θ` on plastic flow (notes §3).
+/// `tr Δεᵖ / ‖dev Δεᵖ‖ = k_d tan θ` on plastic flow (`docs/conventions.md`, 'Flow rule').
 pub fn dilatancy_ratio() -> Vec<CaseResult> {
     [(30.0, 0.0), (30.0, 15.0), (27.0, 14.2906), (30.0, 30.0)]
         .into_iter()
@@ -70,7 +70,9 @@ pub fn dilatancy_ratio() -> Vec<CaseResult> {
                 tolerance: 1e-10,
                 check: Check::Absolute,
                 seconds: 0.0,
-                source: "plastic potential g = ‖dev σ‖/k_d + p tan θ (notes §3)".into(),
+                source:
+                    "plastic potential g = ‖dev σ‖/k_d + p tan θ (docs/conventions.md, Flow rule)"
+                        .into(),
             }
         })
         .collect()
