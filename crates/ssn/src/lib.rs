@@ -33,7 +33,7 @@ pub use error::SolveError;
 pub use operator::{Operator, Structured};
 pub use problem::ReducedSystem;
 pub use report::{Report, RoundOffFloor, Status};
-pub use settings::{LineSearch, LinearSolver, Rho, Settings};
+pub use settings::{LineSearch, LinearSolver, Rho, Settings, Stall};
 pub use siconos_system::reduced_system_from_siconos;
 pub use solver::Solver;
 

@@ -10,6 +10,9 @@ pub enum Status {
     RoundOffFloor,
     /// `max_iterations` reached with the residual above tolerance.
     MaxIterations,
+    /// The merit did not fall by [`Stall::decrease`](crate::Stall) over
+    /// [`Stall::window`](crate::Stall) iterations, far above the round-off floor.
+    Stalled,
     /// No step length gave sufficient decrease of `‖F‖²`.
     LineSearchFailed,
     /// The Newton matrix was singular or its solve inaccurate.
@@ -25,6 +28,7 @@ impl Status {
             Status::Converged => "converged",
             Status::RoundOffFloor => "round_off_floor",
             Status::MaxIterations => "max_iterations",
+            Status::Stalled => "stalled",
             Status::LineSearchFailed => "line_search_failed",
             Status::SingularJacobian => "singular_jacobian",
             Status::NonFinite => "non_finite",

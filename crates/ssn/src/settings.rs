@@ -37,6 +37,21 @@ impl Default for LineSearch {
     }
 }
 
+/// From iteration `after` on, ends a solve whose merit `‖F_ρ‖₂` has not fallen below
+/// `decrease` times its value `window` iterations earlier ([`Status::Stalled`](crate::Status::Stalled)), so that a
+/// caller who can react (a shorter time step) need not wait for `max_iterations`
+/// (`docs/solver.md`, "Non-associative Newton at the mechanism's onset").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stall {
+    /// Iterations before the rule applies: a solve that is slow but converges within them
+    /// keeps its time step.
+    pub after: usize,
+    /// Iterations looked back; at least 1.
+    pub window: usize,
+    /// Required decrease over the window, in (0, 1).
+    pub decrease: f64,
+}
+
 /// Which linear system gives the Newton direction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum LinearSolver {
@@ -64,6 +79,8 @@ pub struct Settings {
     pub line_search: Option<LineSearch>,
     /// Start from the σ passed to `solve` (true, default) or from σ = 0.
     pub warm_start: bool,
+    /// Default `None`: iterate until converged, failed or `max_iterations`.
+    pub stall: Option<Stall>,
     pub linear_solver: LinearSolver,
     /// The no-pivot LU refuses a pivot `|u_jj| ≤ pivot_tolerance · |k_jj|` and solves that
     /// iteration with the pivoting LU (`Report::pivoting_fallbacks`). Default `1e-10`; in
@@ -81,6 +98,7 @@ impl Default for Settings {
             rho: Rho::PerPointDiagonal { factor: 10.0 },
             line_search: Some(LineSearch::default()),
             warm_start: true,
+            stall: None,
             linear_solver: LinearSolver::Auto,
             pivot_tolerance: crate::factorization::DEFAULT_PIVOT_TOLERANCE,
             parallel: true,

@@ -85,6 +85,14 @@ fn validate(settings: &Settings) -> Result<(), SolveError> {
             format!("{rho} must be finite and > 0"),
         ));
     }
+    if let Some(stall) = settings.stall {
+        if !(stall.window >= 1 && stall.decrease > 0.0 && stall.decrease < 1.0) {
+            return Err(invalid(
+                "settings.stall",
+                format!("{stall:?}: need window ≥ 1, 0 < decrease < 1"),
+            ));
+        }
+    }
     if let Some(ls) = settings.line_search {
         if !(ls.armijo > 0.0 && ls.armijo < 0.5 && ls.shrink > 0.0 && ls.shrink < 1.0) {
             return Err(invalid(
@@ -243,6 +251,14 @@ impl<const D: usize> Solver<D> {
                     break;
                 }
             }
+            if let Some(stall) = self.settings.stall {
+                if report.iterations >= stall.after
+                    && stopping::no_decrease(&report.merit_history, stall.window, stall.decrease)
+                {
+                    report.status = Status::Stalled;
+                    break;
+                }
+            }
             if report.iterations == self.settings.max_iterations {
                 report.status = Status::MaxIterations;
                 break;
@@ -298,7 +314,10 @@ impl<const D: usize> Solver<D> {
         // A failure at the floor is the floor: no step can make progress there.
         if matches!(
             report.status,
-            Status::MaxIterations | Status::LineSearchFailed | Status::SingularJacobian
+            Status::MaxIterations
+                | Status::Stalled
+                | Status::LineSearchFailed
+                | Status::SingularJacobian
         ) {
             if let Some(floor) = self.floor_reached(sigma, residual) {
                 tracing::debug!(failure = %report.status, "failure at the round-off floor");

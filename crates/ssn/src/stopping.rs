@@ -84,12 +84,18 @@ pub(crate) fn floor_estimate<const D: usize>(
 /// True when the residual history (start and after every step) shows no decrease by
 /// `STAGNATION_DECREASE` over the last `STAGNATION_WINDOW` steps.
 pub(crate) fn stagnated(history: &[f64]) -> bool {
-    if history.len() <= STAGNATION_WINDOW {
+    no_decrease(history, STAGNATION_WINDOW, STAGNATION_DECREASE)
+}
+
+/// True when no value of the last `window` entries of `history` (start and after every
+/// step) is below `decrease` times the entry `window` steps back.
+pub(crate) fn no_decrease(history: &[f64], window: usize, decrease: f64) -> bool {
+    if history.len() <= window {
         return false;
     }
-    let window = &history[history.len() - 1 - STAGNATION_WINDOW..];
+    let window = &history[history.len() - 1 - window..];
     let best = window[1..].iter().fold(f64::INFINITY, |m, v| m.min(*v));
-    best >= STAGNATION_DECREASE * window[0]
+    best >= decrease * window[0]
 }
 
 #[cfg(test)]
@@ -102,6 +108,25 @@ mod tests {
         assert!(stagnated(&[1.0, 0.9, 0.8, 0.7]));
         assert!(!stagnated(&[1.0, 0.9, 0.8, 0.4]));
         assert!(stagnated(&[5.0, 1.0, 0.9, 0.8, 0.7]));
+    }
+
+    #[test]
+    fn stall_window_counts_steps_from_the_value_window_steps_back() {
+        // Window 4, decrease 0.5: 8 → best of the next four must reach 4.
+        assert!(
+            !no_decrease(&[8.0, 7.0, 6.0, 5.0], 4, 0.5),
+            "window not full"
+        );
+        assert!(no_decrease(&[8.0, 7.0, 6.0, 5.0, 4.5], 4, 0.5));
+        assert!(!no_decrease(&[8.0, 7.0, 6.0, 5.0, 4.0], 4, 0.5));
+        assert!(
+            !no_decrease(&[8.0, 3.9, 6.0, 5.0, 4.5], 4, 0.5),
+            "any value counts"
+        );
+        assert!(
+            no_decrease(&[100.0, 8.0, 7.0, 6.0, 5.0, 4.5], 4, 0.5),
+            "only the last window"
+        );
     }
 
     #[test]

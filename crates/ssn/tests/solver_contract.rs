@@ -5,7 +5,8 @@ use std::path::PathBuf;
 use talus_ssn::faer::Mat;
 use talus_ssn::siconos::SiconosProblem;
 use talus_ssn::{
-    reduced_system_from_siconos, Operator, ReducedSystem, Rho, Settings, SolveError, Solver, Status,
+    reduced_system_from_siconos, Operator, ReducedSystem, Rho, Settings, SolveError, Solver, Stall,
+    Status,
 };
 
 fn footing_100() -> ReducedSystem<3> {
@@ -42,6 +43,94 @@ fn non_convergence_is_an_error_with_its_report() {
             assert!(!report.is_converged());
         }
         other => panic!("expected NotConverged, got {other:?}"),
+    }
+}
+
+#[test]
+fn a_stalled_solve_ends_early_with_its_own_status() {
+    // No Newton step of footing_100 lowers the merit by a factor 1e12: a window of one
+    // iteration with that decrease stalls after the first step, while a window longer
+    // than the solve lets it converge (`Stall`, docs/solver.md).
+    let stalling = Settings {
+        stall: Some(Stall {
+            after: 0,
+            window: 1,
+            decrease: 1e-12,
+        }),
+        ..Settings::default()
+    };
+    let mut sigma = vec![0.0; 300];
+    match Solver::new(footing_100(), stalling)
+        .unwrap()
+        .solve(&mut sigma)
+    {
+        Err(SolveError::NotConverged(report)) => {
+            assert_eq!(report.status, Status::Stalled);
+            assert_eq!(report.iterations, 1);
+            let h = &report.merit_history;
+            assert!(h[1] >= 1e-12 * h[0], "{h:?}");
+        }
+        other => panic!("expected a stalled solve, got {other:?}"),
+    }
+    // Nor does it before `after` iterations: the same rule from iteration 100 on.
+    let later = Settings {
+        stall: Some(Stall {
+            after: 100,
+            window: 1,
+            decrease: 1e-12,
+        }),
+        ..Settings::default()
+    };
+    let mut sigma = vec![0.0; 300];
+    let report = Solver::new(footing_100(), later)
+        .unwrap()
+        .solve(&mut sigma)
+        .unwrap();
+    assert_eq!(report.status, Status::Converged);
+    // A window longer than the solve never triggers.
+    let patient = Settings {
+        stall: Some(Stall {
+            after: 0,
+            window: 100,
+            decrease: 0.5,
+        }),
+        ..Settings::default()
+    };
+    let mut sigma = vec![0.0; 300];
+    let report = Solver::new(footing_100(), patient)
+        .unwrap()
+        .solve(&mut sigma)
+        .unwrap();
+    assert_eq!(report.status, Status::Converged);
+}
+
+#[test]
+fn stall_settings_are_validated() {
+    for stall in [
+        Stall {
+            after: 0,
+            window: 0,
+            decrease: 0.5,
+        },
+        Stall {
+            after: 0,
+            window: 5,
+            decrease: 1.0,
+        },
+        Stall {
+            after: 0,
+            window: 5,
+            decrease: f64::NAN,
+        },
+    ] {
+        let settings = Settings {
+            stall: Some(stall),
+            ..Settings::default()
+        };
+        let e = Solver::new(footing_100(), settings)
+            .err()
+            .expect("rejected");
+        assert_eq!(field_of(e), "settings.stall");
     }
 }
 

@@ -3,7 +3,7 @@ use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use talus_ssn::{Rho, Settings};
+use talus_ssn::{Rho, Settings, Stall};
 
 use crate::output::{self, FieldSnapshot, MeshView, OutputError};
 use crate::scene::{RhoScaling, Scene, SceneError, SolverSpec};
@@ -78,11 +78,25 @@ pub(crate) fn progress_bar(steps: usize, progress: bool) -> Option<indicatif::Pr
 
 /// Solver settings of a scene.
 pub fn solver_settings(scene: &Scene) -> Settings {
-    ssn_settings(&scene.spec.solver)
+    ssn_settings(&scene.spec.solver, FEM_STALL_WINDOW)
 }
 
-/// The talus-ssn settings of a `[solver]` section (FEM and MPM scenes alike).
-pub fn ssn_settings(s: &SolverSpec) -> Settings {
+/// `[solver] stall_window` when the scene does not set it. FEM: the attempts that fail at
+/// the footing's mechanism onset stall for 20–40 iterations before `max_iterations`;
+/// stopping them (from iteration 25, after 10 iterations without a halving of the merit)
+/// cuts the Newton iterations of the 104×48 footing's hardest steps (`docs/solver.md`). MPM: the slow but steady first friction
+/// passes are better left to run (the a = 2 column: 92.2 → 102.4 iterations per step with
+/// 10). `docs/solver.md`, "Non-associative Newton at the mechanism's onset".
+pub const FEM_STALL_WINDOW: usize = 10;
+/// The stall rule applies from this iteration on: slow solves that converge within it (up
+/// to 23 iterations on the footing snapshots) keep their step, and so their results.
+pub const STALL_AFTER: usize = 25;
+pub const MPM_STALL_WINDOW: usize = 0;
+
+/// The talus-ssn settings of a `[solver]` section (FEM and MPM scenes alike), with the
+/// method's stall window when the scene sets none.
+pub fn ssn_settings(s: &SolverSpec, default_stall_window: usize) -> Settings {
+    let stall_window = s.stall_window.unwrap_or(default_stall_window);
     Settings {
         tolerance: s.tolerance,
         max_iterations: s.max_iterations,
@@ -99,6 +113,11 @@ pub fn ssn_settings(s: &SolverSpec) -> Settings {
         } else {
             None
         },
+        stall: (stall_window > 0).then_some(Stall {
+            after: STALL_AFTER,
+            window: stall_window,
+            decrease: 0.5,
+        }),
         ..Settings::default()
     }
 }

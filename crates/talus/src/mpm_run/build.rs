@@ -5,7 +5,7 @@ use talus_mpm::{
     Side, Wall, WallCondition,
 };
 
-use crate::run::ssn_settings;
+use crate::run::{ssn_settings, MPM_STALL_WINDOW};
 use crate::scene::{
     check, MpmScene, PredictorSpec, SceneError, ShapeSpec, SideSpec, WallConditionSpec,
 };
@@ -381,7 +381,7 @@ fn settings(scene: &MpmScene) -> Result<MpmSettings, SceneError> {
     }
     Ok(MpmSettings {
         flip_ratio: m.flip_ratio,
-        solver: ssn_settings(&scene.spec.solver),
+        solver: ssn_settings(&scene.spec.solver, MPM_STALL_WINDOW),
         max_step_halvings: scene.spec.solver.max_step_halvings,
         rotate_stress: m.rotate_stress,
         predictor: match m.predictor {

@@ -146,6 +146,10 @@ pub struct SolverSpec {
     pub max_step_halvings: usize,
     /// Armijo backtracking on ‖F‖² (true) or full Newton steps.
     pub line_search: bool,
+    /// A solve whose merit has not halved over this many iterations is stopped as stalled
+    /// and its step halved (from iteration 25); 0: never. Default: 10 for FEM, 0 for MPM
+    /// (`talus::run::FEM_STALL_WINDOW`, `docs/solver.md`).
+    pub stall_window: Option<usize>,
 }
 
 impl Default for SolverSpec {
@@ -157,6 +161,7 @@ impl Default for SolverSpec {
             rho_scaling: RhoScaling::Compliance,
             max_step_halvings: 4,
             line_search: true,
+            stall_window: None,
         }
     }
 }
