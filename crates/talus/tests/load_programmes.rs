@@ -85,9 +85,13 @@ fn gravity_ramp_base_reaction_follows_the_ramp() {
         f0 + (f1 - f0) * ((t - t0) / (t1 - t0)).clamp(0.0, 1.0)
     };
     let h = scene.spec.time.step;
+    let mut elastic_starts = Vec::new();
     for step in 1..=scene.spec.time.steps {
         let before = state.velocity_free.clone();
         let record = stepper.advance(&mut state, h).unwrap();
+        if record.predictors[0] == Predictor::Elastic {
+            elastic_starts.push(step);
+        }
         let t = record.time;
         let inertia: f64 = vertical
             .iter()
@@ -117,6 +121,9 @@ fn gravity_ramp_base_reaction_follows_the_ramp() {
             );
         }
     }
+    // The force rate changes at t = 0, 1 and 1.5 (not at 2: 0.4 is held on both sides):
+    // the steps starting there cannot extrapolate the last rate; all others do.
+    assert_eq!(elastic_starts, vec![1, 21, 31]);
     // held at the last value
     assert!((state.time - 3.0).abs() < 1e-9);
     assert!((stepper.reaction(&state) + 0.4 * weight).abs() <= 1e-6 * weight);
@@ -380,4 +387,50 @@ fn bad_ramps_name_the_field() {
     let text = format!("{good}[[pressure]]\nedges = \"top\"\nvalue = nan\n");
     let err = Model::from_scene(&scene(&text)).err().unwrap();
     assert_eq!(err.field, "pressure[0].value", "{err}");
+}
+
+/// The shipped cavity (`scenes/cavity_pressure.toml`, Gmsh P2, one `[[pressure]]` table on
+/// the curved wall): at multiplier 1 the pressure pushes the quarter wall of radius a = 1 m
+/// out with `p a` in x and in y, and the rising pressure runs to the end (the step where
+/// it stops rising starts from the elastic predictor).
+#[test]
+fn shipped_cavity_scene_loads_its_wall_and_runs() {
+    use talus::run::{run_scene, RunOptions};
+    use talus_fem::Dof;
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cavity_pressure.toml");
+    let scene = Scene::from_path(&path).unwrap_or_else(|e| panic!("{e}"));
+    let model = Model::from_scene(&scene).unwrap_or_else(|e| panic!("{e}"));
+    assert!(model.force_free.iter().all(|f| *f == 0.0));
+    let [pressure] = &model.ramped_forces[..] else {
+        panic!("one ramped load, the pressure");
+    };
+    let dofs = model.assembly.dofs();
+    let mut resultant = [0.0; 2];
+    for n in 0..dofs.n_nodes() {
+        for (c, r) in resultant.iter_mut().enumerate() {
+            *r += match dofs.dof(n, c).unwrap() {
+                Dof::Free(i) => pressure.free[i],
+                Dof::Prescribed(j) => pressure.prescribed[j],
+            };
+        }
+    }
+    let (p, a) = (1.0e5, 1.0);
+    for r in resultant {
+        assert!((r - p * a).abs() <= 1e-12 * p * a, "{resultant:?}");
+    }
+    let out = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("cavity_pressure");
+    let summary = run_scene(
+        &scene,
+        &RunOptions {
+            out_dir: out,
+            progress: false,
+            write_fields: false,
+        },
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(summary.records.len(), scene.spec.time.steps);
+    // step 26 is the first after t = 1 s, where the pressure is held
+    assert_eq!(summary.records[25].predictors[0], Predictor::Elastic);
+    assert!(summary.final_state.plastic_strain.iter().any(|e| *e > 0.0));
 }

@@ -67,13 +67,42 @@ impl Ramp {
     }
 
     /// Whether a segment shorter than `t1 − t0` overlaps the step `(t0, t1]`: the
-    /// multiplier then changes faster than the step resolves, which the stepper treats as
-    /// a jump in the loading (the extrapolated stress rate means nothing across it).
+    /// multiplier then changes faster than the step resolves (for a velocity, a jump).
     pub fn changes_within(&self, t0: f64, t1: f64) -> bool {
         let h = t1 - t0;
         self.points
             .windows(2)
             .any(|s| s[1][0] - s[0][0] < h && s[0][0] < t1 && s[1][0] > t0)
+    }
+
+    /// Whether the slope changes at the start of the step from `t0` to `t1` or inside it
+    /// (a breakpoint in `[t0, t1)`, to `1e-9 h` for the rounding of summed steps): the
+    /// rate of this step differs from the last one's.
+    pub fn slope_changes_from(&self, t0: f64, t1: f64) -> bool {
+        let tol = 1e-9 * (t1 - t0);
+        self.kinks().any(|t| t >= t0 - tol && t < t1 - tol)
+    }
+
+    /// Whether the slope changes strictly inside the step (a breakpoint in `(t0, t1)`, to
+    /// `1e-9 h`): the step's mean rate is then neither side's.
+    pub fn slope_changes_inside(&self, t0: f64, t1: f64) -> bool {
+        let tol = 1e-9 * (t1 - t0);
+        self.kinks().any(|t| t > t0 + tol && t < t1 - tol)
+    }
+
+    /// The times where the slope changes (held values outside have slope 0).
+    fn kinks(&self) -> impl Iterator<Item = f64> + '_ {
+        let p = &self.points;
+        let slope = |k: usize| {
+            if k == 0 || k == p.len() {
+                0.0
+            } else {
+                (p[k][1] - p[k - 1][1]) / (p[k][0] - p[k - 1][0])
+            }
+        };
+        (0..p.len())
+            .filter(move |&k| slope(k) != slope(k + 1))
+            .map(move |k| p[k][0])
     }
 }
 
@@ -109,6 +138,25 @@ mod tests {
         assert!(!r.changes_within(1.01, 1.02));
         // a segment as long as the step is resolved
         assert!(!r.changes_within(0.0, 1.0));
+    }
+
+    #[test]
+    fn slope_changes_at_breakpoints_only() {
+        // kinks at 0 (0 → 1), 1 (1 → 0); 2 is collinear (0 → 0), 3 (0 → −1), 4 (−1 → 0)
+        let r =
+            Ramp::try_new(&[[0.0, 0.0], [1.0, 1.0], [2.0, 1.0], [3.0, 1.0], [4.0, 0.0]]).unwrap();
+        let kinks: Vec<f64> = r.kinks().collect();
+        assert_eq!(kinks, vec![0.0, 1.0, 3.0, 4.0]);
+        assert!(r.slope_changes_from(1.0, 1.1) && !r.slope_changes_inside(1.0, 1.1));
+        assert!(r.slope_changes_from(1.0 + 1e-15, 1.1));
+        assert!(!r.slope_changes_from(0.9, 1.0 - 1e-15));
+        assert!(r.slope_changes_inside(0.95, 1.05));
+        assert!(!r.slope_changes_from(1.5, 2.5) && !r.slope_changes_inside(1.5, 2.5));
+        assert!(Ramp::try_new(&[[2.0, 3.0]])
+            .unwrap()
+            .kinks()
+            .next()
+            .is_none());
     }
 
     #[test]

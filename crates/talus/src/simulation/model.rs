@@ -245,14 +245,30 @@ impl Model {
         loads
     }
 
-    /// Whether a load changes faster than a step from `t0` to `t1` resolves (a ramp segment
-    /// shorter than the step overlaps it): a jump in the loading (`Ramp::changes_within`).
-    pub fn loading_changes_within(&self, t0: f64, t1: f64) -> bool {
+    /// Whether the loading rate of the step from `t0` to `t1` differs from the last step's,
+    /// so that the last stress rate does not predict this step: a force ramp's slope
+    /// changes at the step's start or inside it, or a velocity ramp changes faster than the
+    /// step resolves (a velocity is continuous across a kink: stress rates follow it).
+    pub fn loading_rate_changes_from(&self, t0: f64, t1: f64) -> bool {
         self.ramped_forces
             .iter()
-            .map(|r| &r.ramp)
-            .chain(self.velocity_ramps.iter().map(|(r, _)| r))
-            .any(|r| r.changes_within(t0, t1))
+            .any(|r| r.ramp.slope_changes_from(t0, t1))
+            || self
+                .velocity_ramps
+                .iter()
+                .any(|(r, _)| r.changes_within(t0, t1))
+    }
+
+    /// Whether the loading rate changes inside the step from `t0` to `t1`, so that its
+    /// stress rate will not predict the next step.
+    pub fn loading_rate_changes_inside(&self, t0: f64, t1: f64) -> bool {
+        self.ramped_forces
+            .iter()
+            .any(|r| r.ramp.slope_changes_inside(t0, t1))
+            || self
+                .velocity_ramps
+                .iter()
+                .any(|(r, _)| r.changes_within(t0, t1))
     }
 
     /// `q` of eq. 16 for the step of length `h` after `state`:

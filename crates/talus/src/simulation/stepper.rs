@@ -239,11 +239,13 @@ impl<'m> Stepper<'m> {
         // then predicted to second order); otherwise, out of rest or right after a jump in
         // the prescribed velocity, the elastic predictor (one elastic solve). A jump: the
         // velocity applied over the last step is not the programme's at the step's start
-        // (the start from rest; with constant loads, the only jump), or a load changes
-        // faster than the step resolves. A ramp followed over several steps is smooth.
-        let loading_jumps = state.velocity_prescribed
-            != model.loads_at(state.time).prescribed_velocity
-            || model.loading_changes_within(state.time, state.time + h);
+        // (the start from rest; with constant loads, the only jump), or the loading rate
+        // changes (`Model::loading_rate_changes_from`, `docs/scenes.md`, 'Load
+        // programmes'). This step's rate predicts the next unless it changes inside.
+        let (t0, t1) = (state.time, state.time + h);
+        let velocity_jumps = state.velocity_prescribed != model.loads_at(t0).prescribed_velocity;
+        let loading_jumps = velocity_jumps || model.loading_rate_changes_from(t0, t1);
+        let smooth_within = !velocity_jumps && !model.loading_rate_changes_inside(t0, t1);
         let mut sigma = state.sigma.clone();
         let rate = if loading_jumps {
             None
@@ -317,7 +319,7 @@ impl<'m> Stepper<'m> {
             }
         }
         // A rate is worth extrapolating only if this step's loading was smooth.
-        self.stress_rate = (!loading_jumps).then(|| {
+        self.stress_rate = smooth_within.then(|| {
             sigma
                 .iter()
                 .zip(&state.sigma)
