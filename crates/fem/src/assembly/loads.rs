@@ -53,6 +53,45 @@ impl Assembly {
         t: [f64; 2],
     ) -> Result<(Vec<f64>, Vec<f64>), FemError> {
         check_vector("traction", t)?;
+        self.edge_integral(mesh, edges, |w, n, tangent| {
+            let ds = tangent[0].hypot(tangent[1]);
+            [w * ds * n * t[0], w * ds * n * t[1]]
+        })
+    }
+
+    /// Normal pressure `f_a = −p ∫ N_a n ds` over `edges`, `p` in Pa, positive pushing
+    /// into the body (`n` the outward normal). Each edge is first oriented by its triangle
+    /// ([`Mesh::orient_boundary_edges`]), so one call covers a whole curved boundary drawn
+    /// in any direction. With `x(s)` the edge's isoparametric map, `n ds = (y′, −x′) ds`
+    /// at each quadrature point: the integrand `N_a x′` has degree ≤ 3, so the 3-point rule
+    /// is exact on straight and curved (P2) edges alike, and the forces of an edge from `a`
+    /// to `b` sum to `p` times `b − a` turned counter-clockwise, whatever its shape.
+    pub fn pressure(
+        &self,
+        mesh: &Mesh,
+        edges: &[BoundaryEdge],
+        p: f64,
+    ) -> Result<(Vec<f64>, Vec<f64>), FemError> {
+        if !p.is_finite() {
+            return Err(FemError::invalid(
+                "pressure",
+                format!("{p} Pa must be finite"),
+            ));
+        }
+        let oriented = mesh.orient_boundary_edges(edges)?;
+        self.edge_integral(mesh, &oriented, |w, n, tangent| {
+            [-w * n * p * tangent[1], w * n * p * tangent[0]]
+        })
+    }
+
+    /// `Σ_edges Σ_gauss load(w, N_a, x′(s))` added to every node `a` of each edge, after
+    /// checking the edges' node counts against the mesh.
+    fn edge_integral(
+        &self,
+        mesh: &Mesh,
+        edges: &[BoundaryEdge],
+        load: impl Fn(f64, f64, [f64; 2]) -> [f64; 2],
+    ) -> Result<(Vec<f64>, Vec<f64>), FemError> {
         if mesh.nodes.len() != self.dofs.n_nodes() {
             return Err(FemError::invalid(
                 "mesh",
@@ -84,10 +123,10 @@ impl Assembly {
                     tangent[0] += dn[a] * mesh.nodes[node][0];
                     tangent[1] += dn[a] * mesh.nodes[node][1];
                 }
-                let ds = tangent[0].hypot(tangent[1]);
                 for (a, &node) in edge.nodes.iter().enumerate() {
-                    for (comp, tc) in t.iter().enumerate() {
-                        self.add_force(&mut out, node, comp, w * ds * n[a] * tc);
+                    let f = load(*w, n[a], tangent);
+                    for (comp, fc) in f.into_iter().enumerate() {
+                        self.add_force(&mut out, node, comp, fc);
                     }
                 }
             }

@@ -35,6 +35,75 @@ impl Mesh {
         edges
     }
 
+    /// `edges` each oriented as in the one triangle it belongs to, so that it runs
+    /// counter-clockwise around the domain and its outward normal is its tangent turned
+    /// clockwise. Gmsh line elements keep the direction they were drawn in; a normal load
+    /// needs this orientation. Errors name an edge that is not a side of exactly one
+    /// triangle (an interior edge has no outside), or a P2 edge whose mid node is not that
+    /// side's mid node.
+    pub fn orient_boundary_edges(
+        &self,
+        edges: &[BoundaryEdge],
+    ) -> Result<Vec<BoundaryEdge>, MeshError> {
+        // key: sorted end points; value: (triangles, oriented side)
+        let mut sides: BTreeMap<(usize, usize), (usize, Vec<usize>)> = BTreeMap::new();
+        for tri in self.triangles.iter().filter(|t| t.len() >= 3) {
+            for (k, (i, j)) in [(0, 1), (1, 2), (2, 0)].into_iter().enumerate() {
+                let (a, b) = (tri[i], tri[j]);
+                let mut nodes = vec![a, b];
+                if let Some(&mid) = tri.get(3 + k) {
+                    nodes.push(mid);
+                }
+                sides.entry((a.min(b), a.max(b))).or_insert((0, nodes)).0 += 1;
+            }
+        }
+        let describe = |e: &BoundaryEdge| {
+            let at = |n: usize| self.nodes.get(n).copied().unwrap_or([f64::NAN; 2]);
+            let (a, b) = (at(e.nodes[0]), at(e.nodes[1]));
+            format!(
+                "edge {:?}, ({:.4}, {:.4})–({:.4}, {:.4}),",
+                e.nodes, a[0], a[1], b[0], b[1]
+            )
+        };
+        edges
+            .iter()
+            .map(|e| {
+                if e.nodes.len() < 2 {
+                    return Err(MeshError::invalid(
+                        "edges",
+                        format!("edge {:?} has fewer than 2 nodes", e.nodes),
+                    ));
+                }
+                let (a, b) = (e.nodes[0], e.nodes[1]);
+                match sides.get(&(a.min(b), a.max(b))) {
+                    Some((1, side)) if side.len() == e.nodes.len() && side[2..] == e.nodes[2..] => {
+                        Ok(BoundaryEdge {
+                            nodes: side.clone(),
+                        })
+                    }
+                    Some((1, _)) => Err(MeshError::invalid(
+                        "edges",
+                        format!(
+                            "{} does not have the nodes of its triangle's side",
+                            describe(e)
+                        ),
+                    )),
+                    Some((n, _)) => Err(MeshError::invalid(
+                        "edges",
+                        format!(
+                            "{} is shared by {n} triangles: it is not on the boundary",
+                            describe(e)
+                        ),
+                    )),
+                    None => Err(MeshError::invalid(
+                        "edges",
+                        format!("{} is the side of no triangle", describe(e)),
+                    )),
+                }
+            })
+            .collect()
+    }
+
     /// Indices (sorted) of the nodes inside the closed box `[min, max]`, widened by
     /// `1e-9 ×` the mesh's bounding-box size so that nodes on the box's faces are kept
     /// despite rounding. Errors on a non-finite or inverted box, or an empty selection.

@@ -3,7 +3,7 @@
 use talus_bipotential::{DruckerPrager, DruckerPragerParameters, MaterialError};
 
 use super::source::Locate;
-use super::{MaterialSpec, SceneError, SolverSpec, TimeSpec};
+use super::{MaterialSpec, Ramp, SceneError, SolverSpec, TimeSpec};
 
 /// The Drucker-Prager material of `[material]` (density is checked by its user).
 pub fn material(scene: &impl Locate, m: &MaterialSpec) -> Result<DruckerPrager, SceneError> {
@@ -51,4 +51,16 @@ pub fn solver(scene: &impl Locate, sv: &SolverSpec) -> Result<(), SceneError> {
         return Err(scene.error("solver.max_iterations", "must be at least 1"));
     }
     Ok(())
+}
+
+/// The load programme `ramp` of `field` (`traction[1].ramp`, `gravity_ramp`), if given.
+pub fn ramp(
+    scene: &impl Locate,
+    field: &str,
+    points: &Option<Vec<[f64; 2]>>,
+) -> Result<Option<Ramp>, SceneError> {
+    points
+        .as_deref()
+        .map(|p| Ramp::try_new(p).map_err(|e| scene.error(field, e.to_string())))
+        .transpose()
 }

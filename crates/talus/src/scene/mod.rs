@@ -9,6 +9,7 @@ mod file;
 mod load;
 mod mpm_load;
 mod mpm_types;
+mod ramp;
 mod source;
 mod types;
 
@@ -17,5 +18,6 @@ pub use file::SceneFile;
 pub use load::{builtin_footing, builtin_footing_with_cells, Scene};
 pub use mpm_load::MpmScene;
 pub use mpm_types::*;
+pub use ramp::{Ramp, RampError};
 pub use source::{Locate, SceneDocument};
 pub use types::*;

@@ -13,10 +13,15 @@ pub struct SceneSpec {
     /// Body acceleration (m/s²), e.g. `[0.0, -9.81]`; absent means weightless.
     #[serde(default)]
     pub gravity: Option<[f64; 2]>,
+    /// Multiplier of `gravity` in time (see [`Ramp`](super::Ramp)); default constant 1.
+    #[serde(default)]
+    pub gravity_ramp: Option<Vec<[f64; 2]>>,
     #[serde(default)]
     pub boundary: Vec<BoundarySpec>,
     #[serde(default)]
     pub traction: Vec<TractionSpec>,
+    #[serde(default)]
+    pub pressure: Vec<PressureSpec>,
     pub time: TimeSpec,
     /// Initial stress (default: stress free).
     #[serde(default)]
@@ -99,6 +104,9 @@ pub struct BoundarySpec {
     pub fix: Fix,
     #[serde(default)]
     pub velocity: [f64; 2],
+    /// Multiplier of `velocity` in time; default constant 1.
+    #[serde(default)]
+    pub ramp: Option<Vec<[f64; 2]>>,
 }
 
 /// Surface traction (Pa) on the boundary edges selected.
@@ -107,6 +115,21 @@ pub struct BoundarySpec {
 pub struct TractionSpec {
     pub edges: Selection,
     pub value: [f64; 2],
+    /// Multiplier of `value` in time; default constant 1.
+    #[serde(default)]
+    pub ramp: Option<Vec<[f64; 2]>>,
+}
+
+/// Normal pressure (Pa, positive pushing into the body) on the boundary edges selected,
+/// straight or curved; each edge's outward normal comes from its triangle.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PressureSpec {
+    pub edges: Selection,
+    pub value: f64,
+    /// Multiplier of `value` in time; default constant 1.
+    #[serde(default)]
+    pub ramp: Option<Vec<[f64; 2]>>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]

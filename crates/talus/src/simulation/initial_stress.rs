@@ -10,7 +10,11 @@ pub fn k0_stress(
     model: &Model,
     spec: &InitialStressSpec,
 ) -> Result<Vec<f64>, SceneError> {
-    let gamma = scene.spec.material.density * scene.spec.gravity.map(|g| -g[1]).unwrap_or(0.0);
+    // In equilibrium with the gravity of the start, t = 0 (`gravity_ramp` scales it).
+    let ramp = crate::scene::check::ramp(scene, "gravity_ramp", &scene.spec.gravity_ramp)?;
+    let g = scene.spec.gravity.map(|g| -g[1]).unwrap_or(0.0);
+    let g = ramp.map_or(g, |r| g * r.at(0.0));
+    let gamma = scene.spec.material.density * g;
     let sigma = k0_stress_at(
         scene,
         &model.material,

@@ -6,6 +6,6 @@ mod state;
 mod stepper;
 
 pub use initial_stress::{k0_bounds, k0_bounds_without_cohesion, k0_stress, k0_stress_at};
-pub use model::Model;
+pub use model::{Loads, Model, RampedForce};
 pub use state::State;
 pub use stepper::{Predictor, StepError, StepRecord, Stepper};

@@ -6,7 +6,23 @@ use talus_ssn::{Operator, ReducedSystem, SolveError, Structured};
 
 use super::State;
 
-use crate::scene::{check, Fix, MeshSpec, Order, Scene, SceneError, Selection};
+use crate::scene::{check, Fix, MeshSpec, Order, Ramp, Scene, SceneError, Selection};
+
+/// A load that follows a ramp: its nodal forces at multiplier 1 (N/m).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RampedForce {
+    pub ramp: Ramp,
+    pub free: Vec<f64>,
+    pub prescribed: Vec<f64>,
+}
+
+/// The loading of one instant: forces (N/m) and prescribed velocities (m/s).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Loads {
+    pub force_free: Vec<f64>,
+    pub force_prescribed: Vec<f64>,
+    pub prescribed_velocity: Vec<f64>,
+}
 
 /// Everything fixed during a run: mesh, operators, material, loads, prescribed motion.
 pub struct Model {
@@ -16,11 +32,16 @@ pub struct Model {
     pub flow_rule: FlowRule<4>,
     /// Elastic compliance `S₀` (1/Pa, Mandel).
     pub compliance: SMatrix<f64, 4, 4>,
-    /// Constant external forces (gravity + tractions), N/m, on free and prescribed dofs.
+    /// External forces without a ramp (gravity, tractions, pressures), N/m, on free and
+    /// prescribed dofs: the whole load of a scene without load programmes.
     pub force_free: Vec<f64>,
     pub force_prescribed: Vec<f64>,
-    /// Velocity of every prescribed dof (m/s).
+    /// Forces following a ramp, at multiplier 1: `f(t) = force + Σ_k ramp_k(t) f_k`.
+    pub ramped_forces: Vec<RampedForce>,
+    /// Velocity of every prescribed dof at multiplier 1 (m/s).
     pub prescribed_velocity: Vec<f64>,
+    /// The prescribed dofs whose velocity follows a ramp, per ramp.
+    pub velocity_ramps: Vec<(Ramp, Vec<usize>)>,
     /// Prescribed dofs of the boundary whose reaction is reported, with their component.
     pub reaction_dofs: Vec<(usize, usize)>,
 }
@@ -33,6 +54,7 @@ impl Model {
         let material = check::material(scene, m)?;
 
         let mut constraints = Vec::new();
+        let mut boundary_ramps = Vec::new();
         for (k, b) in spec.boundary.iter().enumerate() {
             let nodes = select_nodes(scene, &mesh, &b.nodes, &format!("boundary[{k}].nodes"))?;
             let c = match b.fix {
@@ -43,6 +65,7 @@ impl Model {
             if !b.velocity.iter().all(|v| v.is_finite()) {
                 return Err(scene.error(&format!("boundary[{k}].velocity"), "must be finite"));
             }
+            boundary_ramps.push(check::ramp(scene, &format!("boundary[{k}].ramp"), &b.ramp)?);
             constraints.push((nodes, c));
         }
         let dofs = DofMap::new(mesh.nodes.len(), &constraints)
@@ -55,14 +78,16 @@ impl Model {
 
         // Prescribed velocities: later conditions win where sets overlap.
         let mut prescribed_velocity = vec![0.0; dofs.n_prescribed()];
+        let mut owner = vec![0; dofs.n_prescribed()];
         let mut reaction_dofs = Vec::new();
-        for (b, (nodes, _)) in spec.boundary.iter().zip(&constraints) {
+        for (k, (b, (nodes, _))) in spec.boundary.iter().zip(&constraints).enumerate() {
             let is_reaction = b.name.is_some() && b.name == spec.output.reaction;
             for &n in nodes {
                 for comp in 0..2 {
                     let fixed = matches!((b.fix, comp), (Fix::Xy, _) | (Fix::X, 0) | (Fix::Y, 1));
                     if let (true, Some(j)) = (fixed, dofs.prescribed(n, comp)) {
                         prescribed_velocity[j] = b.velocity[comp];
+                        owner[j] = k;
                         if is_reaction && !reaction_dofs.contains(&(j, comp)) {
                             reaction_dofs.push((j, comp));
                         }
@@ -70,6 +95,15 @@ impl Model {
                 }
             }
         }
+        // A dof follows the ramp of the condition that set its velocity.
+        let velocity_ramps: Vec<(Ramp, Vec<usize>)> = boundary_ramps
+            .into_iter()
+            .enumerate()
+            .filter_map(|(k, ramp)| {
+                let dofs: Vec<usize> = (0..owner.len()).filter(|&j| owner[j] == k).collect();
+                ramp.filter(|_| !dofs.is_empty()).map(|r| (r, dofs))
+            })
+            .collect();
         if let Some(name) = &spec.output.reaction {
             if reaction_dofs.is_empty() {
                 return Err(scene.error(
@@ -81,21 +115,61 @@ impl Model {
 
         let mut force_free = vec![0.0; dofs.n_free()];
         let mut force_prescribed = vec![0.0; dofs.n_prescribed()];
-        if let Some(g) = spec.gravity {
-            let (ff, fp) = assembly
-                .body_force(m.density, g)
-                .map_err(|e| scene.error("gravity", e.to_string()))?;
-            add(&mut force_free, &ff);
-            add(&mut force_prescribed, &fp);
+        let mut ramped_forces = Vec::new();
+        // A load without a ramp goes into the constant forces, in the order of the scene,
+        // as it always did; a ramped one is kept apart at multiplier 1.
+        let mut add_load = |(free, prescribed): (Vec<f64>, Vec<f64>), ramp: Option<Ramp>| match ramp
+        {
+            None => {
+                add(&mut force_free, &free);
+                add(&mut force_prescribed, &prescribed);
+            }
+            Some(ramp) => ramped_forces.push(RampedForce {
+                ramp,
+                free,
+                prescribed,
+            }),
+        };
+        let gravity_ramp = check::ramp(scene, "gravity_ramp", &spec.gravity_ramp)?;
+        match spec.gravity {
+            Some(g) => add_load(
+                assembly
+                    .body_force(m.density, g)
+                    .map_err(|e| scene.error("gravity", e.to_string()))?,
+                gravity_ramp,
+            ),
+            None if gravity_ramp.is_some() => {
+                return Err(scene.error("gravity_ramp", "multiplies `gravity`, which is not given"))
+            }
+            None => {}
         }
         for (k, t) in spec.traction.iter().enumerate() {
             let field = format!("traction[{k}].edges");
             let edges = select_edges(scene, &mesh, &t.edges, &field)?;
-            let (ff, fp) = assembly
-                .traction(&mesh, &edges, t.value)
-                .map_err(|e| scene.error(&format!("traction[{k}].value"), e.to_string()))?;
-            add(&mut force_free, &ff);
-            add(&mut force_prescribed, &fp);
+            let ramp = check::ramp(scene, &format!("traction[{k}].ramp"), &t.ramp)?;
+            add_load(
+                assembly
+                    .traction(&mesh, &edges, t.value)
+                    .map_err(|e| scene.error(&format!("traction[{k}].value"), e.to_string()))?,
+                ramp,
+            );
+        }
+        for (k, p) in spec.pressure.iter().enumerate() {
+            let field = format!("pressure[{k}].edges");
+            let edges = select_edges(scene, &mesh, &p.edges, &field)?;
+            let ramp = check::ramp(scene, &format!("pressure[{k}].ramp"), &p.ramp)?;
+            if !p.value.is_finite() {
+                return Err(scene.error(
+                    &format!("pressure[{k}].value"),
+                    format!("{} Pa must be finite", p.value),
+                ));
+            }
+            add_load(
+                assembly
+                    .pressure(&mesh, &edges, p.value)
+                    .map_err(|e| scene.error(&field, e.to_string()))?,
+                ramp,
+            );
         }
         check::time(scene, &spec.time)?;
         check::solver(scene, &spec.solver)?;
@@ -107,7 +181,9 @@ impl Model {
             assembly,
             force_free,
             force_prescribed,
+            ramped_forces,
             prescribed_velocity,
+            velocity_ramps,
             reaction_dofs,
         })
     }
@@ -147,10 +223,64 @@ impl Model {
         ReducedSystem::try_new(operator, vec![0.0; 4 * asm.n_points()], rules)
     }
 
+    /// The forces and prescribed velocities at time `t` (s): each ramp's multiplier times
+    /// its load, plus the loads without a ramp. Without ramps, the constant vectors.
+    pub fn loads_at(&self, t: f64) -> Loads {
+        let mut loads = Loads {
+            force_free: self.force_free.clone(),
+            force_prescribed: self.force_prescribed.clone(),
+            prescribed_velocity: self.prescribed_velocity.clone(),
+        };
+        for r in &self.ramped_forces {
+            let f = r.ramp.at(t);
+            add_scaled(&mut loads.force_free, f, &r.free);
+            add_scaled(&mut loads.force_prescribed, f, &r.prescribed);
+        }
+        for (ramp, dofs) in &self.velocity_ramps {
+            let f = ramp.at(t);
+            for &j in dofs {
+                loads.prescribed_velocity[j] *= f;
+            }
+        }
+        loads
+    }
+
+    /// Whether the loading rate of the step from `t0` to `t1` differs from the last step's,
+    /// so that the last stress rate does not predict this step: a force ramp's slope
+    /// changes at the step's start or inside it, or a velocity ramp changes faster than the
+    /// step resolves (a velocity is continuous across a kink: stress rates follow it).
+    pub fn loading_rate_changes_from(&self, t0: f64, t1: f64) -> bool {
+        self.ramped_forces
+            .iter()
+            .any(|r| r.ramp.slope_changes_from(t0, t1))
+            || self
+                .velocity_ramps
+                .iter()
+                .any(|(r, _)| r.changes_within(t0, t1))
+    }
+
+    /// Whether the loading rate changes inside the step from `t0` to `t1`, so that its
+    /// stress rate will not predict the next step.
+    pub fn loading_rate_changes_inside(&self, t0: f64, t1: f64) -> bool {
+        self.ramped_forces
+            .iter()
+            .any(|r| r.ramp.slope_changes_inside(t0, t1))
+            || self
+                .velocity_ramps
+                .iter()
+                .any(|(r, _)| r.changes_within(t0, t1))
+    }
+
     /// `q` of eq. 16 for the step of length `h` after `state`:
     /// `q = −(S σₙ + h B vₙ + h² B M⁻¹ f + h B_D v_D)` (`docs/derivations.md`, 'The reduced
-    /// system': `B v` is the strain rate; prescribed velocities enter through `B_D`).
+    /// system': `B v` is the strain rate; prescribed velocities enter through `B_D`), with
+    /// `f` and `v_D` those of the end of the step, `tₙ + h` (implicit).
     pub fn reduced_rhs(&self, state: &State, h: f64) -> Vec<f64> {
+        self.reduced_rhs_with(state, h, &self.loads_at(state.time + h))
+    }
+
+    /// [`reduced_rhs`](Self::reduced_rhs) with the step's loads already evaluated.
+    pub fn reduced_rhs_with(&self, state: &State, h: f64, loads: &Loads) -> Vec<f64> {
         let asm = &self.assembly;
         let mut q = vec![0.0; 4 * asm.n_points()];
         for (p, v) in asm.gauss_volumes.iter().enumerate() {
@@ -164,12 +294,12 @@ impl Model {
         let drive: Vec<f64> = state
             .velocity_free
             .iter()
-            .zip(&self.force_free)
+            .zip(&loads.force_free)
             .zip(&asm.lumped_mass_free)
             .map(|((v, f), m)| -(h * v + h * h * f / m))
             .collect();
         add_mul(&asm.b_free, &drive, &mut q);
-        let prescribed: Vec<f64> = self.prescribed_velocity.iter().map(|v| -h * v).collect();
+        let prescribed: Vec<f64> = loads.prescribed_velocity.iter().map(|v| -h * v).collect();
         add_mul(&asm.b_prescribed, &prescribed, &mut q);
         q
     }
@@ -178,6 +308,12 @@ impl Model {
 fn add(into: &mut [f64], from: &[f64]) {
     for (a, b) in into.iter_mut().zip(from) {
         *a += b;
+    }
+}
+
+fn add_scaled(into: &mut [f64], factor: f64, from: &[f64]) {
+    for (a, b) in into.iter_mut().zip(from) {
+        *a += factor * b;
     }
 }
 

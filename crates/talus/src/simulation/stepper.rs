@@ -101,16 +101,17 @@ impl<'m> Stepper<'m> {
     }
 
     /// The reaction of the reported boundary in a state at rest (`M a = 0`): `Bᵀσ − f` on
-    /// its vertical prescribed dofs, positive downward (N/m).
+    /// its vertical prescribed dofs, positive downward (N/m), `f` at the state's time.
     pub fn reaction(&self, state: &State) -> f64 {
         let asm = &self.model.assembly;
         let mut internal = vec![0.0; asm.lumped_mass_prescribed.len()];
         add_mul_transpose(&asm.b_prescribed, &state.sigma, &mut internal);
+        let force_prescribed = self.model.loads_at(state.time).force_prescribed;
         self.model
             .reaction_dofs
             .iter()
             .filter(|(_, comp)| *comp == 1)
-            .map(|&(j, _)| -(internal[j] - self.model.force_prescribed[j]))
+            .map(|&(j, _)| -(internal[j] - force_prescribed[j]))
             .sum()
     }
 
@@ -220,7 +221,7 @@ impl<'m> Stepper<'m> {
 
     /// Eqs. 15–16: `h z = Wσ + q` with `q = −(S σ_n + h B v_n + h² B M⁻¹ f + h B_D v_D)`
     /// (`docs/derivations.md`, 'The reduced system': `B v` is the strain rate; prescribed
-    /// velocities enter through `B_D`).
+    /// velocities enter through `B_D`), `f` and `v_D` taken at the end of the sub-step.
     /// Returns the report, the reaction force and where the iteration started.
     fn substep(
         &mut self,
@@ -229,14 +230,22 @@ impl<'m> Stepper<'m> {
     ) -> Result<(Report, f64, Predictor), SolveError> {
         let model = self.model;
         let asm = &model.assembly;
-        let q = model.reduced_rhs(state, h);
+        let loads = model.loads_at(state.time + h);
+        let q = model.reduced_rhs_with(state, h, &loads);
 
         let solver = self.solver(h)?;
         solver.set_q(q)?;
         // Starting point: σₙ + h σ̇ when the last step's loading was smooth (steady flow is
         // then predicted to second order); otherwise, out of rest or right after a jump in
-        // the prescribed velocity, the elastic predictor (one elastic solve).
-        let loading_jumps = state.velocity_prescribed != model.prescribed_velocity;
+        // the prescribed velocity, the elastic predictor (one elastic solve). A jump: the
+        // velocity applied over the last step is not the programme's at the step's start
+        // (the start from rest; with constant loads, the only jump), or the loading rate
+        // changes (`Model::loading_rate_changes_from`, `docs/scenes.md`, 'Load
+        // programmes'). This step's rate predicts the next unless it changes inside.
+        let (t0, t1) = (state.time, state.time + h);
+        let velocity_jumps = state.velocity_prescribed != model.loads_at(t0).prescribed_velocity;
+        let loading_jumps = velocity_jumps || model.loading_rate_changes_from(t0, t1);
+        let smooth_within = !velocity_jumps && !model.loading_rate_changes_inside(t0, t1);
         let mut sigma = state.sigma.clone();
         let rate = if loading_jumps {
             None
@@ -285,21 +294,21 @@ impl<'m> Stepper<'m> {
         add_mul_transpose(&asm.b_free, &sigma, &mut internal_free);
         add_mul_transpose(&asm.b_prescribed, &sigma, &mut internal_prescribed);
         for (j, v) in state.velocity_free.iter_mut().enumerate() {
-            *v += h * (model.force_free[j] - internal_free[j]) / asm.lumped_mass_free[j];
+            *v += h * (loads.force_free[j] - internal_free[j]) / asm.lumped_mass_free[j];
         }
         // The force the boundary applies: M a + Bᵀσ − f on its prescribed dofs.
         let mut reaction = 0.0;
         for &(j, comp) in &model.reaction_dofs {
             if comp == 1 {
                 let inertia = asm.lumped_mass_prescribed[j]
-                    * (model.prescribed_velocity[j] - state.velocity_prescribed[j])
+                    * (loads.prescribed_velocity[j] - state.velocity_prescribed[j])
                     / h;
-                reaction -= inertia + internal_prescribed[j] - model.force_prescribed[j];
+                reaction -= inertia + internal_prescribed[j] - loads.force_prescribed[j];
             }
         }
         state
             .velocity_prescribed
-            .copy_from_slice(&model.prescribed_velocity);
+            .copy_from_slice(&loads.prescribed_velocity);
         if let Ok(v) = asm
             .dofs()
             .scatter(&state.velocity_free, &state.velocity_prescribed)
@@ -310,7 +319,7 @@ impl<'m> Stepper<'m> {
             }
         }
         // A rate is worth extrapolating only if this step's loading was smooth.
-        self.stress_rate = (!loading_jumps).then(|| {
+        self.stress_rate = smooth_within.then(|| {
             sigma
                 .iter()
                 .zip(&state.sigma)
