@@ -172,7 +172,7 @@ impl DruckerPrager {
             return None;
         }
         if self.is_von_mises() {
-            return (tr.abs() <= TOL * rate_scale).then(|| self.k_d * c * dev_norm);
+            return (tr.abs() <= TOL * rate_scale).then_some(self.k_d * c * dev_norm);
         }
         let (tan_phi, tan_theta) = (self.phi.tan(), self.theta.tan());
         if tr < self.k_d * tan_theta * dev_norm - TOL * rate_scale {

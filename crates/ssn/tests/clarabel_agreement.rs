@@ -144,10 +144,10 @@ fn ssn_matches_clarabel_and_satisfies_kkt() {
     // magnitude of the terms summed into z_k: the scale rounding and residuals act on
     let mut zmag: Vec<f64> = p.q.iter().map(|v| v.abs()).collect();
     for i in 0..n {
-        for j in 0..n {
+        for (j, sj) in sigma.iter().enumerate().take(n) {
             let w = p.matrix_entry(i, j);
-            z[i] += w * sigma[j];
-            zmag[i] += (w * sigma[j]).abs();
+            z[i] += w * sj;
+            zmag[i] += (w * sj).abs();
         }
     }
     let s_sigma = inf_norm(&sigma);

@@ -35,9 +35,9 @@ fn laplacian(nx: usize, ny: usize, shift: f64, lower: bool) -> SparseColMat<usiz
 
 fn residual(a: &SparseColMat<usize, f64>, x: &[f64], b: &[f64]) -> f64 {
     let mut r = b.to_vec();
-    for j in 0..a.ncols() {
+    for (j, xj) in x.iter().enumerate().take(a.ncols()) {
         for (i, v) in a.row_idx_of_col(j).zip(a.val_of_col(j)) {
-            r[i] -= v * x[j];
+            r[i] -= v * xj;
         }
     }
     r.iter().fold(0.0f64, |m, v| m.max(v.abs()))

@@ -256,8 +256,8 @@ fn element_fields(model: &Model, state: &State) -> (Vec<[f64; 4]>, Vec<f64>) {
     let mut plastic = vec![0.0; n_el];
     let mut count = vec![0usize; n_el];
     for (p, &e) in model.assembly.gauss_element.iter().enumerate() {
-        for k in 0..4 {
-            stress[e][k] += state.sigma[4 * p + k];
+        for (s, v) in stress[e].iter_mut().zip(&state.sigma[4 * p..4 * p + 4]) {
+            *s += v;
         }
         plastic[e] += state.plastic_strain[p];
         count[e] += 1;

@@ -102,8 +102,7 @@ fn run_reports_a_non_convergent_step_and_keeps_the_history() {
             write_fields: false,
         },
     )
-    .err()
-    .expect("the run must stop");
+    .expect_err("the run must stop");
     let msg = err.to_string();
     assert!(
         msg.contains("step 1") && msg.contains("did not converge"),
