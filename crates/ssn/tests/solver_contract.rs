@@ -17,6 +17,17 @@ fn footing_100() -> ReducedSystem<3> {
     reduced_system_from_siconos::<3>(&SiconosProblem::from_path(&path).unwrap()).unwrap()
 }
 
+fn with_stall(after: usize, window: usize, decrease: f64) -> Settings {
+    Settings {
+        stall: Some(Stall {
+            after,
+            window,
+            decrease,
+        }),
+        ..Settings::default()
+    }
+}
+
 fn field_of(e: SolveError) -> &'static str {
     match e {
         SolveError::InvalidInput { field, .. } => field,
@@ -49,21 +60,16 @@ fn non_convergence_is_an_error_with_its_report() {
 #[test]
 fn a_stalled_solve_ends_early_with_its_own_status() {
     // No Newton step of footing_100 lowers the merit by a factor 1e12: a window of one
-    // iteration with that decrease stalls after the first step, while a window longer
-    // than the solve lets it converge (`Stall`, docs/solver.md).
-    let stalling = Settings {
-        stall: Some(Stall {
-            after: 0,
-            window: 1,
-            decrease: 1e-12,
-        }),
-        ..Settings::default()
+    // iteration with that decrease stalls after the first step, while the same rule from
+    // iteration 100 on, or a window longer than the solve, lets it converge (`Stall`,
+    // docs/solver.md).
+    let solve = |settings: Settings| {
+        let mut sigma = vec![0.0; 300];
+        Solver::new(footing_100(), settings)
+            .unwrap()
+            .solve(&mut sigma)
     };
-    let mut sigma = vec![0.0; 300];
-    match Solver::new(footing_100(), stalling)
-        .unwrap()
-        .solve(&mut sigma)
-    {
+    match solve(with_stall(0, 1, 1e-12)) {
         Err(SolveError::NotConverged(report)) => {
             assert_eq!(report.status, Status::Stalled);
             assert_eq!(report.iterations, 1);
@@ -72,62 +78,16 @@ fn a_stalled_solve_ends_early_with_its_own_status() {
         }
         other => panic!("expected a stalled solve, got {other:?}"),
     }
-    // Nor does it before `after` iterations: the same rule from iteration 100 on.
-    let later = Settings {
-        stall: Some(Stall {
-            after: 100,
-            window: 1,
-            decrease: 1e-12,
-        }),
-        ..Settings::default()
-    };
-    let mut sigma = vec![0.0; 300];
-    let report = Solver::new(footing_100(), later)
-        .unwrap()
-        .solve(&mut sigma)
-        .unwrap();
-    assert_eq!(report.status, Status::Converged);
-    // A window longer than the solve never triggers.
-    let patient = Settings {
-        stall: Some(Stall {
-            after: 0,
-            window: 100,
-            decrease: 0.5,
-        }),
-        ..Settings::default()
-    };
-    let mut sigma = vec![0.0; 300];
-    let report = Solver::new(footing_100(), patient)
-        .unwrap()
-        .solve(&mut sigma)
-        .unwrap();
-    assert_eq!(report.status, Status::Converged);
+    for (after, window, decrease) in [(100, 1, 1e-12), (0, 100, 0.5)] {
+        let report = solve(with_stall(after, window, decrease)).unwrap();
+        assert_eq!(report.status, Status::Converged);
+    }
 }
 
 #[test]
 fn stall_settings_are_validated() {
-    for stall in [
-        Stall {
-            after: 0,
-            window: 0,
-            decrease: 0.5,
-        },
-        Stall {
-            after: 0,
-            window: 5,
-            decrease: 1.0,
-        },
-        Stall {
-            after: 0,
-            window: 5,
-            decrease: f64::NAN,
-        },
-    ] {
-        let settings = Settings {
-            stall: Some(stall),
-            ..Settings::default()
-        };
-        let e = Solver::new(footing_100(), settings)
+    for (window, decrease) in [(0, 0.5), (5, 1.0), (5, f64::NAN)] {
+        let e = Solver::new(footing_100(), with_stall(0, window, decrease))
             .err()
             .expect("rejected");
         assert_eq!(field_of(e), "settings.stall");

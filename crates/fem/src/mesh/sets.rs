@@ -9,30 +9,31 @@ impl Mesh {
     /// Edges that belong to exactly one triangle, oriented as in that triangle (so they run
     /// counter-clockwise around the domain), sorted by their first node.
     pub fn boundary_edges(&self) -> Vec<BoundaryEdge> {
-        // key: sorted end points; value: (count, oriented edge)
-        let mut seen: BTreeMap<(usize, usize), (usize, Vec<usize>)> = BTreeMap::new();
-        let p2 = self.triangles.first().is_some_and(|t| t.len() == 6);
-        for tri in &self.triangles {
-            if tri.len() < 3 {
-                continue;
-            }
-            for (k, (i, j)) in [(0, 1), (1, 2), (2, 0)].into_iter().enumerate() {
-                let (a, b) = (tri[i], tri[j]);
-                let mut nodes = vec![a, b];
-                if p2 && tri.len() == 6 {
-                    nodes.push(tri[3 + k]);
-                }
-                let entry = seen.entry((a.min(b), a.max(b))).or_insert((0, nodes));
-                entry.0 += 1;
-            }
-        }
-        let mut edges: Vec<BoundaryEdge> = seen
+        let mut edges: Vec<BoundaryEdge> = self
+            .triangle_sides()
             .into_values()
             .filter(|(count, _)| *count == 1)
             .map(|(_, nodes)| BoundaryEdge { nodes })
             .collect();
         edges.sort();
         edges
+    }
+
+    /// Every triangle side, keyed by its sorted end points: how many triangles share it,
+    /// and its nodes as the first of them runs through it (ends, then the P2 mid node).
+    fn triangle_sides(&self) -> BTreeMap<(usize, usize), (usize, Vec<usize>)> {
+        let mut sides: BTreeMap<(usize, usize), (usize, Vec<usize>)> = BTreeMap::new();
+        for tri in self.triangles.iter().filter(|t| t.len() >= 3) {
+            for (k, (i, j)) in [(0, 1), (1, 2), (2, 0)].into_iter().enumerate() {
+                let (a, b) = (tri[i], tri[j]);
+                let mut nodes = vec![a, b];
+                if tri.len() == 6 {
+                    nodes.push(tri[3 + k]);
+                }
+                sides.entry((a.min(b), a.max(b))).or_insert((0, nodes)).0 += 1;
+            }
+        }
+        sides
     }
 
     /// `edges` each oriented as in the one triangle it belongs to, so that it runs
@@ -45,18 +46,7 @@ impl Mesh {
         &self,
         edges: &[BoundaryEdge],
     ) -> Result<Vec<BoundaryEdge>, MeshError> {
-        // key: sorted end points; value: (triangles, oriented side)
-        let mut sides: BTreeMap<(usize, usize), (usize, Vec<usize>)> = BTreeMap::new();
-        for tri in self.triangles.iter().filter(|t| t.len() >= 3) {
-            for (k, (i, j)) in [(0, 1), (1, 2), (2, 0)].into_iter().enumerate() {
-                let (a, b) = (tri[i], tri[j]);
-                let mut nodes = vec![a, b];
-                if let Some(&mid) = tri.get(3 + k) {
-                    nodes.push(mid);
-                }
-                sides.entry((a.min(b), a.max(b))).or_insert((0, nodes)).0 += 1;
-            }
-        }
+        let sides = self.triangle_sides();
         let describe = |e: &BoundaryEdge| {
             let at = |n: usize| self.nodes.get(n).copied().unwrap_or([f64::NAN; 2]);
             let (a, b) = (at(e.nodes[0]), at(e.nodes[1]));

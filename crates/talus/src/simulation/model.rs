@@ -229,20 +229,26 @@ impl Model {
         let mut loads = Loads {
             force_free: self.force_free.clone(),
             force_prescribed: self.force_prescribed.clone(),
-            prescribed_velocity: self.prescribed_velocity.clone(),
+            prescribed_velocity: self.prescribed_velocity_at(t),
         };
         for r in &self.ramped_forces {
             let f = r.ramp.at(t);
             add_scaled(&mut loads.force_free, f, &r.free);
             add_scaled(&mut loads.force_prescribed, f, &r.prescribed);
         }
+        loads
+    }
+
+    /// The velocity of every prescribed dof at time `t` (m/s).
+    pub fn prescribed_velocity_at(&self, t: f64) -> Vec<f64> {
+        let mut v = self.prescribed_velocity.clone();
         for (ramp, dofs) in &self.velocity_ramps {
             let f = ramp.at(t);
             for &j in dofs {
-                loads.prescribed_velocity[j] *= f;
+                v[j] *= f;
             }
         }
-        loads
+        v
     }
 
     /// Whether the loading rate of the step from `t0` to `t1` differs from the last step's,
@@ -250,21 +256,26 @@ impl Model {
     /// changes at the step's start or inside it, or a velocity ramp changes faster than the
     /// step resolves (a velocity is continuous across a kink: stress rates follow it).
     pub fn loading_rate_changes_from(&self, t0: f64, t1: f64) -> bool {
-        self.ramped_forces
-            .iter()
-            .any(|r| r.ramp.slope_changes_from(t0, t1))
-            || self
-                .velocity_ramps
-                .iter()
-                .any(|(r, _)| r.changes_within(t0, t1))
+        self.loading_rate_changes(t0, t1, Ramp::slope_changes_from)
     }
 
     /// Whether the loading rate changes inside the step from `t0` to `t1`, so that its
     /// stress rate will not predict the next step.
     pub fn loading_rate_changes_inside(&self, t0: f64, t1: f64) -> bool {
+        self.loading_rate_changes(t0, t1, Ramp::slope_changes_inside)
+    }
+
+    /// A force ramp's slope changes by `force_kink`, or a velocity ramp changes within the
+    /// step.
+    fn loading_rate_changes(
+        &self,
+        t0: f64,
+        t1: f64,
+        force_kink: fn(&Ramp, f64, f64) -> bool,
+    ) -> bool {
         self.ramped_forces
             .iter()
-            .any(|r| r.ramp.slope_changes_inside(t0, t1))
+            .any(|r| force_kink(&r.ramp, t0, t1))
             || self
                 .velocity_ramps
                 .iter()

@@ -243,7 +243,7 @@ impl<'m> Stepper<'m> {
         // changes (`Model::loading_rate_changes_from`, `docs/scenes.md`, 'Load
         // programmes'). This step's rate predicts the next unless it changes inside.
         let (t0, t1) = (state.time, state.time + h);
-        let velocity_jumps = state.velocity_prescribed != model.loads_at(t0).prescribed_velocity;
+        let velocity_jumps = state.velocity_prescribed != model.prescribed_velocity_at(t0);
         let loading_jumps = velocity_jumps || model.loading_rate_changes_from(t0, t1);
         let smooth_within = !velocity_jumps && !model.loading_rate_changes_inside(t0, t1);
         let mut sigma = state.sigma.clone();
