@@ -33,9 +33,9 @@ pub fn run(root: &Path) -> Result<bool, String> {
         ("talus", "footing_steps"),
         // Minutes: the 100k column takes several per step; TALUS_MPM_BENCH_SIZES=10k
         // skips it.
-        ("talus-mpm", "column_step"),
+        ("talus", "mpm_column_step"),
         // The a = 2 column at h = 1/60 s (~2 min): finished, Newton its per step.
-        ("talus-mpm", "column_a2_large_step"),
+        ("talus", "mpm_column_a2_large_step"),
     ] {
         println!("== cargo bench -p {package} --bench {bench}");
         let out = run_checked(

@@ -19,15 +19,6 @@ pub enum MpmError {
         jacobian: f64,
         h: f64,
     },
-    /// Newton did not converge even after halving the step.
-    #[error("step of {h:e} s did not converge after {halvings} halvings: {status} after {iterations} Newton iterations, residual {residual:.3e}")]
-    NotConverged {
-        h: f64,
-        halvings: usize,
-        status: talus_ssn::Status,
-        iterations: usize,
-        residual: f64,
-    },
     /// The solver refused the reduced problem.
     #[error("solver: {0}")]
     Solver(SolveError),

@@ -7,9 +7,14 @@
 //!
 //! Plane strain, SI units, Mandel stresses `(xx, yy, zz, √2 xy)`, tension positive.
 //!
+//! The crate builds each sub-step's reduced problem and applies its solution; the Newton
+//! solves and the step control (halving, predictor) belong to a stepping engine (Talus's
+//! is `talus::simulation::Stepper`). One sub-step driven by hand:
+//!
 //! ```
 //! use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters};
 //! use talus_mpm::{Grid, GridBoundary, Mpm, MpmSettings, Particles, ShapeFunction, Side, Wall, WallCondition};
+//! use talus_ssn::{Settings, Solver};
 //! let soil = DruckerPrager::try_new(DruckerPragerParameters {
 //!     young_modulus: 1e7, poisson_ratio: 0.3, friction_angle: 30.0,
 //!     cohesion: 0.0, dilatancy_angle: 0.0, cone_fit: ConeFit::PlaneStrain,
@@ -19,24 +24,38 @@
 //! let boundary = GridBoundary { walls: vec![floor], prescribed: vec![] };
 //! let mpm = Mpm::try_new(grid, boundary, &soil, [0.0, -9.81], MpmSettings::default())?;
 //! let mut sand = Particles::fill_rectangle([[0.0, 0.0], [0.2, 0.4]], 0.1, 2, 1800.0)?;
-//! let report = mpm.advance(&mut sand, 1e-3)?;
-//! assert!(report.residual <= 1e-12);
+//! let (mut substep, system) = mpm.begin_substep(&sand, 1e-3)?;
+//! let mut solver = Solver::new(system, Settings::default())?;
+//! let mut sigma: Vec<f64> = sand.stress.as_flattened().to_vec();
+//! loop {
+//!     let report = solver.solve(&mut sigma)?;
+//!     assert!(report.residual <= 1e-12 * report.scale);
+//!     match substep.after_solve(&mpm, &sand, &sigma, solver.z())? {
+//!         Some(next) => { solver.replace_problem(next)?; }
+//!         None => break,
+//!     }
+//! }
+//! substep.finish(&mpm, &mut sand, sigma)?;
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 mod boundary;
+mod contact;
 mod error;
 mod grid;
+mod mpm;
 mod particles;
+mod reduced_problem;
+mod rotation;
 mod settings;
 mod shape;
-mod solver;
-mod step;
+mod substep;
 pub mod transfer;
 
 pub use boundary::{GridBoundary, PrescribedVelocity, Side, Wall, WallCondition};
 pub use error::MpmError;
 pub use grid::{Grid, Stencil};
+pub use mpm::Mpm;
 pub use particles::Particles;
-pub use settings::{MpmSettings, Predictor};
+pub use settings::MpmSettings;
 pub use shape::ShapeFunction;
-pub use solver::{Mpm, StepReport};
+pub use substep::{Substep, SubstepStats};

@@ -1,16 +1,5 @@
-use talus_ssn::{Rho, Settings};
-
-/// Where each step's Newton iteration starts.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Predictor {
-    /// The particles' stresses of the last step.
-    #[default]
-    Previous,
-    /// One elastic solve on the step's operator.
-    Elastic,
-}
-
-/// MPM settings; `MpmSettings::default()` documents the defaults.
+/// The transfers' settings; `MpmSettings::default()` documents the defaults. The Newton
+/// solve and its step control are the stepping engine's.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MpmSettings {
     /// α of eq. 13, the PIC/FLIP ratio, as the weight of the FLIP velocity:
@@ -28,23 +17,10 @@ pub struct MpmSettings {
     /// step, as eq. 13 prints it. Default `Some(1e-3)`, the step of the column scenes,
     /// at which both readings agree.
     pub flip_reference_time: Option<f64>,
-    /// Semi-smooth Newton settings. Default: talus-ssn's, with
-    /// `ρ_i = 0.3 / max diag S_i` (the return-mapping scale: particle volumes then do
-    /// not change ρ's meaning) and 50 iterations.
-    pub solver: Settings,
-    /// A step whose solve fails is redone as two halves, at most this many times nested.
-    /// Default 4.
-    pub max_step_halvings: usize,
-    /// Step-size memory: a step that had to be halved starts the next one at the sub-step
-    /// that converged (its failed attempts at the larger size are skipped), and after this
-    /// many steps at that size without a halving, tries twice the size again. 0 forgets:
-    /// every step starts at the full h. Default 4.
-    pub halving_memory: usize,
     /// Rotate each particle's stress with its spin over the step (`σ ← R σ Rᵀ`,
     /// `R = exp(h ω)`), so that a rigid rotation carries the stress with it and the
     /// stress update is objective. Default true.
     pub rotate_stress: bool,
-    pub predictor: Predictor,
 }
 
 impl Default for MpmSettings {
@@ -52,15 +28,7 @@ impl Default for MpmSettings {
         Self {
             flip_ratio: 0.95,
             flip_reference_time: Some(1e-3),
-            solver: Settings {
-                rho: Rho::PerPointCompliance { factor: 0.3 },
-                max_iterations: 50,
-                ..Settings::default()
-            },
-            max_step_halvings: 4,
-            halving_memory: 4,
             rotate_stress: true,
-            predictor: Predictor::Previous,
         }
     }
 }

@@ -74,20 +74,6 @@ pub fn particles_to_grid(
     g
 }
 
-/// `(B w)_p / V_p`: the strain rate `sym ∇w` at a particle, Mandel `(xx, yy, 0, √2 xy)`,
-/// for a nodal field `w`; only nodes with `active[i]` contribute.
-pub(crate) fn strain_rate(s: &Stencil, w: &[[f64; 2]], active: &[bool]) -> [f64; 4] {
-    let mut e = [0.0; 4];
-    for (i, _, g) in s.iter() {
-        if active[i] {
-            e[0] += g[0] * w[i][0];
-            e[1] += g[1] * w[i][1];
-            e[3] += FRAC_1_SQRT_2 * (g[1] * w[i][0] + g[0] * w[i][1]);
-        }
-    }
-    e
-}
-
 /// Velocity gradient `L_ab = Σ_i w_i,a ∂_b N_i` at a particle.
 pub(crate) fn velocity_gradient(s: &Stencil, w: &[[f64; 2]]) -> [[f64; 2]; 2] {
     let mut l = [[0.0; 2]; 2];

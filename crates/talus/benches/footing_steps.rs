@@ -19,7 +19,7 @@ use std::time::Instant;
 
 use talus::run::solver_settings;
 use talus::scene::builtin_footing_with_cells;
-use talus::simulation::{Model, Stepper};
+use talus::simulation::{Model, StepSettings, Stepper};
 
 /// Steps of the two windows (1-based, inclusive).
 const EARLY: [usize; 2] = [3, 5];
@@ -126,8 +126,7 @@ fn child(cells: [usize; 2]) {
     let h = scene.spec.time.step;
     let mut stepper = Stepper::new(
         &model,
-        solver_settings(&scene),
-        scene.spec.solver.max_step_halvings,
+        StepSettings::with_solver(solver_settings(&scene), scene.spec.solver.max_step_halvings),
     );
     let start = Instant::now();
     let mut steps = Vec::with_capacity(last);
@@ -147,7 +146,7 @@ fn child(cells: [usize; 2]) {
             r.max_newton_iterations,
             r.substeps,
             r.seconds,
-            r.reaction_force * 1e-3
+            r.reaction_force() * 1e-3
         );
         steps.push(Step {
             seconds: r.seconds,

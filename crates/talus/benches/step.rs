@@ -32,7 +32,7 @@ use std::time::Instant;
 use nalgebra::{SMatrix, SVector};
 use talus::run::solver_settings;
 use talus::scene::{builtin_footing_with_cells, Scene};
-use talus::simulation::{Model, Stepper};
+use talus::simulation::{Model, StepSettings, Stepper};
 use talus_ssn::factorization::{
     SupernodalCholesky, SymbolicSymmetricPatternLu, SymmetricPatternLu, DEFAULT_PIVOT_TOLERANCE,
 };
@@ -87,7 +87,10 @@ fn run_case(cells: [usize; 2], associative: bool) {
     let h = scene.spec.time.step;
     let mut state = model.initial_state(&scene).expect("K0 state");
     let settings = solver_settings(&scene);
-    let mut stepper = Stepper::new(&model, settings, scene.spec.solver.max_step_halvings);
+    let mut stepper = Stepper::new(
+        &model,
+        StepSettings::with_solver(settings, scene.spec.solver.max_step_halvings),
+    );
     let mut previous = state.sigma.clone();
     for _ in 0..STEPS {
         previous.clone_from(&state.sigma);

@@ -349,7 +349,7 @@ fn check_summary(s: &RunSummary) -> Option<String> {
         for (name, v) in [
             ("time", r.time),
             ("residual", r.residual),
-            ("reaction_force", r.reaction_force),
+            ("reaction_force", r.reaction_force()),
             ("smallest_h", r.smallest_h),
         ] {
             if !v.is_finite() {
@@ -457,7 +457,7 @@ pub fn run_case(case: &Case, out_dir: &Path) -> Measured {
                 .map(|r| r.smallest_h)
                 .fold(case.h, f64::min);
             m.final_force = velocity_driven
-                .then(|| s.records.last().map(|r| r.reaction_force))
+                .then(|| s.records.last().map(|r| r.reaction_force()))
                 .flatten();
             m.settlement = settlement(&scene, &s);
             if let Some(e) = check_summary(&s) {

@@ -16,7 +16,7 @@ use std::io::{Read, Write};
 
 use talus::run::solver_settings;
 use talus::scene::{builtin_footing_with_cells, Scene};
-use talus::simulation::{Model, State, Stepper};
+use talus::simulation::{Model, State, StepSettings, Stepper};
 
 fn scene(cells: [usize; 2], associative: bool) -> Scene {
     let mut scene = builtin_footing_with_cells(cells);
@@ -121,7 +121,10 @@ fn main() {
     let mut state = model.initial_state(&scene).expect("K0 state");
     let settings = solver_settings(&scene);
     let h = scene.spec.time.step;
-    let mut stepper = Stepper::new(&model, settings, scene.spec.solver.max_step_halvings);
+    let mut stepper = Stepper::new(
+        &model,
+        StepSettings::with_solver(settings, scene.spec.solver.max_step_halvings),
+    );
     let mut done = 0;
     if let Some(p) = &load_path {
         let (k, rate) = load(p, &mut state);
@@ -148,7 +151,7 @@ fn main() {
                     r.backtracks,
                     r.max_newton_iterations,
                     r.residual,
-                    r.reaction_force * 1e-3,
+                    r.reaction_force() * 1e-3,
                     r.seconds,
                     r.statuses
                         .iter()

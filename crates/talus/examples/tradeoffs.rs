@@ -215,10 +215,10 @@ fn run(config: &Config, out: &Path) -> Outcome {
     let seconds = start.elapsed().as_secs_f64();
     let cpu = cpu_seconds() - cpu0;
     let records = &summary.records;
-    let force = records.last().expect("at least one step").reaction_force;
+    let force = records.last().expect("at least one step").reaction_force();
     let two_thirds = 2 * config.steps;
     let drift = if two_thirds % 3 == 0 {
-        (force - records[two_thirds / 3 - 1].reaction_force) / force
+        (force - records[two_thirds / 3 - 1].reaction_force()) / force
     } else {
         f64::NAN
     };

@@ -113,7 +113,7 @@ fn run_fem(scene: &Scene, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::
         "{} steps in {:.2} s; Newton iterations per step at most {worst}; final reaction {:.4e} N/m at {:.4e} m; outputs in {}",
         summary.records.len(),
         summary.seconds,
-        last.map(|r| r.reaction_force).unwrap_or(0.0),
+        last.map(|r| r.reaction_force()).unwrap_or(0.0),
         summary.displacements.last().copied().unwrap_or(0.0),
         out.display()
     );

@@ -1,17 +1,15 @@
 //! `talus run`: a scene stepped to its end, with history, ParaView files and PNG plots.
-use std::io::{IsTerminal, Write};
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use talus_ssn::{Rho, Settings, Stall};
+use talus_ssn::Settings;
 
 use crate::output::{self, FieldSnapshot, MeshView, OutputError};
-use crate::scene::{RhoScaling, Scene, SceneError, SolverSpec};
-use crate::simulation::{Model, State, StepError, StepRecord, Stepper};
-
-/// Column names of `history.csv`.
-pub const HISTORY_HEADER: &str =
-    "step,time,newton_iterations,residual,reaction_force,footing_displacement,seconds";
+use crate::run_loop::{run_steps, RunOutputs};
+use crate::scene::{Scene, SceneError};
+use crate::simulation::engine::Method;
+use crate::simulation::{FemStepError, Model, State, StepRecord, StepSettings, Stepper};
 
 #[derive(Debug, thiserror::Error)]
 pub enum RunError {
@@ -26,14 +24,14 @@ pub enum RunError {
     Output(#[from] OutputError),
     /// The run stopped at `step`; what was written before it is kept.
     #[error("step {step}: {source}")]
-    Step { step: usize, source: StepError },
+    Step { step: usize, source: FemStepError },
     /// An MPM run stopped at `step`, which started at `time` (s); what was written before
     /// it is kept.
     #[error("step {step} (from t = {time:.6} s): {source}")]
     MpmStep {
         step: usize,
         time: f64,
-        source: talus_mpm::MpmError,
+        source: crate::simulation::StepError<talus_mpm::MpmError>,
     },
 }
 
@@ -76,50 +74,9 @@ pub(crate) fn progress_bar(steps: usize, progress: bool) -> Option<indicatif::Pr
     })
 }
 
-/// Solver settings of a scene.
+/// Newton settings of a FEM scene (`StepSettings::from_spec`).
 pub fn solver_settings(scene: &Scene) -> Settings {
-    ssn_settings(&scene.spec.solver, FEM_STALL_WINDOW)
-}
-
-/// `[solver] stall_window` when the scene does not set it. FEM: the attempts that fail at
-/// the footing's mechanism onset stall for 20–40 iterations before `max_iterations`;
-/// stopping them (from iteration 25, after 10 iterations without a halving of the merit)
-/// cuts the Newton iterations of the 104×48 footing's hardest steps (`docs/solver.md`). MPM: the slow but steady first friction
-/// passes are better left to run (the a = 2 column: 92.2 → 102.4 iterations per step with
-/// 10). `docs/solver.md`, "Non-associative Newton at the mechanism's onset".
-pub const FEM_STALL_WINDOW: usize = 10;
-/// The stall rule applies from this iteration on: slow solves that converge within it (up
-/// to 23 iterations on the footing snapshots) keep their step, and so their results.
-pub const STALL_AFTER: usize = 25;
-pub const MPM_STALL_WINDOW: usize = 0;
-
-/// The talus-ssn settings of a `[solver]` section (FEM and MPM scenes alike), with the
-/// method's stall window when the scene sets none.
-pub fn ssn_settings(s: &SolverSpec, default_stall_window: usize) -> Settings {
-    let stall_window = s.stall_window.unwrap_or(default_stall_window);
-    Settings {
-        tolerance: s.tolerance,
-        max_iterations: s.max_iterations,
-        rho: match s.rho_scaling {
-            RhoScaling::Compliance => Rho::PerPointCompliance {
-                factor: s.rho_factor,
-            },
-            RhoScaling::Diagonal => Rho::PerPointDiagonal {
-                factor: s.rho_factor,
-            },
-        },
-        line_search: if s.line_search {
-            Settings::default().line_search
-        } else {
-            None
-        },
-        stall: (stall_window > 0).then_some(Stall {
-            after: STALL_AFTER,
-            window: stall_window,
-            decrease: 0.5,
-        }),
-        ..Settings::default()
-    }
+    StepSettings::from_spec(&scene.spec.solver, Method::Fem).solver
 }
 
 pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunError> {
@@ -127,27 +84,11 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunE
     let model = Model::from_scene(scene)?;
     let asm = &model.assembly;
     let dofs = asm.dofs();
-    let out = &options.out_dir;
-    std::fs::create_dir_all(out).map_err(io_err(out))?;
-    let history_path = out.join("history.csv");
-    let mut history = std::io::BufWriter::new(
-        std::fs::File::create(&history_path).map_err(io_err(&history_path))?,
-    );
-    writeln!(history, "{HISTORY_HEADER}").map_err(io_err(&history_path))?;
-
-    let mut state = model.initial_state(scene)?;
+    let state = model.initial_state(scene)?;
     let mut stepper = Stepper::new(
         &model,
-        solver_settings(scene),
-        scene.spec.solver.max_step_halvings,
+        StepSettings::from_spec(&scene.spec.solver, Method::Fem),
     );
-    let time = scene.spec.time;
-    let reaction_nodes: Vec<usize> = model
-        .reaction_dofs
-        .iter()
-        .map(|&(j, _)| dofs.prescribed_dofs()[j].0)
-        .collect();
-    let bar = progress_bar(time.steps, options.progress);
     tracing::info!(
         points = asm.n_points(),
         free_dofs = dofs.n_free(),
@@ -156,97 +97,118 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunE
         k_d = model.material.k_d(),
         "model built"
     );
+    let mut outputs = FemOutputs {
+        scene,
+        model: &model,
+        out: &options.out_dir,
+        write_fields: options.write_fields,
+        reaction_nodes: model
+            .reaction_dofs
+            .iter()
+            .map(|&(j, _)| dofs.prescribed_dofs()[j].0)
+            .collect(),
+        pvd: Vec::new(),
+        curve: Vec::new(),
+    };
+    let time = scene.spec.time;
+    let stepped = run_steps(
+        &mut stepper,
+        state,
+        time.steps,
+        time.step,
+        &options.out_dir,
+        &mut outputs,
+        options.progress,
+    )?;
+    if let Some((step, source)) = stepped.failure {
+        return Err(RunError::Step { step, source });
+    }
+    Ok(RunSummary {
+        displacements: outputs.curve[1..].iter().map(|c| c.0).collect(),
+        records: stepped.reports,
+        seconds: start.elapsed().as_secs_f64(),
+        final_state: stepped.state,
+    })
+}
 
-    let initial_reaction = stepper.reaction(&state);
-    writeln!(history, "0,0,0,0,{initial_reaction:.10e},0,0").map_err(io_err(&history_path))?;
+/// What a FEM run adds to the run loop: the reported boundary's reaction and settlement,
+/// element VTUs and the PNG plots.
+struct FemOutputs<'a> {
+    scene: &'a Scene,
+    model: &'a Model,
+    out: &'a Path,
+    write_fields: bool,
+    /// The nodes of the reported boundary's prescribed dofs.
+    reaction_nodes: Vec<usize>,
+    pvd: Vec<(f64, String)>,
+    /// (settlement, reaction) after every step, from step 0.
+    curve: Vec<(f64, f64)>,
+}
 
-    let vtu_dir = out.join("vtu");
-    let mut pvd_entries = Vec::new();
-    let mut records = Vec::new();
-    let mut displacements = Vec::new();
-    let mut failure = None;
-    for step in 1..=time.steps {
-        let record = match stepper.advance(&mut state, time.step) {
-            Ok(r) => r,
-            Err(source) => {
-                failure = Some(RunError::Step { step, source });
-                break;
-            }
-        };
-        let displacement = if reaction_nodes.is_empty() {
+impl RunOutputs<&Model> for FemOutputs<'_> {
+    fn columns(&self) -> Vec<String> {
+        vec!["reaction_force".into(), "footing_displacement".into()]
+    }
+
+    fn values(&mut self, state: &State, report: Option<&StepRecord>) -> Vec<f64> {
+        let displacement = if self.reaction_nodes.is_empty() {
             0.0
         } else {
-            -reaction_nodes
+            -self
+                .reaction_nodes
                 .iter()
                 .map(|&n| state.displacement[n][1])
                 .sum::<f64>()
-                / reaction_nodes.len() as f64
+                / self.reaction_nodes.len() as f64
         };
-        writeln!(
-            history,
-            "{step},{:.10e},{},{:.6e},{:.10e},{:.10e},{:.6e}",
-            record.time,
-            record.newton_iterations,
-            record.residual,
-            record.reaction_force,
-            displacement,
-            record.seconds
-        )
-        .and_then(|_| history.flush())
-        .map_err(io_err(&history_path))?;
-        tracing::info!(
-            step,
-            time = record.time,
-            iterations = record.newton_iterations,
-            residual = record.residual,
-            reaction = record.reaction_force,
-            "step"
-        );
-        if let Some(bar) = &bar {
-            bar.set_message(format!(
-                "{} Newton its, F = {:.4e} N/m",
-                record.newton_iterations, record.reaction_force
-            ));
-            bar.inc(1);
-        }
-        let every = scene.spec.output.vtu_every;
-        if options.write_fields && ((every > 0 && step % every == 0) || step == time.steps) {
-            std::fs::create_dir_all(&vtu_dir).map_err(io_err(&vtu_dir))?;
+        let reaction = match report {
+            Some(r) => r.reaction_force(),
+            None => self.model.reaction(state),
+        };
+        self.curve.push((displacement, reaction));
+        vec![reaction, displacement]
+    }
+
+    fn after_step(&mut self, step: usize, state: &State) -> Result<(), RunError> {
+        let every = self.scene.spec.output.vtu_every;
+        let last = self.scene.spec.time.steps;
+        if self.write_fields && step > 0 && ((every > 0 && step % every == 0) || step == last) {
+            let dir = self.out.join("vtu");
+            std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
             let name = format!("step_{step:05}.vtu");
-            write_snapshot(&model, &state, &vtu_dir.join(&name))?;
-            pvd_entries.push((state.time, format!("vtu/{name}")));
+            write_snapshot(self.model, state, &dir.join(&name))?;
+            self.pvd.push((state.time, format!("vtu/{name}")));
         }
-        records.push(record);
-        displacements.push(displacement);
+        Ok(())
     }
-    if let Some(bar) = bar {
-        bar.finish();
+
+    fn message(&self, report: &StepRecord, _: &[f64]) -> String {
+        format!(
+            "{} Newton its, F = {:.4e} N/m",
+            report.newton_iterations,
+            report.reaction_force()
+        )
     }
-    if options.write_fields && !records.is_empty() {
-        if !pvd_entries.is_empty() {
-            output::write_pvd(&out.join("solution.pvd"), &pvd_entries)?;
+
+    fn finish(&mut self, state: &State, reports: &[StepRecord]) -> Result<(), RunError> {
+        if !self.write_fields || reports.is_empty() {
+            return Ok(());
         }
-        if scene.spec.output.plots {
+        if !self.pvd.is_empty() {
+            output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
+        }
+        if self.scene.spec.output.plots {
             write_plots(
-                scene,
-                &model,
-                &state,
-                &records,
-                &displacements,
-                initial_reaction,
-                out,
+                self.scene,
+                self.model,
+                state,
+                reports,
+                &self.curve,
+                self.out,
             )?;
         }
+        Ok(())
     }
-    if let Some(f) = failure {
-        return Err(f);
-    }
-    Ok(RunSummary {
-        records,
-        displacements,
-        seconds: start.elapsed().as_secs_f64(),
-        final_state: state,
-    })
 }
 
 /// Per-element averages of the Gauss-point stress and plastic strain.
@@ -304,8 +266,7 @@ fn write_plots(
     model: &Model,
     state: &State,
     records: &[StepRecord],
-    displacements: &[f64],
-    initial_reaction: f64,
+    curve: &[(f64, f64)],
     out: &Path,
 ) -> Result<(), RunError> {
     let title = scene
@@ -314,14 +275,7 @@ fn write_plots(
         .clone()
         .unwrap_or_else(|| "talus run".into());
     if !model.reaction_dofs.is_empty() {
-        let mut curve = vec![(0.0, initial_reaction)];
-        curve.extend(
-            displacements
-                .iter()
-                .zip(records)
-                .map(|(d, r)| (*d, r.reaction_force)),
-        );
-        output::plot_force_displacement(&out.join("force_displacement.png"), &curve, &title)?;
+        output::plot_force_displacement(&out.join("force_displacement.png"), curve, &title)?;
     }
     let histories: Vec<(usize, Vec<f64>)> = records
         .iter()

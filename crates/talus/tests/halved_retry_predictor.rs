@@ -4,7 +4,7 @@
 //! mechanism's onset").
 use talus::run::solver_settings;
 use talus::scene::builtin_footing_with_cells;
-use talus::simulation::{Model, Predictor, Stepper};
+use talus::simulation::{Model, Predictor, StepSettings, Stepper};
 
 #[test]
 fn paper_footing_halved_steps_start_from_the_extrapolated_rate() {
@@ -14,7 +14,10 @@ fn paper_footing_halved_steps_start_from_the_extrapolated_rate() {
     scene.spec.solver.max_iterations = 3;
     let model = Model::from_scene(&scene).expect("model");
     let mut state = model.initial_state(&scene).expect("K0 state");
-    let mut stepper = Stepper::new(&model, solver_settings(&scene), 8);
+    let mut stepper = Stepper::new(
+        &model,
+        StepSettings::with_solver(solver_settings(&scene), 8),
+    );
     let h = scene.spec.time.step;
     let first = stepper.advance(&mut state, h).expect("step 1");
     assert_eq!(

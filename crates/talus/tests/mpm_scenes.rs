@@ -3,8 +3,9 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use talus::mpm_run::{run_mpm_scene, MpmModel, Reaction, MPM_HISTORY_HEADER};
+use talus::mpm_run::{run_mpm_scene, MpmModel, Reaction};
 use talus::run::RunOptions;
+use talus::run_loop::HISTORY_COLUMNS;
 use talus::scene::{MpmScene, SceneError, SceneFile};
 
 const SCENES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes");
@@ -162,22 +163,25 @@ fn tiny_column_runs_from_the_command_line() {
     let mut lines = history.lines();
     assert_eq!(
         lines.next(),
-        Some("step,time,newton_iterations,max_newton_iterations,substeps,residual,contact_passes,reaction_force_x,reaction_force_y,front,runout_normalized,kinetic_energy,seconds")
+        Some("step,time,h,substeps,newton_iterations,failed_newton_iterations,max_newton_iterations,backtracks,residual,relative_residual,seconds,contact_passes,reaction_force_x,reaction_force_y,front,runout_normalized,kinetic_energy")
     );
-    assert_eq!(MPM_HISTORY_HEADER, history.lines().next().unwrap());
+    assert!(
+        history.starts_with(HISTORY_COLUMNS),
+        "the columns FEM runs share"
+    );
     let rows: Vec<Vec<f64>> = lines
         .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
         .collect();
     assert_eq!(rows.len(), 6, "step 0 and 5 steps");
     for (step, row) in rows.iter().enumerate() {
-        assert_eq!(row.len(), 13);
+        assert_eq!(row.len(), 17);
         assert_eq!(row[0], step as f64);
         assert!(row.iter().all(|v| v.is_finite()));
     }
     // The column starts at rest and falls: it gains kinetic energy.
-    assert_eq!(rows[0][11], 0.0);
-    assert!(rows[5][11] > 0.0);
-    assert!(rows[1..].iter().all(|r| r[2] >= 1.0), "Newton iterations");
+    assert_eq!(rows[0][16], 0.0);
+    assert!(rows[5][16] > 0.0);
+    assert!(rows[1..].iter().all(|r| r[4] >= 1.0), "Newton iterations");
 
     let vtus: Vec<_> = std::fs::read_dir(out.join("vtu"))
         .unwrap()

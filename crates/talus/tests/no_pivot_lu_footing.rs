@@ -5,13 +5,13 @@
 //! associative one, gives the same iterate and the same residual.
 use talus::run::solver_settings;
 use talus::scene::{builtin_footing, Scene};
-use talus::simulation::{Model, State, Stepper};
+use talus::simulation::{Model, State, StepSettings, Stepper};
 use talus_ssn::{LinearSolver, Report, Settings, SolveError, Solver};
 
 /// The state after `steps` steps of the scene.
 fn state_after(model: &Model, scene: &Scene, steps: usize) -> State {
     let mut state = model.initial_state(scene).expect("K0 state");
-    let mut stepper = Stepper::new(model, solver_settings(scene), 4);
+    let mut stepper = Stepper::new(model, StepSettings::with_solver(solver_settings(scene), 4));
     for _ in 0..steps {
         stepper
             .advance(&mut state, scene.spec.time.step)

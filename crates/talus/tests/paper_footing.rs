@@ -29,7 +29,7 @@ fn paper_footing_converges_in_at_most_six_iterations_and_plateaus() {
         summary.records.iter().all(|r| r.substeps == 1),
         "no step needed a smaller h"
     );
-    let force: Vec<f64> = summary.records.iter().map(|r| r.reaction_force).collect();
+    let force: Vec<f64> = summary.records.iter().map(|r| r.reaction_force()).collect();
     // The K0 state carries the 20 kPa surcharge on the 0.5 m footing: 10 kN/m at rest;
     // the plateau is an order of magnitude above, and flat over the last half of the run.
     let plateau = force[299];

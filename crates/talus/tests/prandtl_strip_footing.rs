@@ -145,7 +145,7 @@ fn check(name: &str, scene: Scene, phi_deg: f64, published_nc: f64) {
     let force: Vec<f64> = summary
         .records
         .iter()
-        .map(|r| 2.0 * r.reaction_force)
+        .map(|r| 2.0 * r.reaction_force())
         .collect();
     let n = force.len();
     assert_eq!(n, spec.time.steps);

@@ -128,7 +128,7 @@ fn run_case(name: &str, text: &str, probe: (&'static str, [f64; 2])) -> Snapshot
         .enumerate()
         .map(|(i, (r, d))| Row {
             step: i + 1,
-            reaction_force: r6(r.reaction_force),
+            reaction_force: r6(r.reaction_force()),
             footing_displacement: r6(*d),
             newton_iterations: r.newton_iterations,
         })

@@ -1,14 +1,14 @@
 //! An MPM scene turned into the solver and its particles, every input checked first so
 //! that a bad scene is an error naming the field and the value, never a panic.
 use talus_mpm::{
-    Grid, GridBoundary, Mpm, MpmSettings, Particles, Predictor, PrescribedVelocity, ShapeFunction,
-    Side, Wall, WallCondition,
+    Grid, GridBoundary, Mpm, MpmSettings, Particles, PrescribedVelocity, ShapeFunction, Side, Wall,
+    WallCondition,
 };
 
-use crate::run::{ssn_settings, MPM_STALL_WINDOW};
 use crate::scene::{
     check, MpmScene, PredictorSpec, SceneError, ShapeSpec, SideSpec, WallConditionSpec,
 };
+use crate::simulation::engine::{Method, PredictorRule, StepSettings};
 use crate::simulation::k0_stress_at;
 
 use super::measure::RunoutReference;
@@ -16,6 +16,8 @@ use super::measure::RunoutReference;
 /// Everything a run needs: the solver, the particles at t = 0, and what to report.
 pub struct MpmModel {
     pub mpm: Mpm,
+    /// How the engine steps it (`[solver]`, `[mpm] predictor`).
+    pub step_settings: StepSettings,
     pub particles: Particles,
     /// The `output.reaction` box, if any.
     pub reaction: Option<Reaction>,
@@ -81,6 +83,7 @@ impl MpmModel {
             .map_err(|e| scene.error("grid", e.to_string()))?;
         Ok(Self {
             mpm,
+            step_settings: step_settings(scene),
             particles,
             reaction,
             runout,
@@ -381,13 +384,19 @@ fn settings(scene: &MpmScene) -> Result<MpmSettings, SceneError> {
     }
     Ok(MpmSettings {
         flip_ratio: m.flip_ratio,
-        solver: ssn_settings(&scene.spec.solver, MPM_STALL_WINDOW),
-        max_step_halvings: scene.spec.solver.max_step_halvings,
         rotate_stress: m.rotate_stress,
-        predictor: match m.predictor {
-            PredictorSpec::Previous => Predictor::Previous,
-            PredictorSpec::Elastic => Predictor::Elastic,
-        },
         ..MpmSettings::default()
     })
+}
+
+/// The engine's settings of an MPM scene: its `[solver]` section with MPM's defaults, and
+/// `[mpm] predictor`.
+fn step_settings(scene: &MpmScene) -> StepSettings {
+    StepSettings {
+        predictor: match scene.spec.mpm.predictor {
+            PredictorSpec::Previous => PredictorRule::Previous,
+            PredictorSpec::Elastic => PredictorRule::Elastic,
+        },
+        ..StepSettings::from_spec(&scene.spec.solver, Method::Mpm)
+    }
 }

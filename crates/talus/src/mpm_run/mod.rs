@@ -1,31 +1,45 @@
-//! `talus run` on a material-point scene (`[grid]`): the particles stepped to the end with
-//! [`talus_mpm::Mpm::advance`], writing `history.csv`, particle VTUs with a `.pvd`
+//! `talus run` on a material-point scene (`[grid]`): the particles stepped to the end by
+//! the engine (`crate::run_loop`), writing `history.csv`, particle VTUs with a `.pvd`
 //! collection, and PNG maps of the plastic strain, as the FEM run does.
 mod build;
+mod discretization;
 mod measure;
 mod outputs;
+mod stepper;
 
-use std::io::Write;
+use std::path::Path;
 use std::time::Instant;
 
-use talus_mpm::{Particles, StepReport};
+use talus_mpm::{Mpm, Particles, SubstepStats};
 
 use crate::output;
-use crate::run::{io_err, progress_bar, RunError, RunOptions};
+use crate::run::{RunError, RunOptions};
+use crate::run_loop::{run_steps, RunOutputs};
 use crate::scene::MpmScene;
+use crate::simulation::{StepReport, Stepper};
 
 pub use build::{MpmModel, Reaction};
+pub use discretization::MpmState;
 pub use measure::{front, kinetic_energy, RunoutReference};
 use outputs::FieldWriter;
+pub use stepper::MpmStepper;
 
-/// Column names of an MPM `history.csv`.
-pub const MPM_HISTORY_HEADER: &str = "step,time,newton_iterations,max_newton_iterations,substeps,residual,contact_passes,reaction_force_x,reaction_force_y,front,runout_normalized,kinetic_energy,seconds";
+/// What one MPM step did.
+pub type MpmStepReport = StepReport<SubstepStats>;
+
+impl StepReport<SubstepStats> {
+    /// Force each wall, then each prescribed box, applied to the material in the step's
+    /// last sub-step (N/m).
+    pub fn group_forces(&self) -> &[[f64; 2]] {
+        self.stats.as_ref().map_or(&[], |s| &s.group_forces)
+    }
+}
 
 /// What a finished MPM run measured.
 #[derive(Debug, Clone)]
 pub struct MpmRunSummary {
     /// One report per step.
-    pub reports: Vec<StepReport>,
+    pub reports: Vec<MpmStepReport>,
     /// `(L − L₀)/L₀` after the last step (see [`RunoutReference`]).
     pub runout_normalized: f64,
     /// Whether the scene asked for the runout (`output.runout`).
@@ -35,21 +49,30 @@ pub struct MpmRunSummary {
 }
 
 impl MpmRunSummary {
+    /// Newton iterations of the run, failed attempts included: its cost.
     pub fn total_newton_iterations(&self) -> usize {
-        self.reports.iter().map(|r| r.newton_iterations).sum()
+        self.reports
+            .iter()
+            .map(|r| r.total_newton_iterations())
+            .sum()
     }
 
-    /// The most Newton iterations one step took (all its sub-steps).
+    /// The most Newton iterations one step took (all its sub-steps, failed attempts
+    /// included).
     pub fn max_newton_iterations(&self) -> usize {
         self.reports
             .iter()
-            .map(|r| r.newton_iterations)
+            .map(|r| r.total_newton_iterations())
             .max()
             .unwrap_or(0)
     }
 
+    /// The largest `‖F‖∞ / max(1, ‖σ‖∞)` a step ended with.
     pub fn max_residual(&self) -> f64 {
-        self.reports.iter().map(|r| r.residual).fold(0.0, f64::max)
+        self.reports
+            .iter()
+            .map(|r| r.relative_residual)
+            .fold(0.0, f64::max)
     }
 }
 
@@ -57,18 +80,6 @@ pub fn run_mpm_scene(scene: &MpmScene, options: &RunOptions) -> Result<MpmRunSum
     let start = Instant::now();
     let model = MpmModel::from_scene(scene)?;
     let spec = &scene.spec;
-    let out = &options.out_dir;
-    std::fs::create_dir_all(out).map_err(io_err(out))?;
-    let history_path = out.join("history.csv");
-    let mut history = std::io::BufWriter::new(
-        std::fs::File::create(&history_path).map_err(io_err(&history_path))?,
-    );
-    let mut write_row = |row: String| {
-        writeln!(history, "{row}")
-            .and_then(|_| history.flush())
-            .map_err(io_err(&history_path))
-    };
-    write_row(MPM_HISTORY_HEADER.to_string())?;
     let grid = model.mpm.grid();
     tracing::info!(
         particles = model.particles.len(),
@@ -77,110 +88,139 @@ pub fn run_mpm_scene(scene: &MpmScene, options: &RunOptions) -> Result<MpmRunSum
         spacing = grid.spacing(),
         "MPM model built"
     );
-
-    let mut particles = model.particles.clone();
     let (h, steps) = (spec.time.step, spec.time.steps);
     let title = spec.title.clone().unwrap_or_else(|| "talus run".into());
-    let mut fields = FieldWriter {
-        out,
+    let mut outputs = MpmOutputs {
+        model: &model,
+        fields: FieldWriter {
+            out: &options.out_dir,
+            title: &title,
+            vtu_every: spec.output.vtu_every,
+            snapshot_every: spec.output.snapshot_every,
+            last_step: steps,
+            pvd: Vec::new(),
+        },
+        out: &options.out_dir,
+        write_fields: options.write_fields,
+        plots: spec.output.plots,
         title: &title,
-        vtu_every: spec.output.vtu_every,
-        snapshot_every: spec.output.snapshot_every,
-        last_step: steps,
-        pvd: Vec::new(),
+        reaction_curve: vec![(0.0, 0.0)],
     };
-    let f0 = front(&particles);
-    write_row(format!(
-        "0,0,0,0,0,0,0,0,0,{f0:.10e},{:.10e},{:.10e},0",
-        model.runout.normalized(f0),
-        kinetic_energy(&particles)
-    ))?;
-    if options.write_fields {
-        fields.after_step(&model, &particles, 0, 0.0)?;
-    }
-    let bar = progress_bar(steps, options.progress);
-    let mut reports = Vec::new();
-    let mut reaction_curve = vec![(0.0, 0.0)];
-    let mut failure = None;
-    let mut time = 0.0;
-    for step in 1..=steps {
-        let report = match model.mpm.advance(&mut particles, h) {
-            Ok(r) => r,
-            Err(source) => {
-                failure = Some(RunError::MpmStep { step, time, source });
-                break;
-            }
-        };
-        time = step as f64 * h;
-        let force = model
-            .reaction
-            .and_then(|r| report.group_forces.get(r.group).copied())
-            .unwrap_or([0.0; 2]);
-        if let Some(Reaction {
-            velocity_y: Some(vy),
-            ..
-        }) = model.reaction
-        {
-            // Settlement and the push on the material, both downward positive.
-            reaction_curve.push((-vy * time, -force[1]));
-        }
-        let f = front(&particles);
-        let runout = model.runout.normalized(f);
-        let energy = kinetic_energy(&particles);
-        write_row(format!(
-            "{step},{time:.10e},{},{},{},{:.6e},{},{:.10e},{:.10e},{f:.10e},{runout:.10e},{energy:.10e},{:.6e}",
-            report.newton_iterations,
-            report.max_newton_iterations,
-            report.substeps,
-            report.residual,
-            report.contact_passes,
-            force[0],
-            force[1],
-            report.seconds
-        ))?;
-        tracing::info!(
+    let mut stepper = Stepper::new(&model.mpm, model.step_settings);
+    let state = MpmState {
+        time: 0.0,
+        particles: model.particles.clone(),
+    };
+    let stepped = run_steps(
+        &mut stepper,
+        state,
+        steps,
+        h,
+        &options.out_dir,
+        &mut outputs,
+        options.progress,
+    )?;
+    if let Some((step, source)) = stepped.failure {
+        return Err(RunError::MpmStep {
             step,
-            time,
-            iterations = report.newton_iterations,
-            substeps = report.substeps,
-            residual = report.residual,
-            front = f,
-            kinetic_energy = energy,
-            "step"
-        );
-        if let Some(bar) = &bar {
-            bar.set_message(format!(
-                "{} Newton its, front {f:.4} m, E_k = {energy:.3e} J/m",
-                report.newton_iterations
-            ));
-            bar.inc(1);
-        }
-        if options.write_fields {
-            fields.after_step(&model, &particles, step, time)?;
-        }
-        reports.push(report);
+            time: stepped.state.time,
+            source,
+        });
     }
-    if let Some(bar) = bar {
-        bar.finish();
-    }
-    if options.write_fields {
-        fields.finish(&model, &particles, time)?;
-        if spec.output.plots && reaction_curve.len() > 1 {
-            output::plot_force_displacement(
-                &out.join("force_displacement.png"),
-                &reaction_curve,
-                &title,
-            )?;
-        }
-    }
-    if let Some(f) = failure {
-        return Err(f);
-    }
+    let particles = stepped.state.particles;
     Ok(MpmRunSummary {
-        reports,
+        reports: stepped.reports,
         runout_normalized: model.runout.normalized(front(&particles)),
         runout_reported: spec.output.runout,
         seconds: start.elapsed().as_secs_f64(),
         particles,
     })
+}
+
+/// What an MPM run adds to the run loop: the front, runout, kinetic energy and the
+/// reported box's force; particle VTUs and PNG maps.
+struct MpmOutputs<'a> {
+    model: &'a MpmModel,
+    fields: FieldWriter<'a>,
+    out: &'a Path,
+    write_fields: bool,
+    plots: bool,
+    title: &'a str,
+    /// (settlement, push on the material), both downward positive, from step 0.
+    reaction_curve: Vec<(f64, f64)>,
+}
+
+impl RunOutputs<&Mpm> for MpmOutputs<'_> {
+    fn columns(&self) -> Vec<String> {
+        [
+            "contact_passes",
+            "reaction_force_x",
+            "reaction_force_y",
+            "front",
+            "runout_normalized",
+            "kinetic_energy",
+        ]
+        .map(String::from)
+        .to_vec()
+    }
+
+    fn values(&mut self, state: &MpmState, report: Option<&MpmStepReport>) -> Vec<f64> {
+        let stats = report.and_then(|r| r.stats.as_ref());
+        let force = self
+            .model
+            .reaction
+            .zip(stats)
+            .and_then(|(r, s)| s.group_forces.get(r.group).copied())
+            .unwrap_or([0.0; 2]);
+        if let (
+            Some(_),
+            Some(Reaction {
+                velocity_y: Some(vy),
+                ..
+            }),
+        ) = (report, self.model.reaction)
+        {
+            self.reaction_curve.push((-vy * state.time, -force[1]));
+        }
+        let f = front(&state.particles);
+        vec![
+            stats.map_or(0, |s| s.contact_passes) as f64,
+            force[0],
+            force[1],
+            f,
+            self.model.runout.normalized(f),
+            kinetic_energy(&state.particles),
+        ]
+    }
+
+    fn after_step(&mut self, step: usize, state: &MpmState) -> Result<(), RunError> {
+        if self.write_fields {
+            self.fields
+                .after_step(self.model, &state.particles, step, state.time)?;
+        }
+        Ok(())
+    }
+
+    fn message(&self, report: &MpmStepReport, values: &[f64]) -> String {
+        format!(
+            "{} Newton its, front {:.4} m, E_k = {:.3e} J/m",
+            report.newton_iterations, values[3], values[5]
+        )
+    }
+
+    fn finish(&mut self, state: &MpmState, _: &[MpmStepReport]) -> Result<(), RunError> {
+        if !self.write_fields {
+            return Ok(());
+        }
+        self.fields
+            .finish(self.model, &state.particles, state.time)?;
+        if self.plots && self.reaction_curve.len() > 1 {
+            output::plot_force_displacement(
+                &self.out.join("force_displacement.png"),
+                &self.reaction_curve,
+                self.title,
+            )?;
+        }
+        Ok(())
+    }
 }

@@ -1,11 +1,21 @@
-//! Implicit time stepping of eqs. 15–16 on a finite-element model: each step is one
-//! reduced problem `z = Wσ + q` solved by `talus-ssn`, warm-started from the last step.
+//! Implicit time stepping of eqs. 15–16: one engine ([`Stepper`]) over a
+//! [`Discretization`]; the finite-element [`Model`] is one, the material point method
+//! another (`crate::mpm_run`).
+pub mod engine;
+mod fem_step;
 mod initial_stress;
 mod model;
 mod state;
-mod stepper;
 
+pub use engine::{
+    Discretization, Predictor, PredictorRule, StepError, StepReport, StepSettings, Stepper,
+};
+pub use fem_step::FemStats;
 pub use initial_stress::{k0_bounds, k0_bounds_without_cohesion, k0_stress, k0_stress_at};
 pub use model::{Loads, Model, RampedForce};
 pub use state::State;
-pub use stepper::{Predictor, StepError, StepRecord, Stepper};
+
+/// What one FEM step did.
+pub type StepRecord = StepReport<FemStats>;
+/// Why a FEM step failed.
+pub type FemStepError = StepError<std::convert::Infallible>;

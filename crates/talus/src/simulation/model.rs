@@ -1,8 +1,10 @@
 use nalgebra::{SMatrix, SVector};
 use talus_bipotential::{DruckerPrager, FlowRule};
-use talus_fem::assembly::add_mul;
 use talus_fem::{Assembly, BoundaryEdge, Constraint, DofMap, ElementOrder, Mesh};
-use talus_ssn::{Operator, ReducedSystem, SolveError, Structured};
+use talus_ssn::{
+    reduced_rhs, FreeVelocities, Operator, PrescribedVelocities, ReducedSystem, SolveError,
+    Structured,
+};
 
 use super::State;
 
@@ -293,26 +295,26 @@ impl Model {
     /// [`reduced_rhs`](Self::reduced_rhs) with the step's loads already evaluated.
     pub fn reduced_rhs_with(&self, state: &State, h: f64, loads: &Loads) -> Vec<f64> {
         let asm = &self.assembly;
-        let mut q = vec![0.0; 4 * asm.n_points()];
+        let mut s_sigma = vec![0.0; 4 * asm.n_points()];
         for (p, v) in asm.gauss_volumes.iter().enumerate() {
             let s = self.compliance
                 * SVector::<f64, 4>::from_column_slice(&state.sigma[4 * p..4 * p + 4])
                 * *v;
-            for k in 0..4 {
-                q[4 * p + k] = -s[k];
-            }
+            s_sigma[4 * p..4 * p + 4].copy_from_slice(s.as_slice());
         }
-        let drive: Vec<f64> = state
-            .velocity_free
-            .iter()
-            .zip(&loads.force_free)
-            .zip(&asm.lumped_mass_free)
-            .map(|((v, f), m)| -(h * v + h * h * f / m))
-            .collect();
-        add_mul(&asm.b_free, &drive, &mut q);
-        let prescribed: Vec<f64> = loads.prescribed_velocity.iter().map(|v| -h * v).collect();
-        add_mul(&asm.b_prescribed, &prescribed, &mut q);
-        q
+        let free = FreeVelocities {
+            b: &asm.b_free,
+            velocity: &state.velocity_free,
+            force: &loads.force_free,
+            lumped_mass: &asm.lumped_mass_free,
+        };
+        let prescribed = PrescribedVelocities {
+            b: &asm.b_prescribed,
+            velocity: &loads.prescribed_velocity,
+        };
+        // The lengths come from the same assembly: they agree by construction.
+        reduced_rhs(h, &s_sigma, &free, &prescribed)
+            .expect("the assembly's operators and velocities have matching sizes")
     }
 }
 

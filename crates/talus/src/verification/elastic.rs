@@ -5,7 +5,7 @@ use talus_ssn::Settings;
 
 use super::{CaseResult, Check};
 use crate::scene::Scene;
-use crate::simulation::{Model, State, Stepper};
+use crate::simulation::{Model, State, StepSettings, Stepper};
 
 fn elastic_scene(order: &str, fix_all: bool, gravity: bool) -> String {
     let boundary = if fix_all {
@@ -57,7 +57,8 @@ pub fn elastic_patch_test() -> Vec<CaseResult> {
                         }
                     }
                 }
-                let mut stepper = Stepper::new(&model, Settings::default(), 0);
+                let mut stepper =
+                    Stepper::new(&model, StepSettings::with_solver(Settings::default(), 0));
                 stepper.advance(&mut state, scene.spec.time.step).ok()?;
                 let rates = asm
                     .strain(&state.velocity_free, &state.velocity_prescribed)
@@ -120,7 +121,7 @@ pub fn elastic_step_identity() -> Vec<CaseResult> {
         }
         let (sigma_n, v_n) = (state.sigma.clone(), state.velocity_free.clone());
         let h = scene.spec.time.step;
-        Stepper::new(&model, Settings::default(), 0)
+        Stepper::new(&model, StepSettings::with_solver(Settings::default(), 0))
             .advance(&mut state, h)
             .ok()?;
 

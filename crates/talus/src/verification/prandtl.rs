@@ -66,7 +66,7 @@ pub fn prandtl(phi_deg: f64, order: &str, cells: [usize; 2]) -> Option<PrandtlRu
     .ok()?;
     let b = 1.0;
     let c = scene.spec.material.cohesion;
-    let force = 2.0 * summary.records.last()?.reaction_force;
+    let force = 2.0 * summary.records.last()?.reaction_force();
     Some(PrandtlRun {
         nc: force / (b * c),
         elements: 2 * cells[0] * cells[1],
@@ -82,7 +82,7 @@ pub fn prandtl(phi_deg: f64, order: &str, cells: [usize; 2]) -> Option<PrandtlRu
                     .displacements
                     .iter()
                     .zip(&summary.records)
-                    .map(|(d, r)| (*d, 2.0 * r.reaction_force)),
+                    .map(|(d, r)| (*d, 2.0 * r.reaction_force())),
             )
             .collect(),
     })

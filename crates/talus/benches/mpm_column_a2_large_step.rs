@@ -13,6 +13,9 @@
 //! Without `--bench` (`cargo test --benches`) it runs 3 steps of a 200-particle column.
 use std::time::Instant;
 
+use talus::mpm_run::MpmStepper;
+use talus::scene::SolverSpec;
+use talus::simulation::engine::{Method, PredictorRule, StepSettings};
 use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters};
 use talus_mpm::{
     Grid, GridBoundary, Mpm, MpmSettings, Particles, ShapeFunction, Side, Wall, WallCondition,
@@ -38,14 +41,17 @@ fn main() {
     if let Some(a) = value("--flip") {
         settings.flip_ratio = a;
     }
+    let mut stepping = StepSettings::from_spec(&SolverSpec::default(), Method::Mpm);
     if args.iter().any(|a| a == "--elastic-predictor") {
-        settings.predictor = talus_mpm::Predictor::Elastic;
+        stepping.predictor = PredictorRule::Elastic;
     }
+    // A new solver for every friction pass (the cost before the passes shared one).
+    stepping.reuse_analysis = !args.iter().any(|a| a == "--no-reuse");
     if let Some(f) = value("--rho-diagonal") {
-        settings.solver.rho = talus_ssn::Rho::PerPointDiagonal { factor: f };
+        stepping.solver.rho = talus_ssn::Rho::PerPointDiagonal { factor: f };
     }
     if let Some(f) = value("--rho-compliance") {
-        settings.solver.rho = talus_ssn::Rho::PerPointCompliance { factor: f };
+        stepping.solver.rho = talus_ssn::Rho::PerPointCompliance { factor: f };
     }
     let soil = DruckerPrager::try_new(DruckerPragerParameters {
         young_modulus: 1e7,
@@ -71,9 +77,8 @@ fn main() {
         ],
         prescribed: vec![],
     };
-    let mut mpm = Mpm::try_new(grid, boundary, &soil, [0.0, -9.81], settings).expect("mpm");
-    // A new solver for every friction pass (the cost before the passes shared one).
-    mpm.set_analysis_reuse(!args.iter().any(|a| a == "--no-reuse"));
+    let mpm = Mpm::try_new(grid, boundary, &soil, [0.0, -9.81], settings).expect("mpm");
+    let mut mpm = MpmStepper::with_settings(mpm, stepping);
     let mut particles =
         Particles::fill_rectangle([[0.0, 0.0], [WIDTH, HEIGHT]], DX, per_cell, 1800.0)
             .expect("particles");
@@ -85,8 +90,8 @@ fn main() {
         match mpm.advance(&mut particles, H) {
             Ok(r) => {
                 done += 1;
-                its += r.newton_iterations;
-                first += r.first_pass_iterations;
+                its += r.total_newton_iterations();
+                first += r.first_solve_iterations;
                 backtracks += r.backtracks;
                 halved += (r.substeps > 1) as usize;
                 if verbose {
@@ -94,10 +99,10 @@ fn main() {
                         "step {:3} t = {:.3}: {:4} its (first pass {:3}), {:4} backtracks, {} passes, {:2} substeps, {:.2} s",
                         k + 1,
                         (k + 1) as f64 * H,
-                        r.newton_iterations,
-                        r.first_pass_iterations,
+                        r.total_newton_iterations(),
+                        r.first_solve_iterations,
                         r.backtracks,
-                        r.contact_passes,
+                        r.solves_per_substep,
                         r.substeps,
                         r.seconds
                     );

@@ -2,6 +2,7 @@
 //! decelerates at `μ g` until it stops (a closed form of any dynamics textbook, e.g.
 //! Meriam & Kraige, Dynamics, §3/4), and a block resting on the floor is not dragged by a
 //! horizontal push below `μ m g` (the stick side of the active set).
+use talus::mpm_run::MpmStepper;
 use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters};
 use talus_mpm::{
     Grid, GridBoundary, Mpm, MpmSettings, Particles, ShapeFunction, Side, Wall, WallCondition,
@@ -48,6 +49,7 @@ fn sliding_block_decelerates_at_mu_g() {
     let (v0, h) = (1.0, 5e-3);
     for shape in [ShapeFunction::Linear, ShapeFunction::QuadraticBSpline] {
         let mpm = floor(mu, shape);
+        let mut mpm = MpmStepper::new(mpm);
         let mut block =
             Particles::fill_rectangle([[0.2, 0.0], [0.6, 0.2]], 0.05, 2, 2000.0).unwrap();
         // Settle on the floor first (no friction work while at rest), then launch.
@@ -88,6 +90,7 @@ fn push_below_the_friction_limit_does_not_slide() {
     let mu = 0.5;
     let h = 5e-3;
     let mpm = floor(mu, ShapeFunction::QuadraticBSpline);
+    let mut mpm = MpmStepper::new(mpm);
     let mut block = Particles::fill_rectangle([[0.2, 0.0], [0.6, 0.2]], 0.05, 2, 2000.0).unwrap();
     let weight: f64 = block.mass.iter().sum::<f64>() * G;
     // Push every particle sideways with 60% of what friction can hold, in total.

@@ -19,6 +19,7 @@
 //! (`c_p h / dx = 0.08`; measured 150 for hats, 15 for B-splines). Particles at least 4
 //! cells inside the edges ("interior") are checked tightly; the whole block only through
 //! its invariants.
+use talus::mpm_run::MpmStepper;
 use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters};
 use talus_mpm::{Grid, GridBoundary, Mpm, MpmSettings, Particles, ShapeFunction};
 
@@ -131,6 +132,7 @@ fn run(
     expected: [f64; 4],
 ) -> (Particles, Change) {
     let mpm = mpm(shape, rotate_stress);
+    let mut mpm = MpmStepper::new(mpm);
     let mut p = spinning_block();
     let start = p.clone();
     for _ in 0..steps {

@@ -30,10 +30,12 @@
 //! as a smoke test.
 use std::process::{Command, Stdio};
 
+use talus::mpm_run::{MpmStepReport as StepReport, MpmStepper};
+use talus::scene::SolverSpec;
+use talus::simulation::engine::{Method, StepSettings};
 use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters};
 use talus_mpm::{
-    Grid, GridBoundary, Mpm, MpmSettings, Particles, ShapeFunction, Side, StepReport, Wall,
-    WallCondition,
+    Grid, GridBoundary, Mpm, MpmSettings, Particles, ShapeFunction, Side, Wall, WallCondition,
 };
 
 const YOUNG: f64 = 1e7;
@@ -264,7 +266,7 @@ fn measure(n: usize, steps: usize, verbose: bool) -> Measurement {
     };
     let gravity = [0.0, -9.81];
     let settings = MpmSettings::default();
-    let mut plastic = Mpm::try_new(
+    let plastic = Mpm::try_new(
         grid.clone(),
         boundary.clone(),
         &material(0.0),
@@ -274,7 +276,13 @@ fn measure(n: usize, steps: usize, verbose: bool) -> Measurement {
     .expect("plastic mpm");
     // TALUS_MPM_BENCH_NO_REUSE=1: a new solver (pattern and symbolic analysis) for every
     // friction pass, the cost before the passes shared one analysis.
-    plastic.set_analysis_reuse(std::env::var("TALUS_MPM_BENCH_NO_REUSE").is_err());
+    let mut plastic = MpmStepper::with_settings(
+        plastic,
+        StepSettings {
+            reuse_analysis: std::env::var("TALUS_MPM_BENCH_NO_REUSE").is_err(),
+            ..StepSettings::from_spec(&SolverSpec::default(), Method::Mpm)
+        },
+    );
     let elastic = Mpm::try_new(
         grid,
         boundary,
@@ -283,6 +291,7 @@ fn measure(n: usize, steps: usize, verbose: bool) -> Measurement {
         settings,
     )
     .expect("elastic mpm");
+    let mut elastic = MpmStepper::new(elastic);
     let mut particles =
         Particles::fill_rectangle([[0.0, 0.0], [WIDTH, 2.0 * WIDTH]], dx, 2, DENSITY)
             .expect("particles");
@@ -290,8 +299,8 @@ fn measure(n: usize, steps: usize, verbose: bool) -> Measurement {
         if verbose {
             eprintln!(
                 "column {n}: {what}: {} its (first pass {}, {} backtracks of {}), {} passes ({} reused analyses), {} substeps, {:.3} s (solve {:.3} s), residual {:.1e}, {} free dofs",
-                r.newton_iterations, r.first_pass_iterations, r.first_pass_backtracks, r.backtracks,
-                r.contact_passes, r.reused_analyses, r.substeps, r.seconds, r.solve_seconds, r.residual, r.free_dofs
+                r.total_newton_iterations(), r.first_solve_iterations, r.first_solve_backtracks, r.backtracks,
+                r.solves_per_substep, r.reused_analyses, r.substeps, r.seconds, r.solve_seconds, r.relative_residual, r.stats.as_ref().map_or(0, |s| s.free_dofs)
             );
         }
     };
@@ -331,14 +340,16 @@ fn measure(n: usize, steps: usize, verbose: bool) -> Measurement {
     Measurement {
         particles: particles.len(),
         cells,
-        free_dofs: last.free_dofs,
+        free_dofs: last.stats.as_ref().map_or(0, |s| s.free_dofs),
         h,
         limit,
         plastic_seconds: median(plastic_reports.iter().map(|r| r.seconds).collect()),
         elastic_seconds: median(elastic_reports.iter().map(|r| r.seconds).collect()),
-        plastic_iterations: total(&plastic_reports, |r| r.newton_iterations as f64) / steps as f64,
+        plastic_iterations: total(&plastic_reports, |r| r.total_newton_iterations() as f64)
+            / steps as f64,
         plastic_substeps: total(&plastic_reports, |r| r.substeps as f64) / steps as f64,
-        elastic_iterations: total(&elastic_reports, |r| r.newton_iterations as f64) / steps as f64,
+        elastic_iterations: total(&elastic_reports, |r| r.total_newton_iterations() as f64)
+            / steps as f64,
         solve_fraction: total(&plastic_reports, |r| r.solve_seconds)
             / total(&plastic_reports, |r| r.seconds),
         peak_kib: peak_kib() as f64,

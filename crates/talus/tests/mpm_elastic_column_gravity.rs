@@ -33,6 +33,7 @@
 //! imposed on the node lines alone they gave 30 % at the floor.
 use std::time::Instant;
 
+use talus::mpm_run::MpmStepper;
 use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters};
 use talus_mpm::{
     Grid, GridBoundary, Mpm, MpmSettings, Particles, ShapeFunction, Side, Wall, WallCondition,
@@ -83,6 +84,7 @@ fn settle(shape: ShapeFunction) -> Settled {
         prescribed: vec![],
     };
     let mpm = Mpm::try_new(grid, boundary, &material, [0.0, -G], MpmSettings::default()).unwrap();
+    let mut mpm = MpmStepper::new(mpm);
     let mut p = Particles::fill_rectangle([[0.0, 0.0], [WIDTH, HEIGHT]], DX, 2, RHO).unwrap();
     let y0: Vec<f64> = p.position.iter().map(|x| x[1]).collect();
 

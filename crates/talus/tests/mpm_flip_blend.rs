@@ -8,6 +8,7 @@
 //! same place with the opposite velocity, so P2G (eq. 11) gives zero momentum at every
 //! node. The twins drift apart by `2 h |v|` per step; with |v| = 1e-6 m/s and dx = 0.1 m
 //! the grid sees a relative 1e-7 of the field, far below the 1e-5 tolerance.
+use talus::mpm_run::MpmStepper;
 use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters};
 use talus_mpm::{Grid, GridBoundary, Mpm, MpmSettings, Particles, ShapeFunction};
 
@@ -53,6 +54,7 @@ fn twins() -> Particles {
 /// Mean particle speed over SPEED after DURATION in steps of `h`.
 fn decay(mpm: &Mpm, h: f64) -> f64 {
     let mut p = twins();
+    let mut mpm = MpmStepper::new(mpm.clone());
     let steps = (DURATION / h).round() as usize;
     for _ in 0..steps {
         mpm.advance(&mut p, h).unwrap();

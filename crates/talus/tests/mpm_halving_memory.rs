@@ -1,10 +1,13 @@
-//! Step-size memory (`MpmSettings::halving_memory`): a step that had to be halved makes
+//! The engine's step-size memory (`StepSettings::halving_memory`), on the MPM: a step that had to be halved makes
 //! the next one start at the sub-step that converged, which must be exactly the same as
 //! taking those sub-steps by hand (no failed attempt, same particles bit for bit); after
 //! `halving_memory` clean steps the next step tries twice the size again.
 //!
 //! A small granular column whose first steps from rest need more Newton iterations at the
 //! full step than `max_iterations` allows, and fewer at a quarter of it.
+use talus::mpm_run::MpmStepper;
+use talus::scene::SolverSpec;
+use talus::simulation::engine::{Method, StepSettings};
 use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters};
 use talus_mpm::{
     Grid, GridBoundary, Mpm, MpmSettings, Particles, ShapeFunction, Side, Wall, WallCondition,
@@ -12,7 +15,7 @@ use talus_mpm::{
 
 const H: f64 = 1.0 / 60.0;
 
-fn column(memory: usize) -> (Mpm, Particles) {
+fn column(memory: usize) -> (MpmStepper, Particles) {
     let soil = DruckerPrager::try_new(DruckerPragerParameters {
         young_modulus: 1e7,
         poisson_ratio: 0.3,
@@ -36,19 +39,20 @@ fn column(memory: usize) -> (Mpm, Particles) {
         ],
         prescribed: vec![],
     };
-    let mut settings = MpmSettings {
+    let mut settings = StepSettings {
         halving_memory: memory,
-        ..MpmSettings::default()
+        ..StepSettings::from_spec(&SolverSpec::default(), Method::Mpm)
     };
     settings.solver.max_iterations = 12;
-    let mpm = Mpm::try_new(grid, boundary, &soil, [0.0, -9.81], settings).unwrap();
+    let mpm = Mpm::try_new(grid, boundary, &soil, [0.0, -9.81], MpmSettings::default()).unwrap();
+    let mpm = MpmStepper::with_settings(mpm, settings);
     let particles = Particles::fill_rectangle([[0.0, 0.0], [0.1, 0.2]], 0.02, 2, 1800.0).unwrap();
     (mpm, particles)
 }
 
 #[test]
 fn a_halved_step_makes_the_next_start_at_the_converged_size() {
-    let (mpm, mut particles) = column(2);
+    let (mut mpm, mut particles) = column(2);
     let first = mpm.advance(&mut particles, H).unwrap();
     let level = mpm.remembered_halvings();
     assert!(
@@ -59,7 +63,7 @@ fn a_halved_step_makes_the_next_start_at_the_converged_size() {
     assert_eq!(H / first.smallest_h, (1usize << level) as f64);
 
     // The next step with memory, against the same sub-steps taken by hand without it.
-    let (plain, _) = column(0);
+    let (mut plain, _) = column(0);
     let mut by_hand = particles.clone();
     let parts = 1usize << level;
     for _ in 0..parts {
@@ -83,7 +87,7 @@ fn a_halved_step_makes_the_next_start_at_the_converged_size() {
 
 #[test]
 fn without_memory_every_step_starts_at_full_h() {
-    let (mpm, mut particles) = column(0);
+    let (mut mpm, mut particles) = column(0);
     let first = mpm.advance(&mut particles, H).unwrap();
     assert!(first.substeps > 1);
     assert_eq!(mpm.remembered_halvings(), 0);

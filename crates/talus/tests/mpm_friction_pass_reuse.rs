@@ -1,10 +1,12 @@
 //! The friction passes of a step share one dof numbering and one Schur analysis (a stuck
 //! tangential velocity is a zeroed column of `B`): the steps are the same, bit for bit, as
 //! with a new solver built for every pass, and a stuck node does not move.
+use talus::mpm_run::{MpmStepReport, MpmStepper};
+use talus::scene::SolverSpec;
+use talus::simulation::engine::{Method, StepSettings};
 use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters};
 use talus_mpm::{
-    Grid, GridBoundary, Mpm, MpmSettings, Particles, ShapeFunction, Side, StepReport, Wall,
-    WallCondition,
+    Grid, GridBoundary, Mpm, MpmSettings, Particles, ShapeFunction, Side, Wall, WallCondition,
 };
 
 fn sand() -> DruckerPrager {
@@ -21,7 +23,7 @@ fn sand() -> DruckerPrager {
 
 /// A small sand column collapsing on a rough floor (μ = 0.4): the floor nodes switch
 /// between stick and slide, so steps take several friction passes.
-fn column(reuse: bool) -> (Mpm, Particles) {
+fn column(reuse: bool) -> (MpmStepper, Particles) {
     let grid = Grid::try_new([0.0, 0.0], 0.02, [20, 8], ShapeFunction::QuadraticBSpline).unwrap();
     let boundary = GridBoundary {
         walls: vec![
@@ -36,7 +38,7 @@ fn column(reuse: bool) -> (Mpm, Particles) {
         ],
         prescribed: vec![],
     };
-    let mut mpm = Mpm::try_new(
+    let mpm = Mpm::try_new(
         grid,
         boundary,
         &sand(),
@@ -44,13 +46,17 @@ fn column(reuse: bool) -> (Mpm, Particles) {
         MpmSettings::default(),
     )
     .unwrap();
-    mpm.set_analysis_reuse(reuse);
+    let settings = StepSettings {
+        reuse_analysis: reuse,
+        ..StepSettings::from_spec(&SolverSpec::default(), Method::Mpm)
+    };
+    let mpm = MpmStepper::with_settings(mpm, settings);
     let particles = Particles::fill_rectangle([[0.0, 0.0], [0.06, 0.12]], 0.02, 2, 1800.0).unwrap();
     (mpm, particles)
 }
 
-fn run(reuse: bool) -> (Particles, Vec<StepReport>) {
-    let (mpm, mut particles) = column(reuse);
+fn run(reuse: bool) -> (Particles, Vec<MpmStepReport>) {
+    let (mut mpm, mut particles) = column(reuse);
     let reports = (0..25)
         .map(|_| mpm.advance(&mut particles, 4e-3).unwrap())
         .collect();
@@ -65,7 +71,7 @@ fn bits(v: impl IntoIterator<Item = f64>) -> Vec<u64> {
 fn shared_analysis_equals_a_new_solver_per_pass_bit_for_bit() {
     let (shared, shared_reports) = run(true);
     let (fresh, fresh_reports) = run(false);
-    let passes: usize = shared_reports.iter().map(|r| r.contact_passes).sum();
+    let passes: usize = shared_reports.iter().map(|r| r.solves_per_substep).sum();
     let reused: usize = shared_reports.iter().map(|r| r.reused_analyses).sum();
     assert!(
         passes > shared_reports.len() + 5,
@@ -85,12 +91,12 @@ fn shared_analysis_equals_a_new_solver_per_pass_bit_for_bit() {
     );
     for (a, b) in shared_reports.iter().zip(&fresh_reports) {
         assert_eq!(
-            (a.newton_iterations, a.contact_passes, a.substeps),
-            (b.newton_iterations, b.contact_passes, b.substeps)
+            (a.newton_iterations, a.solves_per_substep, a.substeps),
+            (b.newton_iterations, b.solves_per_substep, b.substeps)
         );
         assert_eq!(
-            bits(a.group_forces.iter().flatten().copied()),
-            bits(b.group_forces.iter().flatten().copied())
+            bits(a.group_forces().iter().flatten().copied()),
+            bits(b.group_forces().iter().flatten().copied())
         );
     }
     assert_eq!(
@@ -131,10 +137,11 @@ fn stuck_floor_equals_a_fixed_floor() {
             MpmSettings::default(),
         )
         .unwrap();
+        let mut mpm = MpmStepper::new(mpm);
         let mut p = Particles::fill_rectangle([[0.1, 0.0], [0.2, 0.1]], 0.02, 2, 1800.0).unwrap();
         let mut passes = 0;
         for _ in 0..10 {
-            passes = passes.max(mpm.advance(&mut p, 4e-3).unwrap().contact_passes);
+            passes = passes.max(mpm.advance(&mut p, 4e-3).unwrap().solves_per_substep);
         }
         (p, passes)
     };

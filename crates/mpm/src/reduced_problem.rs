@@ -1,0 +1,288 @@
+//! Eqs. 15–16 on the grid: the numbering of the grid velocities, `B` on the free ones, the
+//! reduced problem `h z = Wσ + q` of one solve under given wall contacts, and the grid
+//! velocities and boundary forces that follow from its stress.
+use faer::sparse::{SparseColMat, Triplet};
+use nalgebra::{SMatrix, SVector};
+use talus_bipotential::FlowRule;
+use talus_ssn::{
+    reduced_rhs, FreeVelocities, Operator, PrescribedVelocities, ReducedSystem, Structured,
+};
+
+use crate::boundary::NodeCondition;
+use crate::contact::Contact;
+use crate::error::MpmError;
+use crate::grid::Stencil;
+use crate::particles::Particles;
+use crate::transfer::add_internal_force;
+
+/// Free or prescribed index of a grid velocity component.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Dof {
+    Inactive,
+    Free(usize),
+    Prescribed(f64),
+}
+
+/// The grid after P2G (eq. 11), with the sub-step's dof numbering and `B`, shared by the
+/// friction passes.
+pub(crate) struct Prepared {
+    pub stencils: Vec<Stencil>,
+    pub mass: Vec<f64>,
+    pub force: Vec<[f64; 2]>,
+    pub v_old: Vec<[f64; 2]>,
+    pub active: Vec<bool>,
+    /// Every active node's components; a friction node's tangential component is a free
+    /// velocity in every pass, stick or slide, so that all passes share one pattern.
+    pub dofs: Vec<[Dof; 2]>,
+    /// Lumped mass of each free velocity.
+    pub mass_free: Vec<f64>,
+    /// `B` on the free velocities (eq. 16), stuck tangential columns included.
+    pub b: SparseColMat<usize, f64>,
+}
+
+/// One pass's view of the grid components: a stuck friction component is prescribed to 0,
+/// a sliding one carries the friction force as an external load.
+pub(crate) struct PassView {
+    pub dofs: Vec<[Dof; 2]>,
+    pub force: Vec<[f64; 2]>,
+}
+
+/// What a solve gives the grid and the particles.
+pub(crate) struct Solved {
+    /// ‖z_p‖ / V_p: the plastic strain increment of each particle.
+    pub plastic_increment: Vec<f64>,
+    pub v_new: Vec<[f64; 2]>,
+    /// Force the boundary applies to the body on prescribed components (N/m).
+    pub reaction: Vec<[f64; 2]>,
+}
+
+/// Numbers the active nodes' velocity components: prescribed ones keep their velocity;
+/// the others, a friction node's tangential component included, are free velocities.
+pub(crate) fn numbering(
+    conditions: &[NodeCondition],
+    active: &[bool],
+    mass: &[f64],
+) -> (Vec<[Dof; 2]>, Vec<f64>) {
+    let mut dofs = vec![[Dof::Inactive; 2]; active.len()];
+    let mut mass_free = Vec::new();
+    for (i, c) in conditions.iter().enumerate() {
+        if !active[i] {
+            continue;
+        }
+        for (dof, velocity) in dofs[i].iter_mut().zip(c.velocity) {
+            *dof = match velocity {
+                Some(v) => Dof::Prescribed(v),
+                None => {
+                    mass_free.push(mass[i]);
+                    Dof::Free(mass_free.len() - 1)
+                }
+            };
+        }
+    }
+    (dofs, mass_free)
+}
+
+/// Eqs. 15–16 with the walls' conditions and the friction nodes' contact states. A stuck
+/// tangential velocity stays a free velocity of the numbering but its column of `B` is
+/// zeroed: it then strains nothing, exactly as the prescribed velocity 0 it is, and the
+/// Newton matrix keeps the pattern of the sub-step (the engine keeps its analysis).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn pass_system(
+    conditions: &[NodeCondition],
+    flow_rule: &FlowRule<4>,
+    compliance: &SMatrix<f64, 4, 4>,
+    particles: &Particles,
+    prep: &Prepared,
+    contact: &[Contact],
+    h: f64,
+) -> Result<(ReducedSystem<4>, PassView), MpmError> {
+    let n_p = particles.len();
+    let n_nodes = prep.mass.len();
+    let mut dofs = prep.dofs.clone();
+    let mut force = prep.force.clone();
+    let mut b = prep.b.clone();
+    for (i, c) in conditions.iter().enumerate() {
+        let Some((axis, _, _)) = c.friction else {
+            continue;
+        };
+        if !prep.active[i] {
+            continue;
+        }
+        let t = 1 - axis;
+        match contact[i] {
+            Contact::Stick => {
+                if let Dof::Free(j) = dofs[i][t] {
+                    let range = b.symbolic().col_range(j);
+                    b.val_mut()[range].fill(0.0);
+                }
+                dofs[i][t] = Dof::Prescribed(0.0);
+            }
+            Contact::Slide(f) => force[i][t] += f,
+        }
+    }
+
+    // q of eq. 16, with `B_D` on the prescribed components that move (a component at
+    // rest adds nothing).
+    let mut s_sigma = vec![0.0; 4 * n_p];
+    let mut compliance_blocks = Vec::with_capacity(n_p);
+    for p in 0..n_p {
+        let s_p = compliance * particles.volume[p];
+        let s = s_p * SVector::<f64, 4>::from(particles.stress[p]);
+        s_sigma[4 * p..4 * p + 4].copy_from_slice(s.as_slice());
+        compliance_blocks.push(s_p);
+    }
+    let mut v_free = vec![0.0; prep.mass_free.len()];
+    let mut f_free = vec![0.0; prep.mass_free.len()];
+    let mut moving = Vec::new();
+    let mut column = vec![[None; 2]; n_nodes];
+    for i in 0..n_nodes {
+        for a in 0..2 {
+            match dofs[i][a] {
+                Dof::Free(j) => {
+                    v_free[j] = prep.v_old[i][a];
+                    f_free[j] = force[i][a];
+                }
+                Dof::Prescribed(v) if v != 0.0 => {
+                    column[i][a] = Some(moving.len());
+                    moving.push(v);
+                }
+                _ => {}
+            }
+        }
+    }
+    let b_prescribed = strain_operator(
+        &prep.stencils,
+        &particles.volume,
+        |i, a| column[i][a],
+        moving.len(),
+    )?;
+    let q = reduced_rhs(
+        h,
+        &s_sigma,
+        &FreeVelocities {
+            b: &b,
+            velocity: &v_free,
+            force: &f_free,
+            lumped_mass: &prep.mass_free,
+        },
+        &PrescribedVelocities {
+            b: &b_prescribed,
+            velocity: &moving,
+        },
+    )
+    .map_err(MpmError::Solver)?;
+    let operator = Operator::Structured(Structured {
+        compliance: compliance_blocks,
+        b,
+        lumped_mass: prep.mass_free.clone(),
+        h,
+    });
+    let system =
+        ReducedSystem::try_new(operator, q, vec![*flow_rule; n_p]).map_err(MpmError::Solver)?;
+    Ok((system, PassView { dofs, force }))
+}
+
+/// The plastic strain increments, grid velocities (eq. 15: v = vₙ + h M⁻¹ (f − Bᵀσ)) and,
+/// on prescribed components, the boundary's force M a + Bᵀσ − f (friction included: it is
+/// part of f there) of a solve's `sigma` and `z = Wσ + q`.
+pub(crate) fn solved(
+    particles: &Particles,
+    prep: &Prepared,
+    view: &PassView,
+    sigma: &[f64],
+    z: &[f64],
+    h: f64,
+) -> Solved {
+    // z = Wσ + q is h·(−V ε̇ᵖ) per particle (eq. 16).
+    let plastic_increment = (0..particles.len())
+        .map(|p| {
+            z[4 * p..4 * p + 4]
+                .iter()
+                .map(|v| v * v)
+                .sum::<f64>()
+                .sqrt()
+                / particles.volume[p]
+        })
+        .collect();
+    let n_nodes = prep.mass.len();
+    let mut internal = vec![[0.0; 2]; n_nodes];
+    add_internal_force(
+        &prep.stencils,
+        &particles.volume,
+        sigma,
+        &prep.active,
+        &mut internal,
+    );
+    let mut v_new = vec![[0.0; 2]; n_nodes];
+    let mut reaction = vec![[0.0; 2]; n_nodes];
+    for i in 0..n_nodes {
+        if !prep.active[i] {
+            continue;
+        }
+        let m = prep.mass[i];
+        for a in 0..2 {
+            match view.dofs[i][a] {
+                Dof::Prescribed(v) => {
+                    v_new[i][a] = v;
+                    reaction[i][a] =
+                        m * (v - prep.v_old[i][a]) / h + internal[i][a] - prep.force[i][a];
+                }
+                _ => {
+                    v_new[i][a] = prep.v_old[i][a] + h * (view.force[i][a] - internal[i][a]) / m;
+                    reaction[i][a] = view.force[i][a] - prep.force[i][a];
+                }
+            }
+        }
+    }
+    Solved {
+        plastic_increment,
+        v_new,
+        reaction,
+    }
+}
+
+/// `B` on the free velocity components: row block `p` is `V_p · ε̇(x_p)` in Mandel form
+/// (as in talus-fem), so that `Bᵀσ` is the internal force and `W` is symmetric.
+pub(crate) fn free_strain_operator(
+    stencils: &[Stencil],
+    volume: &[f64],
+    dofs: &[[Dof; 2]],
+    n_free: usize,
+) -> Result<SparseColMat<usize, f64>, MpmError> {
+    let free = |i: usize, a: usize| match dofs[i][a] {
+        Dof::Free(j) => Some(j),
+        _ => None,
+    };
+    strain_operator(stencils, volume, free, n_free)
+}
+
+/// `B` on the grid velocity components `column` numbers (node, component → column).
+fn strain_operator(
+    stencils: &[Stencil],
+    volume: &[f64],
+    column: impl Fn(usize, usize) -> Option<usize>,
+    n_columns: usize,
+) -> Result<SparseColMat<usize, f64>, MpmError> {
+    let r2 = std::f64::consts::FRAC_1_SQRT_2;
+    let mut triplets = Vec::with_capacity(stencils.len() * 9 * 4);
+    for (p, s) in stencils.iter().enumerate() {
+        let (v, r) = (volume[p], 4 * p);
+        for (i, _, g) in s.iter() {
+            let entries = [
+                (0, [(r, g[0]), (r + 3, r2 * g[1])]),
+                (1, [(r + 1, g[1]), (r + 3, r2 * g[0])]),
+            ];
+            for (a, rows) in entries {
+                if let Some(j) = column(i, a) {
+                    for (row, value) in rows {
+                        if value != 0.0 {
+                            triplets.push(Triplet::new(row, j, v * value));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    SparseColMat::try_new_from_triplets(4 * stencils.len(), n_columns, &triplets)
+        .map_err(|e| MpmError::invalid("B", format!("sparse assembly failed: {e:?}")))
+}

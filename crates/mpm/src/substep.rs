@@ -1,0 +1,212 @@
+//! One MPM sub-step of length `h` (eqs. 11–16), in the order a stepping engine drives it:
+//! [`Mpm::begin_substep`] (P2G and the first reduced problem), [`Substep::after_solve`]
+//! after each converged solve (the friction walls' active set may ask for another), and
+//! [`Substep::finish`] (grid velocities, G2P). The Newton solves are the caller's.
+use talus_ssn::ReducedSystem;
+
+use crate::contact::{self, Contact, MAX_CONTACT_PASSES};
+use crate::error::MpmError;
+use crate::particles::Particles;
+use crate::reduced_problem::{
+    free_strain_operator, numbering, pass_system, solved, PassView, Prepared, Solved,
+};
+use crate::rotation::rotate;
+use crate::transfer::{
+    avoid_empty_nodes, grid_to_particle, particles_to_grid, stencils, velocity_gradient,
+};
+use crate::Mpm;
+
+/// A sub-step between its P2G and its G2P.
+pub struct Substep {
+    h: f64,
+    prep: Prepared,
+    friction_nodes: Vec<usize>,
+    contact: Vec<Contact>,
+    view: PassView,
+    passes: usize,
+    last: Option<Solved>,
+}
+
+/// What a sub-step measured.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SubstepStats {
+    /// Grid nodes carrying mass, and free velocity components.
+    pub active_nodes: usize,
+    pub free_dofs: usize,
+    /// Force each wall, then each prescribed-velocity box, applies to the material (N/m):
+    /// `M a + Bᵀσ − f` on its nodes, friction included.
+    pub group_forces: Vec<[f64; 2]>,
+    /// Solves taken to settle the friction walls' stick/slide states (1 without them).
+    pub contact_passes: usize,
+}
+
+impl Mpm {
+    /// P2G (eq. 11) and the reduced problem of eq. 16 for a sub-step of `h` from
+    /// `particles`, with every friction node stuck.
+    pub fn begin_substep(
+        &self,
+        particles: &Particles,
+        h: f64,
+    ) -> Result<(Substep, ReducedSystem<4>), MpmError> {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(MpmError::invalid(
+                "h",
+                format!("{h} s must be finite and > 0"),
+            ));
+        }
+        particles.validate()?;
+        let grid = self.grid();
+        let conditions = self.conditions();
+        let mut stencils = stencils(grid, particles)?;
+        let g = particles_to_grid(grid, particles, &stencils, self.gravity());
+        let active: Vec<bool> = g.mass.iter().map(|m| *m > 0.0).collect();
+        avoid_empty_nodes(grid, particles, &mut stencils, &active)?;
+        let (dofs, mass_free) = numbering(conditions, &active, &g.mass);
+        let b = free_strain_operator(&stencils, &particles.volume, &dofs, mass_free.len())?;
+        let prep = Prepared {
+            v_old: g.velocity(),
+            active,
+            stencils,
+            mass: g.mass,
+            force: g.force,
+            dofs,
+            mass_free,
+            b,
+        };
+        let friction_nodes: Vec<usize> = (0..prep.mass.len())
+            .filter(|&i| prep.active[i] && conditions[i].friction.is_some())
+            .collect();
+        let contact = vec![Contact::Stick; prep.mass.len()];
+        let (system, view) = pass_system(
+            conditions,
+            self.flow_rule(),
+            self.compliance(),
+            particles,
+            &prep,
+            &contact,
+            h,
+        )?;
+        Ok((
+            Substep {
+                h,
+                prep,
+                friction_nodes,
+                contact,
+                view,
+                passes: 0,
+                last: None,
+            },
+            system,
+        ))
+    }
+}
+
+impl Substep {
+    /// After a converged solve of the current problem (`sigma`, `z = Wσ + q`): updates the
+    /// friction walls' stick/slide states; `Some` is the next problem to solve (from
+    /// `sigma`) while they change, `None` once they settle (or after
+    /// `MAX_CONTACT_PASSES`, keeping the last pass).
+    pub fn after_solve(
+        &mut self,
+        mpm: &Mpm,
+        particles: &Particles,
+        sigma: &[f64],
+        z: &[f64],
+    ) -> Result<Option<ReducedSystem<4>>, MpmError> {
+        self.passes += 1;
+        let s = solved(particles, &self.prep, &self.view, sigma, z, self.h);
+        let changed = contact::update(
+            mpm.conditions(),
+            &self.friction_nodes,
+            &s.reaction,
+            &s.v_new,
+            &mut self.contact,
+        );
+        self.last = Some(s);
+        if !changed || self.passes >= MAX_CONTACT_PASSES {
+            if changed {
+                tracing::debug!(
+                    passes = self.passes,
+                    "friction active set not settled; last pass kept"
+                );
+            }
+            return Ok(None);
+        }
+        let (system, view) = pass_system(
+            mpm.conditions(),
+            mpm.flow_rule(),
+            mpm.compliance(),
+            particles,
+            &self.prep,
+            &self.contact,
+            self.h,
+        )?;
+        self.view = view;
+        Ok(Some(system))
+    }
+
+    /// G2P (eqs. 13–14) from the last solve's stress `sigma`: plastic strain, volumes,
+    /// objective stresses, velocities and positions. On error `particles` may be partly
+    /// updated: the caller passes a copy.
+    pub fn finish(
+        self,
+        mpm: &Mpm,
+        particles: &mut Particles,
+        sigma: Vec<f64>,
+    ) -> Result<SubstepStats, MpmError> {
+        let h = self.h;
+        let Some(solved) = self.last else {
+            return Err(MpmError::invalid(
+                "substep",
+                "finished before a solve was accepted",
+            ));
+        };
+        let prep = &self.prep;
+        for (p, dp) in solved.plastic_increment.iter().enumerate() {
+            particles.plastic_strain[p] += dp;
+        }
+        let mut group_forces = vec![[0.0; 2]; mpm.boundary().n_groups()];
+        for (i, c) in mpm.conditions().iter().enumerate() {
+            if let (true, Some(k)) = (prep.active[i], c.owner) {
+                group_forces[k][0] += solved.reaction[i][0];
+                group_forces[k][1] += solved.reaction[i][1];
+            }
+        }
+        let settings = mpm.settings();
+        let flip = settings.flip_weight(h);
+        for (p, s) in prep.stencils.iter().enumerate() {
+            let l = velocity_gradient(s, &solved.v_new);
+            let jacobian = (1.0 + h * l[0][0]) * (1.0 + h * l[1][1]) - h * h * l[0][1] * l[1][0];
+            if !(jacobian > 0.0 && jacobian.is_finite()) {
+                return Err(MpmError::Inverted {
+                    particle: p,
+                    jacobian,
+                    h,
+                });
+            }
+            particles.volume[p] *= jacobian;
+            let mut t = [0.0; 4];
+            t.copy_from_slice(&sigma[4 * p..4 * p + 4]);
+            if settings.rotate_stress {
+                t = rotate(t, 0.5 * h * (l[1][0] - l[0][1]));
+            }
+            particles.stress[p] = t;
+            grid_to_particle(
+                s,
+                &solved.v_new,
+                &prep.v_old,
+                flip,
+                h,
+                &mut particles.position[p],
+                &mut particles.velocity[p],
+            );
+            particles.position[p] = mpm.grid().keep_inside(particles.position[p]);
+        }
+        Ok(SubstepStats {
+            active_nodes: prep.active.iter().filter(|a| **a).count(),
+            free_dofs: prep.mass_free.len(),
+            group_forces,
+            contact_passes: self.passes,
+        })
+    }
+}

@@ -1,0 +1,211 @@
+//! The semi-smooth Newton solver: its state and set-up here; the iteration, the Newton
+//! direction, the elastic predictor, problem replacement and ρ in their own files.
+mod direction;
+mod elastic_predictor;
+mod iteration;
+mod replace;
+mod rho;
+
+use rho::{choose_rho, RESIDUAL_RHO};
+use talus_bipotential::NaturalMapLinearization;
+
+use crate::error::invalid;
+use crate::newton::{DenseSystem, SchurSystem, StressSizedSystem};
+use crate::operator::{block, PointBlocks};
+use crate::{LinearSolver, Operator, ReducedSystem, Rho, Settings, SolveError};
+
+/// A linearization that is never read (placeholder before the first evaluation).
+fn blank<const D: usize>() -> NaturalMapLinearization<D> {
+    NaturalMapLinearization {
+        residual: nalgebra::SVector::zeros(),
+        projection_jacobian: nalgebra::SMatrix::zeros(),
+        coupling: nalgebra::SMatrix::zeros(),
+        region: talus_bipotential::Region::Interior,
+    }
+}
+
+/// Semi-smooth Newton (eqs. 21–25) on `F(σ) = σ − P_C(σ − ρ y(Wσ + q)) = 0`.
+///
+/// Built once per operator (the symbolic factorization happens here), then `solve` is called
+/// per right-hand side; workspaces are reused across iterations and solves.
+pub struct Solver<const D: usize> {
+    problem: ReducedSystem<D>,
+    settings: Settings,
+    blocks: Option<PointBlocks<D>>,
+    rho: Vec<f64>,
+    residual_rho: Vec<f64>,
+    dense: Option<DenseSystem>,
+    stress_sized: Option<StressSizedSystem>,
+    schur: Option<SchurSystem<D>>,
+    z: Vec<f64>,
+    f: Vec<f64>,
+    lin: Vec<NaturalMapLinearization<D>>,
+    trial_sigma: Vec<f64>,
+    trial_z: Vec<f64>,
+    trial_lin: Vec<NaturalMapLinearization<D>>,
+    direction: Vec<f64>,
+    check: Vec<f64>,
+    scratch: Vec<f64>,
+}
+
+/// Accepted `‖J_F d + F‖∞ / ‖F‖∞` of a Newton direction (inexact Newton forcing term).
+const LINEAR_FORCING: f64 = 1e-3;
+
+/// Dense Newton matrices up to this size; sparse beyond.
+const DENSE_LIMIT: usize = 600;
+
+fn validate(settings: &Settings) -> Result<(), SolveError> {
+    if !(settings.tolerance.is_finite() && settings.tolerance > 0.0) {
+        return Err(invalid(
+            "settings.tolerance",
+            format!("{} must be finite and > 0", settings.tolerance),
+        ));
+    }
+    if !(settings.pivot_tolerance > 0.0 && settings.pivot_tolerance <= 1.0) {
+        return Err(invalid(
+            "settings.pivot_tolerance",
+            format!("{} must be in (0, 1]", settings.pivot_tolerance),
+        ));
+    }
+    if settings.max_iterations == 0 {
+        return Err(invalid("settings.max_iterations", "must be at least 1"));
+    }
+    let rho = match settings.rho {
+        Rho::PerPointDiagonal { factor }
+        | Rho::PerPointCompliance { factor }
+        | Rho::GlobalDiagonal { factor }
+        | Rho::Fixed(factor) => factor,
+    };
+    if !(rho.is_finite() && rho > 0.0) {
+        return Err(invalid(
+            "settings.rho",
+            format!("{rho} must be finite and > 0"),
+        ));
+    }
+    if let Some(stall) = settings.stall {
+        if !(stall.window >= 1 && stall.decrease > 0.0 && stall.decrease < 1.0) {
+            return Err(invalid(
+                "settings.stall",
+                format!("{stall:?}: need window ≥ 1, 0 < decrease < 1"),
+            ));
+        }
+    }
+    if let Some(ls) = settings.line_search {
+        if !(ls.armijo > 0.0 && ls.armijo < 0.5 && ls.shrink > 0.0 && ls.shrink < 1.0) {
+            return Err(invalid(
+                "settings.line_search",
+                format!("{ls:?}: need 0 < armijo < 0.5, 0 < shrink < 1"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+impl<const D: usize> Solver<D> {
+    /// Validates the settings, chooses ρ per point and analyses the Newton system's pattern.
+    pub fn new(problem: ReducedSystem<D>, settings: Settings) -> Result<Self, SolveError> {
+        validate(&settings)?;
+        let n = problem.operator.size();
+        let n_points = problem.n_points();
+        let diagonal = problem.operator.diagonal();
+        let rho = choose_rho::<D>(&settings.rho, &diagonal, &problem.operator)?;
+        let residual_rho = choose_rho::<D>(&RESIDUAL_RHO, &diagonal, &problem.operator)?;
+        let blocks = match &problem.operator {
+            Operator::Structured(s) => Some(PointBlocks::new(&s.b, n_points)),
+            _ => None,
+        };
+        let mut solver = Self {
+            settings,
+            blocks,
+            rho,
+            residual_rho,
+            dense: None,
+            stress_sized: None,
+            schur: None,
+            z: vec![0.0; n],
+            f: vec![0.0; n],
+            lin: vec![blank(); n_points],
+            trial_sigma: vec![0.0; n],
+            trial_z: vec![0.0; n],
+            trial_lin: vec![blank(); n_points],
+            direction: vec![0.0; n],
+            check: vec![0.0; n],
+            scratch: Vec::new(),
+            problem,
+        };
+        let symmetric = solver.problem.is_associative();
+        match (&solver.problem.operator, settings.linear_solver) {
+            (Operator::Dense(_), _) if n <= DENSE_LIMIT => solver.dense = Some(DenseSystem::new(n)),
+            (Operator::Structured(s), LinearSolver::Auto | LinearSolver::SchurPivoting) => {
+                let blocks = solver
+                    .blocks
+                    .as_ref()
+                    .expect("structured operators carry point blocks");
+                solver.schur =
+                    Some(SchurSystem::new(s, blocks, symmetric).map_err(|e| invalid("B", e))?);
+            }
+            _ => solver.ensure_stress_sized()?,
+        }
+        Ok(solver)
+    }
+
+    fn ensure_stress_sized(&mut self) -> Result<(), SolveError> {
+        if self.stress_sized.is_none() {
+            let w = self.problem.operator.to_sparse();
+            self.stress_sized = Some(StressSizedSystem::new::<D>(&w).map_err(|e| invalid("W", e))?);
+        }
+        Ok(())
+    }
+
+    pub fn problem(&self) -> &ReducedSystem<D> {
+        &self.problem
+    }
+
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    /// ρ of every point, as used by the Newton iteration.
+    pub fn rho(&self) -> &[f64] {
+        &self.rho
+    }
+
+    /// ρ of every point in the stopping test: `1 / max diag W_i` (the point's block).
+    pub fn residual_rho(&self) -> &[f64] {
+        &self.residual_rho
+    }
+
+    /// Replaces `q`, keeping the operator, its analysis and ρ.
+    pub fn set_q(&mut self, q: Vec<f64>) -> Result<(), SolveError> {
+        self.problem.set_q(q)
+    }
+
+    /// `z = Wσ + q` at the last iterate of the last solve.
+    pub fn z(&self) -> &[f64] {
+        &self.z
+    }
+
+    /// `‖F‖∞` at `sigma` with the stopping test's ρ, without iterating: to choose between
+    /// starting points.
+    pub fn residual_at(&mut self, sigma: &[f64]) -> Result<f64, SolveError> {
+        if sigma.len() != self.problem.operator.size() {
+            return Err(invalid(
+                "sigma",
+                format!(
+                    "length {} for an operator of size {}",
+                    sigma.len(),
+                    self.problem.operator.size()
+                ),
+            ));
+        }
+        self.evaluate(sigma, false);
+        Ok(self.residual_norm(sigma))
+    }
+}
+
+fn inf_norm(v: &[f64]) -> f64 {
+    v.iter().fold(
+        0.0,
+        |m: f64, x| if x.is_nan() { f64::NAN } else { m.max(x.abs()) },
+    )
+}
