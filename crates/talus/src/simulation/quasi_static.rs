@@ -12,7 +12,7 @@ use crate::scene::{AnalysisKind, Scene, SceneError};
 /// `inertia_ratio` when the scene gives none: inertia a millionth of the stiffness. The
 /// paper footing's Newton iterations are those of its dynamic run at 1e-4 to 1e-8, and fail
 /// to converge at 1e-12 below about 1e-10 (`docs/derivations.md`, 'The quasi-static limit').
-pub const DEFAULT_INERTIA_RATIO: f64 = 1e-6;
+pub const DEFAULT_INERTIA_RATIO: f64 = 1e-7;
 
 /// The quasi-static lumped masses `r h² K_jj` of the free and of the prescribed dofs, with
 /// `K_jj = Σ_p b_pjᵀ S_p⁻¹ b_pj` (`b_pj` point `p`'s rows of column `j` of `B`, and
