@@ -145,17 +145,20 @@ fn k0_outside_the_cone_reports_the_admissible_interval() {
     let model = Model::from_scene(&scene).unwrap();
     let (lo, hi) = talus::simulation::k0_bounds_without_cohesion(&model);
     assert!(lo > 0.2929 && lo < hi, "bounds {lo} {hi}");
-    let err =
-        talus::simulation::k0_stress(&scene, &model, scene.spec.initial_stress.as_ref().unwrap())
-            .unwrap_err();
+    let err = talus::simulation::initial_stress(
+        &scene,
+        &model,
+        scene.spec.initial_stress.as_ref().unwrap(),
+    )
+    .unwrap_err();
     assert_eq!(err.field, "initial_stress.k0");
     assert!(err.to_string().contains(&format!("{lo:.4} ≤ K₀")), "{err}");
     // Just inside the interval the K0 state is accepted, just outside it is not.
     for (k0, ok) in [(lo * 1.001, true), (lo * 0.999, false), (hi * 0.999, true)] {
         let mut spec = *scene.spec.initial_stress.as_ref().unwrap();
-        spec.k0 = k0;
+        spec.k0 = Some(k0);
         assert_eq!(
-            talus::simulation::k0_stress(&scene, &model, &spec).is_ok(),
+            talus::simulation::initial_stress(&scene, &model, &spec).is_ok(),
             ok,
             "K0 = {k0}"
         );

@@ -6,10 +6,11 @@ use talus_mpm::{
 };
 
 use crate::scene::{
-    check, MpmScene, PredictorSpec, SceneError, ShapeSpec, SideSpec, WallConditionSpec,
+    check, AnalysisKind, MpmScene, PredictorSpec, SceneError, ShapeSpec, SideSpec,
+    WallConditionSpec,
 };
 use crate::simulation::engine::{Method, PredictorRule, StepSettings};
-use crate::simulation::k0_stress_at;
+use crate::simulation::initial_stress_at;
 
 use super::measure::RunoutReference;
 
@@ -45,7 +46,25 @@ impl MpmModel {
         let spec = &scene.spec;
         let grid = grid(scene)?;
         let material = check::material(scene, &spec.material)?;
-        let density = spec.material.density;
+        if spec.analysis.kind == AnalysisKind::QuasiStatic {
+            return Err(scene.error(
+                "analysis.kind",
+                "\"quasi_static\" is for finite-element scenes ([mesh]); a material point \
+                 scene ([grid]) runs \"dynamic\" only",
+            ));
+        }
+        if let Some(r) = spec.analysis.inertia_ratio {
+            return Err(scene.error(
+                "analysis.inertia_ratio",
+                format!("{r} applies to quasi-static finite-element scenes only"),
+            ));
+        }
+        let density = spec.material.density.ok_or_else(|| {
+            scene.error(
+                "material.density",
+                "is required by a material point scene (the mass)",
+            )
+        })?;
         if !(density.is_finite() && density > 0.0) {
             return Err(scene.error(
                 "material.density",
@@ -56,14 +75,15 @@ impl MpmModel {
         if !gravity.iter().all(|g| g.is_finite()) {
             return Err(scene.error("gravity", format!("{gravity:?} m/s² must be finite")));
         }
-        let mut particles = bodies(scene, &grid)?;
+        let mut particles = bodies(scene, &grid, density)?;
         let walls = walls(scene)?;
         let prescribed = prescribed(scene, &grid)?;
         let reaction = reaction(scene, walls.len(), &prescribed)?;
         surface_loads(scene, &mut particles)?;
         if let Some(initial) = &spec.initial_stress {
             let gamma = -density * gravity[1];
-            particles.stress = k0_stress_at(scene, &material, gamma, initial, &particles.position)?;
+            particles.stress =
+                initial_stress_at(scene, &material, gamma, initial, &particles.position)?;
         }
         check::time(scene, &spec.time)?;
         check::solver(scene, &spec.solver)?;
@@ -137,7 +157,7 @@ fn check_rectangle(
     Ok(())
 }
 
-fn bodies(scene: &MpmScene, grid: &Grid) -> Result<Particles, SceneError> {
+fn bodies(scene: &MpmScene, grid: &Grid, density: f64) -> Result<Particles, SceneError> {
     let spec = &scene.spec;
     if spec.body.is_empty() {
         return Err(scene.error("body", "no [[body]]: an MPM scene needs at least one"));
@@ -171,7 +191,7 @@ fn bodies(scene: &MpmScene, grid: &Grid) -> Result<Particles, SceneError> {
                 format!("{per_cell} must be between 1 and 16 per axis"),
             ));
         }
-        let body = Particles::fill_rectangle(r, dx, per_cell, spec.material.density)
+        let body = Particles::fill_rectangle(r, dx, per_cell, density)
             .map_err(|e| scene.error(&field, e.to_string()))?;
         particles.extend(&body);
     }

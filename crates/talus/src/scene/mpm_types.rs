@@ -1,9 +1,10 @@
 //! The spec of a material-point (MPM) scene: a `[grid]` instead of a `[mesh]`, bodies of
 //! particles, walls and prescribed-velocity boxes on the grid, surface loads on particles.
-//! `[material]`, `[time]`, `[solver]` and `[initial_stress]` are those of FEM scenes.
+//! `[material]`, `[time]`, `[solver]` and `[initial_stress]` are those of FEM scenes;
+//! `[analysis]` is read so that `kind = "quasi_static"` can be refused by name.
 use serde::Deserialize;
 
-use super::{InitialStressSpec, MaterialSpec, SolverSpec, TimeSpec};
+use super::{AnalysisSpec, InitialStressSpec, MaterialSpec, SolverSpec, TimeSpec};
 
 /// The whole MPM scene (see docs/scenes.md, "MPM scenes").
 #[derive(Debug, Clone, PartialEq, Deserialize)]
@@ -25,9 +26,12 @@ pub struct MpmSceneSpec {
     pub prescribed: Vec<PrescribedSpec>,
     #[serde(default)]
     pub surface_load: Vec<SurfaceLoadSpec>,
-    /// K₀ stress at every particle (default: stress free).
+    /// K₀ or uniform stress at every particle (default: stress free).
     #[serde(default)]
     pub initial_stress: Option<InitialStressSpec>,
+    /// Only `kind = "dynamic"` (the default): the material point method follows the flow.
+    #[serde(default)]
+    pub analysis: AnalysisSpec,
     pub time: TimeSpec,
     #[serde(default)]
     pub mpm: MpmSpec,

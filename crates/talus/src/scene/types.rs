@@ -26,6 +26,9 @@ pub struct SceneSpec {
     /// Initial stress (default: stress free).
     #[serde(default)]
     pub initial_stress: Option<InitialStressSpec>,
+    /// Dynamic (default) or quasi-static.
+    #[serde(default)]
+    pub analysis: AnalysisSpec,
     #[serde(default)]
     pub solver: SolverSpec,
     #[serde(default)]
@@ -60,7 +63,8 @@ fn uniform() -> [f64; 2] {
     [1.0, 1.0]
 }
 
-/// Drucker-Prager parameters (Pa, degrees) and the density (kg/m³).
+/// Drucker-Prager parameters (Pa, degrees) and the density (kg/m³): required for a
+/// dynamic analysis (the mass) and with `gravity` (the weight), otherwise unused.
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialSpec {
@@ -72,7 +76,8 @@ pub struct MaterialSpec {
     #[serde(default)]
     pub dilatancy_angle: Option<f64>,
     pub cone_fit: ConeFit,
-    pub density: f64,
+    #[serde(default)]
+    pub density: Option<f64>,
 }
 
 /// Nodes by the name of a mesh set or by an axis-aligned box `[[xmin, ymin], [xmax, ymax]]`.
@@ -140,20 +145,58 @@ pub struct TimeSpec {
     pub steps: usize,
 }
 
-/// The K₀ procedure of geotechnical practice for a horizontal ground surface:
-/// `σ_yy = −(surcharge + ρ g (surface − y))`, `σ_xx = σ_zz = K₀ σ_yy`, `σ_xy = 0`. It is in
-/// equilibrium with gravity and a uniform surcharge; it must lie inside the yield cone, which
-/// without cohesion admits `(a − t)/(a + 2t) ≤ K₀ ≤ (a + t)/(a − 2t)`, `a = √(2/3)/k_d`,
-/// `t = tan φ / 3` (Jaky's `1 − sin φ` is inside up to φ ≈ 36° with the plane-strain fit).
+/// The initial stress, either of two forms (exclusive):
+///
+/// - the K₀ procedure of geotechnical practice for a horizontal ground surface (`k0`,
+///   `surface`, `surcharge`): `σ_yy = −(surcharge + ρ g (surface − y))`,
+///   `σ_xx = σ_zz = K₀ σ_yy`, `σ_xy = 0`. It is in equilibrium with gravity and a uniform
+///   surcharge; it must lie inside the yield cone, which without cohesion admits
+///   `(a − t)/(a + 2t) ≤ K₀ ≤ (a + t)/(a − 2t)`, `a = √(2/3)/k_d`, `t = tan φ / 3` (Jaky's
+///   `1 − sin φ` is inside up to φ ≈ 36° with the plane-strain fit);
+/// - a uniform `stress = [σxx, σyy, σxy, σzz]` (Pa, tension positive), inside the cone.
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct InitialStressSpec {
-    pub k0: f64,
-    /// Height of the ground surface (m).
-    pub surface: f64,
-    /// Vertical pressure on the surface (Pa).
     #[serde(default)]
-    pub surcharge: f64,
+    pub k0: Option<f64>,
+    /// Height of the ground surface (m).
+    #[serde(default)]
+    pub surface: Option<f64>,
+    /// Vertical pressure on the surface (Pa); default 0.
+    #[serde(default)]
+    pub surcharge: Option<f64>,
+    /// `[σxx, σyy, σxy, σzz]` (Pa, tension positive), the same at every point.
+    #[serde(default)]
+    pub stress: Option<[f64; 4]>,
+}
+
+/// `[analysis]`: what eq. 15's inertia term means (`docs/scenes.md`, 'Analysis').
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct AnalysisSpec {
+    pub kind: AnalysisKind,
+    /// Quasi-static only: the lumped mass is `inertia_ratio · h² · diag K` (K the elastic
+    /// stiffness), so that inertia is this fraction of each node's elastic stiffness
+    /// (`docs/derivations.md`, 'The quasi-static limit').
+    pub inertia_ratio: Option<f64>,
+}
+
+impl Default for AnalysisSpec {
+    fn default() -> Self {
+        Self {
+            kind: AnalysisKind::Dynamic,
+            inertia_ratio: None,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AnalysisKind {
+    /// Eq. 15 with the material's density: today's behaviour.
+    Dynamic,
+    /// The inertia-free limit of eq. 15; time is a load parameter.
+    QuasiStatic,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]

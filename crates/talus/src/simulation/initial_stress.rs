@@ -4,8 +4,8 @@ use crate::scene::{InitialStressSpec, Locate, Scene, SceneError};
 
 use super::Model;
 
-/// The K₀ stress at every Gauss point (Mandel, flat), checked against the yield cone.
-pub fn k0_stress(
+/// The initial stress at every Gauss point (Mandel, flat), checked against the yield cone.
+pub fn initial_stress(
     scene: &Scene,
     model: &Model,
     spec: &InitialStressSpec,
@@ -14,8 +14,13 @@ pub fn k0_stress(
     let ramp = crate::scene::check::ramp(scene, "gravity_ramp", &scene.spec.gravity_ramp)?;
     let g = scene.spec.gravity.map(|g| -g[1]).unwrap_or(0.0);
     let g = ramp.map_or(g, |r| g * r.at(0.0));
-    let gamma = scene.spec.material.density * g;
-    let sigma = k0_stress_at(
+    // Without gravity the density is not needed (and may be absent).
+    let gamma = if g == 0.0 {
+        0.0
+    } else {
+        scene.spec.material.density.unwrap_or(0.0) * g
+    };
+    let sigma = initial_stress_at(
         scene,
         &model.material,
         gamma,
@@ -25,6 +30,99 @@ pub fn k0_stress(
     Ok(sigma.into_iter().flatten().collect())
 }
 
+/// The initial stress (Mandel, Pa) of `spec` at each of `points` (m): the K₀ procedure
+/// ([`k0_stress_at`]) or a uniform `stress` ([`uniform_stress`]). Errors name
+/// `initial_stress.*`: neither or both forms, a point above the surface, a state outside
+/// the cone.
+pub fn initial_stress_at(
+    scene: &impl Locate,
+    material: &DruckerPrager,
+    gamma: f64,
+    spec: &InitialStressSpec,
+    points: &[[f64; 2]],
+) -> Result<Vec<[f64; 4]>, SceneError> {
+    let k0_fields = [
+        ("k0", spec.k0.is_some()),
+        ("surface", spec.surface.is_some()),
+        ("surcharge", spec.surcharge.is_some()),
+    ];
+    let given: Vec<&str> = k0_fields.iter().filter(|f| f.1).map(|f| f.0).collect();
+    match (spec.stress, spec.k0, spec.surface) {
+        (Some(_), _, _) if !given.is_empty() => Err(scene.error(
+            "initial_stress.stress",
+            format!(
+                "a uniform `stress` excludes the K₀ procedure, but `{}` is given too",
+                given.join("`, `")
+            ),
+        )),
+        (Some(stress), _, _) => {
+            let s = uniform_stress(scene, material, stress)?;
+            Ok(vec![s; points.len()])
+        }
+        (None, Some(k0), Some(surface)) => k0_stress_at(
+            scene,
+            material,
+            gamma,
+            k0,
+            surface,
+            spec.surcharge.unwrap_or(0.0),
+            points,
+        ),
+        (None, None, _) => Err(scene.error(
+            "initial_stress",
+            "give either `stress = [sxx, syy, sxy, szz]` or the K₀ procedure (`k0`, `surface`, `surcharge`)",
+        )),
+        (None, Some(_), None) => Err(scene.error(
+            "initial_stress.surface",
+            "the K₀ procedure needs the height of the ground surface",
+        )),
+    }
+}
+
+/// `[σxx, σyy, σxy, σzz]` (Pa, tension positive) as the Mandel vector
+/// `(σxx, σyy, σzz, √2 σxy)` (`docs/conventions.md`, 'Stress space').
+pub fn mandel_from_components(stress: [f64; 4]) -> [f64; 4] {
+    let [xx, yy, xy, zz] = stress;
+    [xx, yy, zz, std::f64::consts::SQRT_2 * xy]
+}
+
+/// The uniform initial stress `[σxx, σyy, σxy, σzz]` (Pa) in Mandel form, refused (naming
+/// `initial_stress.stress`) when not finite or outside the yield cone, with the distance.
+pub fn uniform_stress(
+    scene: &impl Locate,
+    material: &DruckerPrager,
+    stress: [f64; 4],
+) -> Result<[f64; 4], SceneError> {
+    if !stress.iter().all(|s| s.is_finite()) {
+        return Err(scene.error(
+            "initial_stress.stress",
+            format!("{stress:?} Pa must be finite"),
+        ));
+    }
+    let m = mandel_from_components(stress);
+    let s = nalgebra::SVector::<f64, 4>::from(m);
+    let f = material.yield_function(&s);
+    if f > 1e-9 * s.norm().max(material.parameters().cohesion) {
+        // f = ‖dev σ‖/k_d + p tan φ − c: f > 0 is how far outside, in Pa of cohesion.
+        return Err(scene.error(
+            "initial_stress.stress",
+            format!(
+                "{stress:?} Pa (σxx, σyy, σxy, σzz) lies outside the yield cone: f = {f:.4e} Pa > 0 \
+                 (p = {:.4e} Pa, ‖dev σ‖ = {:.4e} Pa; the cohesion would have to be {:.4e} Pa larger)",
+                (s[0] + s[1] + s[2]) / 3.0,
+                deviator_norm(&s),
+                f
+            ),
+        ));
+    }
+    Ok(m)
+}
+
+fn deviator_norm(s: &nalgebra::SVector<f64, 4>) -> f64 {
+    let p = (s[0] + s[1] + s[2]) / 3.0;
+    ((s[0] - p).powi(2) + (s[1] - p).powi(2) + (s[2] - p).powi(2) + s[3].powi(2)).sqrt()
+}
+
 /// The K₀ stress (Mandel, Pa) at each of `points` (m) under a ground of unit weight
 /// `gamma = ρ g` (N/m³): `σ_yy = −(surcharge + γ (surface − y))`, `σ_xx = σ_zz = K₀ σ_yy`.
 /// Errors name `initial_stress.*`: a point above the surface, a state outside the cone.
@@ -32,48 +130,45 @@ pub fn k0_stress_at(
     scene: &impl Locate,
     material: &DruckerPrager,
     gamma: f64,
-    spec: &InitialStressSpec,
+    k0: f64,
+    surface: f64,
+    surcharge: f64,
     points: &[[f64; 2]],
 ) -> Result<Vec<[f64; 4]>, SceneError> {
-    if !(spec.k0.is_finite() && spec.k0 > 0.0) {
-        return Err(scene.error(
-            "initial_stress.k0",
-            format!("{} must be finite and > 0", spec.k0),
-        ));
+    if !(k0.is_finite() && k0 > 0.0) {
+        return Err(scene.error("initial_stress.k0", format!("{k0} must be finite and > 0")));
     }
-    if !spec.surface.is_finite() {
+    if !surface.is_finite() {
         return Err(scene.error("initial_stress.surface", "must be finite"));
     }
-    if !(spec.surcharge.is_finite() && spec.surcharge >= 0.0) {
+    if !(surcharge.is_finite() && surcharge >= 0.0) {
         return Err(scene.error(
             "initial_stress.surcharge",
-            format!("{} Pa must be finite and >= 0", spec.surcharge),
+            format!("{surcharge} Pa must be finite and >= 0"),
         ));
     }
     let mut sigma = Vec::with_capacity(points.len());
     for x in points {
-        let depth = spec.surface - x[1];
-        if depth < -1e-9 * spec.surface.abs().max(1.0) {
+        let depth = surface - x[1];
+        if depth < -1e-9 * surface.abs().max(1.0) {
             return Err(scene.error(
                 "initial_stress.surface",
                 format!(
-                    "point ({:.4}, {:.4}) lies above the surface y = {}",
-                    x[0], x[1], spec.surface
+                    "point ({:.4}, {:.4}) lies above the surface y = {surface}",
+                    x[0], x[1]
                 ),
             ));
         }
-        let vertical = -(spec.surcharge + gamma * depth.max(0.0));
-        let s =
-            nalgebra::SVector::<f64, 4>::new(spec.k0 * vertical, vertical, spec.k0 * vertical, 0.0);
+        let vertical = -(surcharge + gamma * depth.max(0.0));
+        let s = nalgebra::SVector::<f64, 4>::new(k0 * vertical, vertical, k0 * vertical, 0.0);
         let f = material.yield_function(&s);
         if f > 1e-9 * s.norm().max(material.parameters().cohesion) {
             let (lo, hi) = k0_bounds(material);
             return Err(scene.error(
                 "initial_stress.k0",
                 format!(
-                    "K₀ = {} puts the point at depth {depth:.3} m outside the yield cone (f = {f:.3e} Pa); \
+                    "K₀ = {k0} puts the point at depth {depth:.3} m outside the yield cone (f = {f:.3e} Pa); \
                      without cohesion the cone admits {lo:.4} ≤ K₀ ≤ {hi:.4} (Jaky's 1 − sin φ = {:.4})",
-                    spec.k0,
                     1.0 - material.parameters().friction_angle.to_radians().sin()
                 ),
             ));

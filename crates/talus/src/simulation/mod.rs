@@ -5,14 +5,19 @@ pub mod engine;
 mod fem_step;
 mod initial_stress;
 mod model;
+mod quasi_static;
 mod state;
 
 pub use engine::{
     Discretization, Predictor, PredictorRule, StepError, StepReport, StepSettings, Stepper,
 };
 pub use fem_step::FemStats;
-pub use initial_stress::{k0_bounds, k0_bounds_without_cohesion, k0_stress, k0_stress_at};
+pub use initial_stress::{
+    initial_stress, initial_stress_at, k0_bounds, k0_bounds_without_cohesion, k0_stress_at,
+    mandel_from_components, uniform_stress,
+};
 pub use model::{Loads, Model, RampedForce};
+pub use quasi_static::{quasi_static_masses, DEFAULT_INERTIA_RATIO};
 pub use state::State;
 
 /// What one FEM step did.

@@ -8,7 +8,7 @@ use talus_ssn::{
 
 use super::State;
 
-use crate::scene::{check, Fix, MeshSpec, Order, Ramp, Scene, SceneError, Selection};
+use crate::scene::{check, AnalysisKind, Fix, MeshSpec, Order, Ramp, Scene, SceneError, Selection};
 
 /// A load that follows a ramp: its nodal forces at multiplier 1 (N/m).
 #[derive(Debug, Clone, PartialEq)]
@@ -75,7 +75,8 @@ impl Model {
         if dofs.n_free() == 0 {
             return Err(scene.error("boundary", "every degree of freedom is prescribed"));
         }
-        let assembly = Assembly::new(&mesh, &dofs, m.density)
+        let density = required_density(scene)?;
+        let mut assembly = Assembly::new(&mesh, &dofs, density)
             .map_err(|e| scene.error("material.density", e.to_string()))?;
 
         // Prescribed velocities: later conditions win where sets overlap.
@@ -136,7 +137,7 @@ impl Model {
         match spec.gravity {
             Some(g) => add_load(
                 assembly
-                    .body_force(m.density, g)
+                    .body_force(density, g)
                     .map_err(|e| scene.error("gravity", e.to_string()))?,
                 gravity_ramp,
             ),
@@ -175,8 +176,10 @@ impl Model {
         }
         check::time(scene, &spec.time)?;
         check::solver(scene, &spec.solver)?;
+        let compliance = material.compliance::<4>();
+        super::quasi_static::scale_masses(scene, &mut assembly, &compliance)?;
         Ok(Self {
-            compliance: material.compliance::<4>(),
+            compliance,
             flow_rule: material.flow_rule::<4>(),
             material,
             mesh,
@@ -195,7 +198,7 @@ impl Model {
     }
 
     /// The state at the start of a run: at rest, with the scene's initial stress (K₀
-    /// procedure) or stress free.
+    /// procedure or uniform) or stress free.
     pub fn initial_state(&self, scene: &Scene) -> Result<State, SceneError> {
         let dofs = self.assembly.dofs();
         let mut state = State::at_rest(
@@ -205,7 +208,7 @@ impl Model {
             self.mesh.nodes.len(),
         );
         if let Some(initial) = &scene.spec.initial_stress {
-            state.sigma = super::k0_stress(scene, self, initial)?;
+            state.sigma = super::initial_stress(scene, self, initial)?;
         }
         Ok(state)
     }
@@ -315,6 +318,26 @@ impl Model {
         // The lengths come from the same assembly: they agree by construction.
         reduced_rhs(h, &s_sigma, &free, &prescribed)
             .expect("the assembly's operators and velocities have matching sizes")
+    }
+}
+
+/// The density (kg/m³) the assembly takes: the scene's, required by a dynamic analysis (the
+/// mass) and by gravity (the weight); a weightless quasi-static scene may leave it out (its
+/// masses are scaled from the stiffness, `super::quasi_static`).
+fn required_density(scene: &Scene) -> Result<f64, SceneError> {
+    let spec = &scene.spec;
+    match spec.material.density {
+        Some(d) => Ok(d),
+        None if spec.gravity.is_some() => Err(scene.error(
+            "material.density",
+            "is required with `gravity` (the weight of the ground)",
+        )),
+        None if spec.analysis.kind == AnalysisKind::Dynamic => Err(scene.error(
+            "material.density",
+            "is required by a dynamic analysis (the mass); a quasi-static one \
+             ([analysis] kind = \"quasi_static\") without gravity does not need it",
+        )),
+        None => Ok(1.0),
     }
 }
 
