@@ -43,7 +43,10 @@ fn column(memory: usize) -> (MpmStepper, Particles) {
         halving_memory: memory,
         ..StepSettings::from_spec(&SolverSpec::default(), Method::Mpm)
     };
-    settings.solver.max_iterations = 12;
+    // From rest at the cone's apex the iteration counts are sensitive to round-off: 42, 26,
+    // 34, 19 and 13 iterations at h/1 … h/16 (before eq. 16's q was shared with the FEM, 42,
+    // 33, 33, 24, 11). 16 fails down to h/8 and converges at h/16 with both, by a margin.
+    settings.solver.max_iterations = 16;
     let mpm = Mpm::try_new(grid, boundary, &soil, [0.0, -9.81], MpmSettings::default()).unwrap();
     let mpm = MpmStepper::with_settings(mpm, settings);
     let particles = Particles::fill_rectangle([[0.0, 0.0], [0.1, 0.2]], 0.02, 2, 1800.0).unwrap();

@@ -1,0 +1,132 @@
+//! FEM and MPM go through the one halving code of the engine (`talus::simulation::Stepper`):
+//! in each a step forced to fail at its full length is redone as two halves, and what the
+//! halved step returns equals the two half steps taken one by one from the same state and
+//! predictor, bit for bit (`docs/solver.md`, 'Time stepping').
+use talus::mpm_run::{MpmState, MpmStepper};
+use talus::run::solver_settings;
+use talus::scene::{builtin_footing_with_cells, SolverSpec};
+use talus::simulation::engine::{Discretization, Method, StepSettings, Stepper};
+use talus::simulation::Model;
+use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters};
+use talus_mpm::{
+    Grid, GridBoundary, Mpm, MpmSettings, Particles, ShapeFunction, Side, Wall, WallCondition,
+};
+
+fn bits(v: &[f64]) -> Vec<u64> {
+    v.iter().map(|x| x.to_bits()).collect()
+}
+
+/// The first step of `stepper` from `state` that is halved, checked against two half steps
+/// taken by a fresh stepper (`fresh`) from the state before it, with the same stress rate.
+fn first_halved_step_equals_two_half_steps<D: Discretization>(
+    stepper: &mut Stepper<D>,
+    fresh: impl Fn() -> Stepper<D>,
+    mut state: D::State,
+    h: f64,
+    steps: usize,
+    same: impl Fn(&D::State, &D::State) -> bool,
+) {
+    for step in 1..=steps {
+        let before = state.clone();
+        let rate = stepper.stress_rate().map(<[f64]>::to_vec);
+        let report = stepper
+            .advance(&mut state, h)
+            .expect("converges when halved");
+        if report.substeps == 1 {
+            continue;
+        }
+        assert_eq!(report.substeps, 2, "step {step}: one halving");
+        assert!(
+            report.failed_newton_iterations > 0,
+            "the failed attempt is counted"
+        );
+        let mut by_hand = fresh();
+        by_hand.set_stress_rate(rate);
+        let mut manual = before;
+        for _ in 0..2 {
+            let r = by_hand.advance(&mut manual, 0.5 * h).expect("half step");
+            assert_eq!(r.substeps, 1, "step {step}: a half step converges");
+        }
+        assert!(
+            same(&state, &manual),
+            "step {step}: halved step differs from two half steps"
+        );
+        return;
+    }
+    panic!("no step was halved in {steps} steps: the test needs one");
+}
+
+#[test]
+fn fem_footing_halves_through_the_engine() {
+    let mut scene = builtin_footing_with_cells([32, 14]);
+    // Step 4 takes 6 iterations at full h and 4 + 4 as two halves: 5 forces one halving.
+    scene.spec.solver.max_iterations = 5;
+    let model = Model::from_scene(&scene).expect("model");
+    let state = model.initial_state(&scene).expect("state");
+    let settings = StepSettings::with_solver(solver_settings(&scene), 1);
+    let mut stepper = Stepper::new(&model, settings);
+    first_halved_step_equals_two_half_steps(
+        &mut stepper,
+        || Stepper::new(&model, settings),
+        state,
+        scene.spec.time.step,
+        6,
+        |a, b| {
+            bits(&a.sigma) == bits(&b.sigma)
+                && bits(&a.velocity_free) == bits(&b.velocity_free)
+                && a.time == b.time
+        },
+    );
+}
+
+#[test]
+fn mpm_column_halves_through_the_engine() {
+    let soil = DruckerPrager::try_new(DruckerPragerParameters {
+        young_modulus: 1e7,
+        poisson_ratio: 0.3,
+        friction_angle: 30.0,
+        cohesion: 0.0,
+        dilatancy_angle: 0.0,
+        cone_fit: ConeFit::PlaneStrain,
+    })
+    .unwrap();
+    let grid = Grid::try_new([0.0, 0.0], 0.02, [20, 12], ShapeFunction::QuadraticBSpline).unwrap();
+    let boundary = GridBoundary {
+        walls: vec![
+            Wall {
+                side: Side::Left,
+                condition: WallCondition::Slip,
+            },
+            Wall {
+                side: Side::Bottom,
+                condition: WallCondition::Fixed,
+            },
+        ],
+        prescribed: vec![],
+    };
+    let mpm = Mpm::try_new(grid, boundary, &soil, [0.0, -9.81], MpmSettings::default()).unwrap();
+    // The column of `mpm_halving_memory.rs`: its first step from rest takes 42 iterations
+    // at h = 1/60 s and 26 at h/2; one halving allowed, no memory.
+    let mut settings = StepSettings {
+        max_halvings: 1,
+        halving_memory: 0,
+        ..StepSettings::from_spec(&SolverSpec::default(), Method::Mpm)
+    };
+    settings.solver.max_iterations = 34;
+    let particles = Particles::fill_rectangle([[0.0, 0.0], [0.1, 0.2]], 0.02, 2, 1800.0).unwrap();
+    let state = MpmState {
+        time: 0.0,
+        particles,
+    };
+    let mut stepper = Stepper::new(&mpm, settings);
+    first_halved_step_equals_two_half_steps(
+        &mut stepper,
+        || Stepper::new(&mpm, settings),
+        state,
+        1.0 / 60.0,
+        3,
+        |a, b| a == b,
+    );
+    // The convenience stepper is the same engine.
+    let _ = MpmStepper::with_settings(mpm.clone(), settings);
+}
