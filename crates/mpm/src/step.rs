@@ -206,9 +206,10 @@ impl StepContext<'_> {
         }
         let mut group_forces = vec![[0.0; 2]; self.n_groups];
         for (i, c) in self.conditions.iter().enumerate() {
-            if let (true, Some(k)) = (prep.active[i], c.owner) {
-                group_forces[k][0] += solved.reaction[i][0];
-                group_forces[k][1] += solved.reaction[i][1];
+            for a in 0..2 {
+                if let (true, Some(k)) = (prep.active[i], c.owner[a]) {
+                    group_forces[k][a] += solved.reaction[i][a];
+                }
             }
         }
 
