@@ -133,7 +133,10 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunE
     let mut history = std::io::BufWriter::new(
         std::fs::File::create(&history_path).map_err(io_err(&history_path))?,
     );
-    writeln!(history, "{HISTORY_HEADER}").map_err(io_err(&history_path))?;
+    let _ = std::fs::remove_file(out.join("summary.json"));
+    let mut results = crate::run_results::FemResults::new(scene, &model, HISTORY_HEADER)?;
+    writeln!(history, "{HISTORY_HEADER}{}", results.results.header())
+        .map_err(io_err(&history_path))?;
 
     let mut state = model.initial_state(scene)?;
     let mut stepper = Stepper::new(
@@ -158,10 +161,17 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunE
     );
 
     let initial_reaction = stepper.reaction(&state);
-    writeln!(history, "0,0,0,0,{initial_reaction:.10e},0,0").map_err(io_err(&history_path))?;
+    let extra = results.initial(&model, &state, initial_reaction);
+    writeln!(history, "0,0,0,0,{initial_reaction:.10e},0,0{extra}")
+        .map_err(io_err(&history_path))?;
 
     let vtu_dir = out.join("vtu");
     let mut pvd_entries = Vec::new();
+    if options.write_fields {
+        std::fs::create_dir_all(&vtu_dir).map_err(io_err(&vtu_dir))?;
+        write_snapshot(&model, &state, &vtu_dir.join("step_00000.vtu"))?;
+        pvd_entries.push((state.time, "vtu/step_00000.vtu".to_string()));
+    }
     let mut records = Vec::new();
     let mut displacements = Vec::new();
     let mut failure = None;
@@ -182,9 +192,10 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunE
                 .sum::<f64>()
                 / reaction_nodes.len() as f64
         };
+        let extra = results.step(&model, &state, step, &record, displacement);
         writeln!(
             history,
-            "{step},{:.10e},{},{:.6e},{:.10e},{:.10e},{:.6e}",
+            "{step},{:.10e},{},{:.6e},{:.10e},{:.10e},{:.6e}{extra}",
             record.time,
             record.newton_iterations,
             record.residual,
@@ -238,6 +249,7 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunE
             )?;
         }
     }
+    crate::run_results::write_summary(&results.results, failure.as_ref(), time.steps, out)?;
     if let Some(f) = failure {
         return Err(f);
     }

@@ -4,6 +4,7 @@
 mod build;
 mod measure;
 mod outputs;
+mod results;
 
 use std::io::Write;
 use std::time::Instant;
@@ -68,7 +69,9 @@ pub fn run_mpm_scene(scene: &MpmScene, options: &RunOptions) -> Result<MpmRunSum
             .and_then(|_| history.flush())
             .map_err(io_err(&history_path))
     };
-    write_row(MPM_HISTORY_HEADER.to_string())?;
+    let _ = std::fs::remove_file(out.join("summary.json"));
+    let mut results = results::MpmResults::new(scene, &model, MPM_HISTORY_HEADER)?;
+    write_row(format!("{MPM_HISTORY_HEADER}{}", results.results.header()))?;
     let grid = model.mpm.grid();
     tracing::info!(
         particles = model.particles.len(),
@@ -90,8 +93,17 @@ pub fn run_mpm_scene(scene: &MpmScene, options: &RunOptions) -> Result<MpmRunSum
         pvd: Vec::new(),
     };
     let f0 = front(&particles);
+    let settles = model.reaction.is_some_and(|r| r.velocity_y.is_some());
+    let extra = results.record(
+        &model,
+        &particles,
+        0,
+        0.0,
+        None,
+        settles.then_some((0.0, 0.0)),
+    );
     write_row(format!(
-        "0,0,0,0,0,0,0,0,0,{f0:.10e},{:.10e},{:.10e},0",
+        "0,0,0,0,0,0,0,0,0,{f0:.10e},{:.10e},{:.10e},0{extra}",
         model.runout.normalized(f0),
         kinetic_energy(&particles)
     ))?;
@@ -127,8 +139,10 @@ pub fn run_mpm_scene(scene: &MpmScene, options: &RunOptions) -> Result<MpmRunSum
         let f = front(&particles);
         let runout = model.runout.normalized(f);
         let energy = kinetic_energy(&particles);
+        let reported = reaction_curve.last().copied().filter(|_| settles);
+        let extra = results.record(&model, &particles, step, time, Some(&report), reported);
         write_row(format!(
-            "{step},{time:.10e},{},{},{},{:.6e},{},{:.10e},{:.10e},{f:.10e},{runout:.10e},{energy:.10e},{:.6e}",
+            "{step},{time:.10e},{},{},{},{:.6e},{},{:.10e},{:.10e},{f:.10e},{runout:.10e},{energy:.10e},{:.6e}{extra}",
             report.newton_iterations,
             report.max_newton_iterations,
             report.substeps,
@@ -173,6 +187,7 @@ pub fn run_mpm_scene(scene: &MpmScene, options: &RunOptions) -> Result<MpmRunSum
             )?;
         }
     }
+    crate::run_results::write_summary(&results.results, failure.as_ref(), steps, out)?;
     if let Some(f) = failure {
         return Err(f);
     }

@@ -37,6 +37,9 @@ pub struct StepRecord {
     /// Reaction on the reported boundary: the force it applies to the body, vertical,
     /// positive downward, N per metre of thickness.
     pub reaction_force: f64,
+    /// Force each prescribed dof's condition applies to the body in the last sub-step
+    /// (N/m, `reaction_groups::prescribed_forces`).
+    pub prescribed_forces: Vec<f64>,
     pub seconds: f64,
 }
 
@@ -76,6 +79,8 @@ pub struct Stepper<'m> {
     /// `(σₙ − σₙ₋₁)/h` of the last sub-step: each solve starts from σₙ + h σ̇, which under
     /// steady loading is second-order close to the answer (warm start).
     stress_rate: Option<Vec<f64>>,
+    /// The last sub-step's `StepRecord::prescribed_forces`.
+    prescribed_forces: Vec<f64>,
 }
 
 impl<'m> Stepper<'m> {
@@ -86,6 +91,7 @@ impl<'m> Stepper<'m> {
             max_halvings,
             solvers: Vec::new(),
             stress_rate: None,
+            prescribed_forces: Vec::new(),
         }
     }
 
@@ -134,6 +140,7 @@ impl<'m> Stepper<'m> {
             residual_histories: Vec::new(),
             merit_histories: Vec::new(),
             reaction_force: 0.0,
+            prescribed_forces: Vec::new(),
             seconds: 0.0,
         };
         self.advance_level(state, h, 0, &mut record)?;
@@ -185,6 +192,7 @@ impl<'m> Stepper<'m> {
                         .collect(),
                 );
                 record.reaction_force = reaction;
+                record.prescribed_forces = std::mem::take(&mut self.prescribed_forces);
                 Ok(())
             }
             Err(SolveError::NotConverged(report)) => {
@@ -306,6 +314,13 @@ impl<'m> Stepper<'m> {
                 reaction -= inertia + internal_prescribed[j] - loads.force_prescribed[j];
             }
         }
+        self.prescribed_forces = super::prescribed_forces(
+            model,
+            &loads,
+            &state.velocity_prescribed,
+            &internal_prescribed,
+            h,
+        );
         state
             .velocity_prescribed
             .copy_from_slice(&loads.prescribed_velocity);
