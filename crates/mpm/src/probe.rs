@@ -22,7 +22,7 @@ pub fn grid_value_at(
         ));
     }
     let (lo, hi) = (grid.origin(), grid.end());
-    if !(0..2).all(|a| point[a].is_finite() && point[a] >= lo[a] && point[a] <= hi[a]) {
+    if !(0..2).all(|a| (lo[a]..=hi[a]).contains(&point[a])) {
         return Err(MpmError::invalid(
             "point",
             format!("{point:?} m is outside the grid [{lo:?}, {hi:?}]"),

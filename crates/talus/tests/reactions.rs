@@ -177,3 +177,67 @@ fn symmetry_side_then_base_carry_the_pressure_once() {
     );
     check(&["symmetry", "base"], "symmetry_then_base");
 }
+
+/// MPM walls follow the same rule: a slip side written after a fixed floor owns only the
+/// x of the corner nodes, so it never reports a vertical force, while the floor carries
+/// the weight. (Owning whole nodes, the side would report the corner's share of the
+/// weight.)
+#[test]
+fn an_mpm_slip_side_reports_no_vertical_force_at_the_floor_corner() {
+    let text = r#"gravity = [0.0, -9.81]
+[grid]
+origin = [0.0, 0.0]
+spacing = 0.02
+cells = [10, 4]
+
+[[body]]
+rectangle = [[0.0, 0.0], [0.04, 0.04]]
+
+[material]
+young_modulus = 1.0e7
+poisson_ratio = 0.3
+friction_angle = 30.0
+cohesion = 0.0
+dilatancy_angle = 0.0
+cone_fit = "plane_strain"
+density = 1800.0
+
+[[wall]]
+name = "floor"
+side = "bottom"
+condition = "fixed"
+
+[[wall]]
+name = "side"
+side = "left"
+condition = "slip"
+
+[time]
+step = 2.0e-3
+steps = 3
+
+[output]
+vtu_every = 0
+plots = false
+"#;
+    let scene = talus::scene::MpmScene::parse(text, None).unwrap();
+    let out = out_dir("mpm_corner");
+    talus::mpm_run::run_mpm_scene(
+        &scene,
+        &RunOptions {
+            out_dir: out.clone(),
+            progress: false,
+            write_fields: false,
+        },
+    )
+    .unwrap();
+    let row = last_row(&out);
+    println!(
+        "floor ({:.4e}, {:.4e}), side ({:.4e}, {:.4e})",
+        row["floor_fx"], row["floor_fy"], row["side_fx"], row["side_fy"]
+    );
+    assert_eq!(row["side_fy"], 0.0);
+    assert!(row["side_fx"] > 0.0, "the column presses on its side");
+    let weight = 1800.0 * 0.04 * 0.04 * 9.81;
+    assert!(row["floor_fy"] > 0.5 * weight, "{}", row["floor_fy"]);
+}
