@@ -206,8 +206,8 @@ impl StepContext<'_> {
         }
         let mut group_forces = vec![[0.0; 2]; self.n_groups];
         for (i, c) in self.conditions.iter().enumerate() {
-            for a in 0..2 {
-                if let (true, Some(k)) = (prep.active[i], c.owner[a]) {
+            for (a, owner) in c.owner.iter().enumerate() {
+                if let (true, Some(k)) = (prep.active[i], *owner) {
                     group_forces[k][a] += solved.reaction[i][a];
                 }
             }
