@@ -61,7 +61,9 @@ pub struct PrescribedVelocity {
 }
 
 /// Every condition of a scene's grid. Later entries win where they overlap: walls first,
-/// then prescribed velocities in order.
+/// then prescribed velocities in order. Per velocity component: a component's velocity and
+/// the force that enforces it belong to the last condition that prescribes it
+/// (`docs/scenes.md`, 'Reactions').
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct GridBoundary {
     pub walls: Vec<Wall>,
@@ -74,9 +76,11 @@ pub(crate) struct NodeCondition {
     pub velocity: [Option<f64>; 2],
     /// (normal axis, inward normal sign, μ).
     pub friction: Option<(usize, f64, f64)>,
-    /// Which wall or box fixed the node last (index in walls, then prescribed), for the
-    /// force it applies.
-    pub owner: Option<usize>,
+    /// Per component, the wall or box (index in walls, then prescribed) whose velocity it
+    /// follows, for the force it applies: the last one that prescribes it; the tangential
+    /// component of a friction node that nothing prescribes belongs to its friction wall
+    /// (the friction force).
+    pub owner: [Option<usize>; 2],
 }
 
 impl GridBoundary {
@@ -133,17 +137,22 @@ impl GridBoundary {
                         continue;
                     }
                     let (axis, sign) = w.side.normal();
-                    c.owner = Some(k);
                     match w.condition {
                         WallCondition::Fixed => {
                             c.velocity = [Some(0.0); 2];
+                            c.owner = [Some(k); 2];
                             c.friction = None;
                         }
-                        WallCondition::Slip => c.velocity[axis] = Some(0.0),
+                        WallCondition::Slip => {
+                            c.velocity[axis] = Some(0.0);
+                            c.owner[axis] = Some(k);
+                        }
                         WallCondition::Friction { coefficient } => {
                             c.velocity[axis] = Some(0.0);
+                            c.owner[axis] = Some(k);
                             if c.velocity[1 - axis].is_none() {
                                 c.friction = Some((axis, sign, coefficient));
+                                c.owner[1 - axis] = Some(k);
                             }
                         }
                     }
@@ -157,10 +166,10 @@ impl GridBoundary {
                         && x[1] >= y0 - eps
                         && x[1] <= y1 + eps;
                     if inside {
-                        c.owner = Some(self.walls.len() + k);
                         for a in 0..2 {
                             if let Some(v) = p.velocity[a] {
                                 c.velocity[a] = Some(v);
+                                c.owner[a] = Some(self.walls.len() + k);
                             }
                         }
                         if c.velocity.iter().all(Option::is_some) {
@@ -171,5 +180,56 @@ impl GridBoundary {
                 c
             })
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shape::ShapeFunction;
+
+    #[test]
+    fn each_component_belongs_to_the_last_condition_that_prescribes_it() {
+        let boundary = GridBoundary {
+            walls: vec![
+                Wall {
+                    side: Side::Bottom,
+                    condition: WallCondition::Fixed,
+                },
+                Wall {
+                    side: Side::Left,
+                    condition: WallCondition::Slip,
+                },
+                Wall {
+                    side: Side::Right,
+                    condition: WallCondition::Friction { coefficient: 0.5 },
+                },
+            ],
+            prescribed: vec![PrescribedVelocity {
+                region: [[0.0, 0.0], [0.1, 0.4]],
+                velocity: [None, Some(-1.0)],
+            }],
+        };
+        let grid = Grid::try_new([0.0, 0.0], 0.1, [4, 4], ShapeFunction::Linear)
+            .unwrap()
+            .with_walls(&[Side::Bottom, Side::Left, Side::Right]);
+        let conditions = boundary.node_conditions(&grid);
+        let at = |i: i64, j: i64| {
+            let n = (0..grid.n_nodes())
+                .find(|&n| grid.node_coordinates(n) == [i, j])
+                .unwrap();
+            conditions[n]
+        };
+        // Bottom-left corner: x from the slip side (later), y from the box (latest).
+        assert_eq!(at(0, 0).owner, [Some(1), Some(3)]);
+        // Bottom-right corner: the friction wall prescribes x; y stays the floor's.
+        assert_eq!(at(4, 0).owner, [Some(2), Some(0)]);
+        // The friction wall's free tangential component carries its friction force.
+        assert_eq!(at(4, 2).owner, [Some(2), Some(2)]);
+        assert!(at(4, 2).friction.is_some());
+        // A slip side alone: only its normal component.
+        assert_eq!(at(0, 3).owner, [Some(1), Some(3)]);
+        assert_eq!(at(0, 4).owner[0], Some(1));
+        assert_eq!(at(2, 2).owner, [None, None]);
     }
 }

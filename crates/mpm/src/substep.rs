@@ -166,10 +166,13 @@ impl Substep {
             particles.plastic_strain[p] += dp;
         }
         let mut group_forces = vec![[0.0; 2]; mpm.boundary().n_groups()];
+        // Each component's force goes to the condition that prescribes it
+        // (`NodeCondition::owner`, `docs/scenes.md`, 'Reactions').
         for (i, c) in mpm.conditions().iter().enumerate() {
-            if let (true, Some(k)) = (prep.active[i], c.owner) {
-                group_forces[k][0] += solved.reaction[i][0];
-                group_forces[k][1] += solved.reaction[i][1];
+            for (a, owner) in c.owner.iter().enumerate() {
+                if let (true, Some(k)) = (prep.active[i], *owner) {
+                    group_forces[k][a] += solved.reaction[i][a];
+                }
             }
         }
         let settings = mpm.settings();

@@ -101,7 +101,10 @@ fn run_fem(scene: &Scene, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::
             progress: true,
             write_fields: true,
         },
-    )?;
+    );
+    let Some(summary) = ended(summary, &out) else {
+        return Ok(ExitCode::FAILURE);
+    };
     let iterations: Vec<usize> = summary
         .records
         .iter()
@@ -117,6 +120,7 @@ fn run_fem(scene: &Scene, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::
         summary.displacements.last().copied().unwrap_or(0.0),
         out.display()
     );
+    print_summary(&out);
     Ok(ExitCode::SUCCESS)
 }
 
@@ -128,7 +132,10 @@ fn run_mpm(scene: &MpmScene, out: PathBuf) -> Result<ExitCode, Box<dyn std::erro
             progress: true,
             write_fields: true,
         },
-    )?;
+    );
+    let Some(summary) = ended(summary, &out) else {
+        return Ok(ExitCode::FAILURE);
+    };
     let runout = if summary.runout_reported {
         format!(
             "; final runout (L − L0)/L0 = {:.4}",
@@ -146,7 +153,31 @@ fn run_mpm(scene: &MpmScene, out: PathBuf) -> Result<ExitCode, Box<dyn std::erro
         summary.max_residual(),
         out.display()
     );
+    print_summary(&out);
     Ok(ExitCode::SUCCESS)
+}
+
+/// The run's result; a failed run prints its error, then `summary.json` in words as its
+/// last line.
+fn ended<T>(result: Result<T, talus::run::RunError>, out: &std::path::Path) -> Option<T> {
+    match result {
+        Ok(summary) => Some(summary),
+        Err(e) => {
+            eprintln!("error: {e}");
+            // A scene error stops the run before it starts: no summary of it.
+            if !matches!(e, talus::run::RunError::Scene(_)) {
+                print_summary(out);
+            }
+            None
+        }
+    }
+}
+
+/// `summary.json` in words (nothing when the run stopped before writing it).
+fn print_summary(out: &std::path::Path) {
+    if let Ok(summary) = talus::output::Summary::read(&out.join("summary.json")) {
+        println!("{}", summary.sentence());
+    }
 }
 
 fn verify(

@@ -5,8 +5,10 @@ use std::time::Instant;
 
 use talus_ssn::Settings;
 
+use crate::output::Results;
 use crate::output::{self, FieldSnapshot, MeshView, OutputError};
-use crate::run_loop::{run_steps, RunOutputs};
+use crate::run_loop::{run_steps, RunOutputs, HISTORY_COLUMNS};
+use crate::run_results::FemResults;
 use crate::scene::{Scene, SceneError};
 use crate::simulation::engine::Method;
 use crate::simulation::{FemStepError, Model, State, StepRecord, StepSettings, Stepper};
@@ -97,8 +99,14 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunE
         k_d = model.material.k_d(),
         "model built"
     );
+    let results = FemResults::new(
+        scene,
+        &model,
+        &format!("{HISTORY_COLUMNS},{}", FEM_COLUMNS.join(",")),
+    )?;
     let mut outputs = FemOutputs {
         scene,
+        results,
         model: &model,
         out: &options.out_dir,
         write_fields: options.write_fields,
@@ -131,10 +139,15 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunE
     })
 }
 
+/// The columns a FEM run adds after [`HISTORY_COLUMNS`], before the named boundaries'
+/// and monitors'.
+pub const FEM_COLUMNS: [&str; 2] = ["reaction_force", "footing_displacement"];
+
 /// What a FEM run adds to the run loop: the reported boundary's reaction and settlement,
 /// element VTUs and the PNG plots.
 struct FemOutputs<'a> {
     scene: &'a Scene,
+    results: FemResults,
     model: &'a Model,
     out: &'a Path,
     write_fields: bool,
@@ -146,11 +159,15 @@ struct FemOutputs<'a> {
 }
 
 impl RunOutputs<&Model> for FemOutputs<'_> {
-    fn columns(&self) -> Vec<String> {
-        vec!["reaction_force".into(), "footing_displacement".into()]
+    fn columns(&self) -> String {
+        format!(
+            ",{}{}",
+            FEM_COLUMNS.join(","),
+            self.results.results.header()
+        )
     }
 
-    fn values(&mut self, state: &State, report: Option<&StepRecord>) -> Vec<f64> {
+    fn row(&mut self, step: usize, state: &State, report: Option<&StepRecord>) -> String {
         let displacement = if self.reaction_nodes.is_empty() {
             0.0
         } else {
@@ -161,18 +178,25 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
                 .sum::<f64>()
                 / self.reaction_nodes.len() as f64
         };
-        let reaction = match report {
-            Some(r) => r.reaction_force(),
-            None => self.model.reaction(state),
+        let (reaction, rest) = match report {
+            Some(r) => (
+                r.reaction_force(),
+                self.results.step(self.model, state, step, r, displacement),
+            ),
+            None => {
+                let reaction = self.model.reaction(state);
+                (reaction, self.results.initial(self.model, state, reaction))
+            }
         };
         self.curve.push((displacement, reaction));
-        vec![reaction, displacement]
+        format!(",{reaction:.10e},{displacement:.10e}{rest}")
     }
 
+    /// VTUs at step 0, every `vtu_every` steps and the last.
     fn after_step(&mut self, step: usize, state: &State) -> Result<(), RunError> {
         let every = self.scene.spec.output.vtu_every;
         let last = self.scene.spec.time.steps;
-        if self.write_fields && step > 0 && ((every > 0 && step % every == 0) || step == last) {
+        if self.write_fields && (step == 0 || (every > 0 && step % every == 0) || step == last) {
             let dir = self.out.join("vtu");
             std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
             let name = format!("step_{step:05}.vtu");
@@ -182,7 +206,7 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
         Ok(())
     }
 
-    fn message(&self, report: &StepRecord, _: &[f64]) -> String {
+    fn message(&self, report: &StepRecord, _: &State) -> String {
         format!(
             "{} Newton its, F = {:.4e} N/m",
             report.newton_iterations,
@@ -191,13 +215,13 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
     }
 
     fn finish(&mut self, state: &State, reports: &[StepRecord]) -> Result<(), RunError> {
-        if !self.write_fields || reports.is_empty() {
+        if !self.write_fields {
             return Ok(());
         }
         if !self.pvd.is_empty() {
             output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
         }
-        if self.scene.spec.output.plots {
+        if self.scene.spec.output.plots && !reports.is_empty() {
             write_plots(
                 self.scene,
                 self.model,
@@ -208,6 +232,10 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
             )?;
         }
         Ok(())
+    }
+
+    fn results(&self) -> &Results {
+        &self.results.results
     }
 }
 

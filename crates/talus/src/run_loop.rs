@@ -4,6 +4,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+use crate::output::{Results, RunStatus};
 use crate::run::{io_err, progress_bar, RunError};
 use crate::simulation::engine::{Discretization, StepError, StepReport, Stepper};
 
@@ -12,22 +13,30 @@ use crate::simulation::engine::{Discretization, StepError, StepReport, Stepper};
 /// quantity compared with `[solver] tolerance`.
 pub const HISTORY_COLUMNS: &str = "step,time,h,substeps,newton_iterations,failed_newton_iterations,max_newton_iterations,backtracks,residual,relative_residual,seconds";
 
-/// What a method adds to the run loop: its columns, its files, its progress message.
+/// What a method adds to the run loop: its columns, its files, its progress message, and
+/// the named boundaries and monitors of `summary.json`.
 pub trait RunOutputs<D: Discretization> {
-    /// Column names after [`HISTORY_COLUMNS`].
-    fn columns(&self) -> Vec<String>;
-    /// The values of those columns for `state` (after `report`'s step; `None` at step 0).
-    fn values(&mut self, state: &D::State, report: Option<&StepReport<D::Stats>>) -> Vec<f64>;
+    /// `,name,...`: the columns after [`HISTORY_COLUMNS`].
+    fn columns(&self) -> String;
+    /// `,value,...`: those columns for `state` after `report`'s step (`None`: step 0).
+    fn row(
+        &mut self,
+        step: usize,
+        state: &D::State,
+        report: Option<&StepReport<D::Stats>>,
+    ) -> String;
     /// The fields due after `step` (0: the initial state).
     fn after_step(&mut self, step: usize, state: &D::State) -> Result<(), RunError>;
     /// A short status for the progress bar.
-    fn message(&self, report: &StepReport<D::Stats>, values: &[f64]) -> String;
+    fn message(&self, report: &StepReport<D::Stats>, state: &D::State) -> String;
     /// The end-of-run files (collections, plots), finished or not.
     fn finish(
         &mut self,
         state: &D::State,
         reports: &[StepReport<D::Stats>],
     ) -> Result<(), RunError>;
+    /// The reactions, monitors and reported curve recorded so far.
+    fn results(&self) -> &Results;
 }
 
 /// What the run loop returns: every step's report, the last state, and the step that
@@ -38,7 +47,8 @@ pub struct Stepped<D: Discretization> {
     pub failure: Option<(usize, StepError<D::Error>)>,
 }
 
-/// Steps `state` `steps` times by `h`, writing `out/history.csv` and what `outputs` asks.
+/// Steps `state` `steps` times by `h`, writing `out/history.csv`, what `outputs` asks, and
+/// `out/summary.json` at the end, finished or failed.
 pub fn run_steps<D: Discretization, O: RunOutputs<D>>(
     stepper: &mut Stepper<D>,
     mut state: D::State,
@@ -49,9 +59,11 @@ pub fn run_steps<D: Discretization, O: RunOutputs<D>>(
     progress: bool,
 ) -> Result<Stepped<D>, RunError> {
     std::fs::create_dir_all(out).map_err(io_err(out))?;
+    let summary_path = out.join("summary.json");
+    let _ = std::fs::remove_file(&summary_path);
     let mut history = History::create(out.join("history.csv"), &outputs.columns())?;
-    let values = outputs.values(&state, None);
-    history.row::<D::Stats>(0, stepper.discretization().time(&state), None, &values)?;
+    let row = outputs.row(0, &state, None);
+    history.row::<D::Stats>(0, stepper.discretization().time(&state), None, &row)?;
     outputs.after_step(0, &state)?;
     let bar = progress_bar(steps, progress);
     let mut reports = Vec::new();
@@ -64,8 +76,8 @@ pub fn run_steps<D: Discretization, O: RunOutputs<D>>(
                 break;
             }
         };
-        let values = outputs.values(&state, Some(&report));
-        history.row(step, report.time, Some(&report), &values)?;
+        let row = outputs.row(step, &state, Some(&report));
+        history.row(step, report.time, Some(&report), &row)?;
         tracing::info!(
             step,
             time = report.time,
@@ -75,7 +87,7 @@ pub fn run_steps<D: Discretization, O: RunOutputs<D>>(
             "step"
         );
         if let Some(bar) = &bar {
-            bar.set_message(outputs.message(&report, &values));
+            bar.set_message(outputs.message(&report, &state));
             bar.inc(1);
         }
         outputs.after_step(step, &state)?;
@@ -85,6 +97,19 @@ pub fn run_steps<D: Discretization, O: RunOutputs<D>>(
         bar.finish();
     }
     outputs.finish(&state, &reports)?;
+    let (status, error) = match &failure {
+        None => (RunStatus::Finished, None),
+        Some((step, e)) => (
+            match e {
+                StepError::NotConverged { .. } => RunStatus::NotConverged,
+                _ => RunStatus::Failed,
+            },
+            Some(format!("step {step}: {e}")),
+        ),
+    };
+    let summary = outputs.results().summary(status, error, steps);
+    summary.write(&summary_path)?;
+    tracing::info!("{}", summary.sentence());
     Ok(Stepped {
         reports,
         state,
@@ -99,18 +124,13 @@ struct History {
 }
 
 impl History {
-    fn create(path: PathBuf, columns: &[String]) -> Result<Self, RunError> {
+    fn create(path: PathBuf, columns: &str) -> Result<Self, RunError> {
         let file = std::fs::File::create(&path).map_err(io_err(&path))?;
         let mut history = Self {
             writer: std::io::BufWriter::new(file),
             path,
         };
-        let mut header = HISTORY_COLUMNS.to_string();
-        for c in columns {
-            header.push(',');
-            header.push_str(c);
-        }
-        history.line(header)?;
+        history.line(format!("{HISTORY_COLUMNS}{columns}"))?;
         Ok(history)
     }
 
@@ -119,7 +139,7 @@ impl History {
         step: usize,
         time: f64,
         report: Option<&StepReport<S>>,
-        values: &[f64],
+        rest: &str,
     ) -> Result<(), RunError> {
         let mut line = match report {
             Some(r) => format!(
@@ -136,9 +156,7 @@ impl History {
             ),
             None => format!("{step},{time:.10e},0,0,0,0,0,0,0,0,0"),
         };
-        for v in values {
-            line.push_str(&format!(",{v:.10e}"));
-        }
+        line.push_str(rest);
         self.line(line)
     }
 

@@ -5,6 +5,7 @@ mod build;
 mod discretization;
 mod measure;
 mod outputs;
+mod results;
 mod stepper;
 
 use std::path::Path;
@@ -13,8 +14,9 @@ use std::time::Instant;
 use talus_mpm::{Mpm, Particles, SubstepStats};
 
 use crate::output;
+use crate::output::Results;
 use crate::run::{RunError, RunOptions};
-use crate::run_loop::{run_steps, RunOutputs};
+use crate::run_loop::{run_steps, RunOutputs, HISTORY_COLUMNS};
 use crate::scene::MpmScene;
 use crate::simulation::{StepReport, Stepper};
 
@@ -22,7 +24,19 @@ pub use build::{MpmModel, Reaction};
 pub use discretization::MpmState;
 pub use measure::{front, kinetic_energy, RunoutReference};
 use outputs::FieldWriter;
+use results::MpmResults;
 pub use stepper::MpmStepper;
+
+/// The columns an MPM run adds after [`HISTORY_COLUMNS`], before the named walls', boxes'
+/// and monitors'.
+pub const MPM_COLUMNS: [&str; 6] = [
+    "contact_passes",
+    "reaction_force_x",
+    "reaction_force_y",
+    "front",
+    "runout_normalized",
+    "kinetic_energy",
+];
 
 /// What one MPM step did.
 pub type MpmStepReport = StepReport<SubstepStats>;
@@ -90,8 +104,14 @@ pub fn run_mpm_scene(scene: &MpmScene, options: &RunOptions) -> Result<MpmRunSum
     );
     let (h, steps) = (spec.time.step, spec.time.steps);
     let title = spec.title.clone().unwrap_or_else(|| "talus run".into());
+    let results = MpmResults::new(
+        scene,
+        &model,
+        &format!("{HISTORY_COLUMNS},{}", MPM_COLUMNS.join(",")),
+    )?;
     let mut outputs = MpmOutputs {
         model: &model,
+        results,
         fields: FieldWriter {
             out: &options.out_dir,
             title: &title,
@@ -141,6 +161,7 @@ pub fn run_mpm_scene(scene: &MpmScene, options: &RunOptions) -> Result<MpmRunSum
 /// reported box's force; particle VTUs and PNG maps.
 struct MpmOutputs<'a> {
     model: &'a MpmModel,
+    results: MpmResults,
     fields: FieldWriter<'a>,
     out: &'a Path,
     write_fields: bool,
@@ -151,20 +172,15 @@ struct MpmOutputs<'a> {
 }
 
 impl RunOutputs<&Mpm> for MpmOutputs<'_> {
-    fn columns(&self) -> Vec<String> {
-        [
-            "contact_passes",
-            "reaction_force_x",
-            "reaction_force_y",
-            "front",
-            "runout_normalized",
-            "kinetic_energy",
-        ]
-        .map(String::from)
-        .to_vec()
+    fn columns(&self) -> String {
+        format!(
+            ",{}{}",
+            MPM_COLUMNS.join(","),
+            self.results.results.header()
+        )
     }
 
-    fn values(&mut self, state: &MpmState, report: Option<&MpmStepReport>) -> Vec<f64> {
+    fn row(&mut self, step: usize, state: &MpmState, report: Option<&MpmStepReport>) -> String {
         let stats = report.and_then(|r| r.stats.as_ref());
         let force = self
             .model
@@ -172,25 +188,29 @@ impl RunOutputs<&Mpm> for MpmOutputs<'_> {
             .zip(stats)
             .and_then(|(r, s)| s.group_forces.get(r.group).copied())
             .unwrap_or([0.0; 2]);
-        if let (
-            Some(_),
-            Some(Reaction {
-                velocity_y: Some(vy),
-                ..
-            }),
-        ) = (report, self.model.reaction)
-        {
+        let settles = self.model.reaction.and_then(|r| r.velocity_y);
+        if let (Some(_), Some(vy)) = (report, settles) {
             self.reaction_curve.push((-vy * state.time, -force[1]));
         }
+        // The reported box's (settlement, push) for summary.json's limit.
+        let reported = settles.and(self.reaction_curve.last().copied());
+        let rest = self.results.record(
+            self.model,
+            &state.particles,
+            step,
+            state.time,
+            report,
+            reported,
+        );
         let f = front(&state.particles);
-        vec![
-            stats.map_or(0, |s| s.contact_passes) as f64,
+        format!(
+            ",{},{:.10e},{:.10e},{f:.10e},{:.10e},{:.10e}{rest}",
+            stats.map_or(0, |s| s.contact_passes),
             force[0],
             force[1],
-            f,
             self.model.runout.normalized(f),
-            kinetic_energy(&state.particles),
-        ]
+            kinetic_energy(&state.particles)
+        )
     }
 
     fn after_step(&mut self, step: usize, state: &MpmState) -> Result<(), RunError> {
@@ -201,10 +221,12 @@ impl RunOutputs<&Mpm> for MpmOutputs<'_> {
         Ok(())
     }
 
-    fn message(&self, report: &MpmStepReport, values: &[f64]) -> String {
+    fn message(&self, report: &MpmStepReport, state: &MpmState) -> String {
         format!(
             "{} Newton its, front {:.4} m, E_k = {:.3e} J/m",
-            report.newton_iterations, values[3], values[5]
+            report.newton_iterations,
+            front(&state.particles),
+            kinetic_energy(&state.particles)
         )
     }
 
@@ -222,5 +244,9 @@ impl RunOutputs<&Mpm> for MpmOutputs<'_> {
             )?;
         }
         Ok(())
+    }
+
+    fn results(&self) -> &Results {
+        &self.results.results
     }
 }

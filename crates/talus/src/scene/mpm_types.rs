@@ -39,6 +39,9 @@ pub struct MpmSceneSpec {
     pub solver: SolverSpec,
     #[serde(default)]
     pub output: MpmOutputSpec,
+    /// Points whose grid-interpolated displacement and velocity are recorded.
+    #[serde(default)]
+    pub monitor: Vec<super::MonitorSpec>,
 }
 
 /// Square cells of side `spacing` (m) from `origin` (lower-left corner, m).
@@ -93,9 +96,12 @@ pub enum WallConditionSpec {
 }
 
 /// A wall on a side of the grid; `friction` (μ ≥ 0) is required iff `condition = "friction"`.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WallSpec {
+    /// Names the wall's reaction columns in history.csv.
+    #[serde(default)]
+    pub name: Option<String>,
     pub side: SideSpec,
     pub condition: WallConditionSpec,
     #[serde(default)]

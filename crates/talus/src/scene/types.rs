@@ -33,6 +33,9 @@ pub struct SceneSpec {
     pub solver: SolverSpec,
     #[serde(default)]
     pub output: OutputSpec,
+    /// Points whose displacement and velocity are recorded (`docs/scenes.md`, 'Results').
+    #[serde(default)]
+    pub monitor: Vec<super::MonitorSpec>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]

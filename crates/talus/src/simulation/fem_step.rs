@@ -8,17 +8,20 @@ use super::engine::{Discretization, Loading, Problem};
 use super::{Loads, Model, State};
 
 /// What a FEM sub-step measured.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct FemStats {
     /// Reaction on the reported boundary: the force it applies to the body, vertical,
     /// positive downward, N per metre of thickness.
     pub reaction_force: f64,
+    /// Force each prescribed dof's condition applies to the body (N/m,
+    /// `reaction_groups::prescribed_forces`).
+    pub prescribed_forces: Vec<f64>,
 }
 
 impl super::StepReport<FemStats> {
     /// The reported boundary's reaction at the end of the step (N/m, downward positive).
     pub fn reaction_force(&self) -> f64 {
-        self.stats.map_or(0.0, |s| s.reaction_force)
+        self.stats.as_ref().map_or(0.0, |s| s.reaction_force)
     }
 }
 
@@ -122,6 +125,13 @@ impl Discretization for Model {
                 reaction -= inertia + internal_prescribed[j] - loads.force_prescribed[j];
             }
         }
+        let prescribed_forces = super::prescribed_forces(
+            self,
+            &loads,
+            &state.velocity_prescribed,
+            &internal_prescribed,
+            h,
+        );
         state
             .velocity_prescribed
             .copy_from_slice(&loads.prescribed_velocity);
@@ -138,6 +148,7 @@ impl Discretization for Model {
         state.time += h;
         Ok(FemStats {
             reaction_force: reaction,
+            prescribed_forces,
         })
     }
 }

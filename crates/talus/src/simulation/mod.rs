@@ -5,7 +5,9 @@ pub mod engine;
 mod fem_step;
 mod initial_stress;
 mod model;
+mod monitors;
 mod quasi_static;
+mod reaction_groups;
 mod state;
 
 pub use engine::{
@@ -17,7 +19,9 @@ pub use initial_stress::{
     mandel_from_components, uniform_stress,
 };
 pub use model::{Loads, Model, RampedForce};
+pub use monitors::NodeMonitors;
 pub use quasi_static::{quasi_static_masses, DEFAULT_INERTIA_RATIO};
+pub use reaction_groups::{prescribed_forces, prescribed_forces_at_rest, ReactionGroups};
 pub use state::State;
 
 /// What one FEM step did.

@@ -46,6 +46,9 @@ pub struct Model {
     pub velocity_ramps: Vec<(Ramp, Vec<usize>)>,
     /// Prescribed dofs of the boundary whose reaction is reported, with their component.
     pub reaction_dofs: Vec<(usize, usize)>,
+    /// Per prescribed dof, the `[[boundary]]` whose velocity it follows (the last that
+    /// fixes it), which also owns its reaction (`ReactionGroups`).
+    pub dof_owner: Vec<usize>,
 }
 
 impl Model {
@@ -190,6 +193,7 @@ impl Model {
             prescribed_velocity,
             velocity_ramps,
             reaction_dofs,
+            dof_owner: owner,
         })
     }
 

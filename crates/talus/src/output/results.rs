@@ -1,0 +1,269 @@
+//! The results a user reads besides the solver's: one reaction per named boundary
+//! (`NAME_fx, NAME_fy`, N/m) and one displacement and velocity per monitor (`NAME_ux,
+//! NAME_uy, NAME_vx, NAME_vy`) appended to each `history.csv` row, tracked over the run for
+//! `summary.json` (FEM and MPM alike).
+use std::collections::BTreeMap;
+
+use super::plateau::{plateau, PlateauCriterion};
+use super::summary::{
+    BoundaryReaction, Limit, MonitorValues, ReportedReaction, RunStatus, Summary,
+};
+
+/// Columns, and what the run reached so far.
+#[derive(Debug, Clone)]
+pub struct Results {
+    boundaries: Vec<String>,
+    monitors: Vec<String>,
+    reported: Option<String>,
+    last: Vec<[f64; 2]>,
+    peak: Vec<([f64; 2], usize)>,
+    monitor_values: Vec<Option<[f64; 4]>>,
+    /// `(settlement, force)` of the reported boundary at every recorded step.
+    curve: Vec<(f64, f64)>,
+    steps: usize,
+    time: f64,
+}
+
+/// A name that cannot head columns: the scene field that gave it and why.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BadColumn {
+    pub field: String,
+    pub message: String,
+}
+
+impl Results {
+    /// `boundaries` and `monitors`: `(scene field, name)` in file order; `base`: the
+    /// history.csv columns before them. Every generated column must be new.
+    pub fn new(
+        base: &str,
+        boundaries: &[(String, String)],
+        monitors: &[(String, String)],
+        reported: Option<String>,
+    ) -> Result<Self, BadColumn> {
+        let mut columns: Vec<(usize, String)> = Vec::new();
+        let named = boundaries
+            .iter()
+            .map(|b| (b, &crate::scene::REACTION_COLUMNS[..]))
+            .chain(
+                monitors
+                    .iter()
+                    .map(|m| (m, &crate::scene::MONITOR_COLUMNS[..])),
+            );
+        let fields: Vec<&String> = boundaries.iter().chain(monitors).map(|(f, _)| f).collect();
+        for (k, ((field, name), suffixes)) in named.enumerate() {
+            if let Some(why) = crate::scene::bad_name(name) {
+                return Err(BadColumn {
+                    field: field.clone(),
+                    message: format!("`{name}` {why}"),
+                });
+            }
+            columns.extend(suffixes.iter().map(|s| (k, format!("{name}_{s}"))));
+        }
+        let base: Vec<&str> = base.split(',').collect();
+        if let Some((k, column)) = crate::scene::first_duplicate(&base, &columns) {
+            return Err(BadColumn {
+                field: fields[*k].clone(),
+                message: format!(
+                    "its history.csv column `{column}` repeats another column (names must be unique)"
+                ),
+            });
+        }
+        Ok(Self {
+            boundaries: boundaries.iter().map(|b| b.1.clone()).collect(),
+            monitors: monitors.iter().map(|m| m.1.clone()).collect(),
+            reported,
+            last: vec![[0.0; 2]; boundaries.len()],
+            peak: vec![([0.0; 2], 0); boundaries.len()],
+            monitor_values: vec![None; monitors.len()],
+            curve: Vec::new(),
+            steps: 0,
+            time: 0.0,
+        })
+    }
+
+    /// `,NAME_fx,NAME_fy,...,NAME_ux,...`: what follows the base header.
+    pub fn header(&self) -> String {
+        let b = self
+            .boundaries
+            .iter()
+            .flat_map(|n| crate::scene::REACTION_COLUMNS.map(|s| format!(",{n}_{s}")));
+        let m = self
+            .monitors
+            .iter()
+            .flat_map(|n| crate::scene::MONITOR_COLUMNS.map(|s| format!(",{n}_{s}")));
+        b.chain(m).collect()
+    }
+
+    /// Records step `step` (0: the initial state) at `time`: each named boundary's force,
+    /// each monitor's `[ux, uy, vx, vy]` (`None`: no material around an MPM point, written
+    /// as empty cells), the reported boundary's `(settlement, force)`. Returns what follows
+    /// the row's base columns.
+    pub fn record(
+        &mut self,
+        step: usize,
+        time: f64,
+        forces: &[[f64; 2]],
+        monitors: &[Option<[f64; 4]>],
+        reported: Option<(f64, f64)>,
+    ) -> String {
+        let mut row = String::new();
+        for (k, f) in forces.iter().enumerate().take(self.boundaries.len()) {
+            row += &format!(",{:.10e},{:.10e}", f[0], f[1]);
+            self.last[k] = *f;
+            if norm(*f) > norm(self.peak[k].0) {
+                self.peak[k] = (*f, step);
+            }
+        }
+        for (k, m) in monitors.iter().enumerate().take(self.monitors.len()) {
+            match m {
+                Some(v) => {
+                    for x in v {
+                        row += &format!(",{x:.10e}");
+                    }
+                }
+                None => row += ",,,,",
+            }
+            self.monitor_values[k] = *m;
+        }
+        if let Some(point) = reported {
+            self.curve.push(point);
+        }
+        self.steps = step;
+        self.time = time;
+        row
+    }
+
+    /// `(settlement, force)` of the reported boundary at every recorded step.
+    pub fn curve(&self) -> &[(f64, f64)] {
+        &self.curve
+    }
+
+    pub fn summary(
+        &self,
+        status: RunStatus,
+        error: Option<String>,
+        steps_requested: usize,
+    ) -> Summary {
+        let criterion = PlateauCriterion::default();
+        let boundaries = self
+            .boundaries
+            .iter()
+            .enumerate()
+            .map(|(k, name)| {
+                (
+                    name.clone(),
+                    BoundaryReaction {
+                        last: self.last[k],
+                        peak: self.peak[k].0,
+                        peak_step: self.peak[k].1,
+                    },
+                )
+            })
+            .collect();
+        let monitors = self
+            .monitors
+            .iter()
+            .zip(&self.monitor_values)
+            .map(|(name, v)| {
+                (
+                    name.clone(),
+                    v.map(|[ux, uy, vx, vy]| MonitorValues { ux, uy, vx, vy }),
+                )
+            })
+            .collect::<BTreeMap<_, _>>();
+        let reaction = self.reported.as_ref().and_then(|name| {
+            self.curve
+                .last()
+                .map(|&(settlement, force)| ReportedReaction {
+                    boundary: name.clone(),
+                    force,
+                    settlement,
+                })
+        });
+        // The curve holds one point per recorded step from step 0 on.
+        let limit = reaction
+            .as_ref()
+            .and_then(|_| plateau(&self.curve, &criterion))
+            .map(|p| Limit::new(p.force, p.settlement, p.start, &criterion));
+        Summary {
+            status,
+            error,
+            steps: self.steps,
+            steps_requested,
+            time: self.time,
+            boundaries,
+            monitors,
+            reaction,
+            limit,
+        }
+    }
+}
+
+fn norm(f: [f64; 2]) -> f64 {
+    f[0].hypot(f[1])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn named(field: &str, name: &str) -> (String, String) {
+        (field.to_string(), name.to_string())
+    }
+
+    #[test]
+    fn columns_follow_the_names_and_collisions_are_named() {
+        let r = Results::new(
+            "step,time",
+            &[named("boundary[0].name", "base")],
+            &[named("monitor[0].name", "crest")],
+            None,
+        )
+        .unwrap();
+        assert_eq!(
+            r.header(),
+            ",base_fx,base_fy,crest_ux,crest_uy,crest_vx,crest_vy"
+        );
+        let err = Results::new(
+            "step,time",
+            &[],
+            &[named("monitor[0].name", "a"), named("monitor[1].name", "a")],
+            None,
+        )
+        .unwrap_err();
+        assert_eq!(err.field, "monitor[1].name");
+        let err = Results::new(
+            "step,reaction_force_x",
+            &[named("wall[0].name", "reaction_force")],
+            &[],
+            None,
+        );
+        assert!(err.is_ok(), "reaction_force_fx is a new column");
+        let err =
+            Results::new("step,a_ux", &[], &[named("monitor[0].name", "a")], None).unwrap_err();
+        assert!(err.message.contains("a_ux"), "{err:?}");
+        let err = Results::new("step", &[named("boundary[2].name", "a b")], &[], None).unwrap_err();
+        assert_eq!(err.field, "boundary[2].name");
+    }
+
+    #[test]
+    fn final_and_peak_by_magnitude() {
+        let mut r = Results::new(
+            "step",
+            &[named("boundary[0].name", "b")],
+            &[],
+            Some("b".into()),
+        )
+        .unwrap();
+        r.record(0, 0.0, &[[0.0, 1.0]], &[], Some((0.0, 1.0)));
+        r.record(1, 0.1, &[[3.0, -4.0]], &[], Some((0.1, 4.0)));
+        let row = r.record(2, 0.2, &[[1.0, 2.0]], &[], Some((0.2, 2.0)));
+        assert_eq!(row, format!(",{:.10e},{:.10e}", 1.0, 2.0));
+        let s = r.summary(RunStatus::Finished, None, 2);
+        assert_eq!(s.boundaries["b"].last, [1.0, 2.0]);
+        assert_eq!(s.boundaries["b"].peak, [3.0, -4.0]);
+        assert_eq!(s.boundaries["b"].peak_step, 1);
+        assert_eq!(s.reaction.unwrap().force, 2.0);
+        assert_eq!((s.steps, s.time), (2, 0.2));
+    }
+}

@@ -1,0 +1,155 @@
+//! `summary.json`, written at the end of every run (finished or failed): how it ended, the
+//! named boundaries' final and peak reactions, the monitors' final values and the limit
+//! load when the reported reaction levelled off (`docs/scenes.md`, 'summary.json'); and
+//! the same in one sentence for the run's last line.
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use super::plateau::PlateauCriterion;
+use super::OutputError;
+
+/// How a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RunStatus {
+    Finished,
+    /// A step did not converge even after its halvings.
+    NotConverged,
+    /// Any other error (solver setup, an inverted particle, a file that cannot be written).
+    Failed,
+}
+
+/// Reaction of a named boundary (N/m): the force it applies to the body.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BoundaryReaction {
+    /// `[fx, fy]` after the last step.
+    #[serde(rename = "final")]
+    pub last: [f64; 2],
+    /// `[fx, fy]` of the step with the largest `√(fx² + fy²)`, and that step.
+    pub peak: [f64; 2],
+    pub peak_step: usize,
+}
+
+/// A monitor's displacement (m) and velocity (m/s) after the last step; `None` in MPM when
+/// no material is left around the point.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct MonitorValues {
+    pub ux: f64,
+    pub uy: f64,
+    pub vx: f64,
+    pub vy: f64,
+}
+
+/// The reported boundary (`output.reaction`): its force and settlement as in the
+/// `reaction_force` / `footing_displacement` columns (FEM; MPM: `−reaction_force_y` and
+/// `−v_y t`), both downward positive.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ReportedReaction {
+    pub boundary: String,
+    pub force: f64,
+    pub settlement: f64,
+}
+
+/// The plateau of the reported reaction (`output::plateau`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Limit {
+    /// Mean force over the plateau (N/m, downward positive).
+    pub force: f64,
+    /// Settlement where the plateau starts (m), and its step.
+    pub settlement: f64,
+    pub step: usize,
+    pub criterion: String,
+    pub tolerance: f64,
+    pub span: f64,
+    pub min_points: usize,
+}
+
+impl Limit {
+    pub fn new(force: f64, settlement: f64, step: usize, c: &PlateauCriterion) -> Self {
+        Self {
+            force,
+            settlement,
+            step,
+            criterion: c.describe(),
+            tolerance: c.tolerance,
+            span: c.span,
+            min_points: c.min_points,
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    pub status: RunStatus,
+    /// The error that stopped the run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+    /// Steps completed, of `steps_requested`, and the time reached (s).
+    pub steps: usize,
+    pub steps_requested: usize,
+    pub time: f64,
+    pub boundaries: BTreeMap<String, BoundaryReaction>,
+    pub monitors: BTreeMap<String, Option<MonitorValues>>,
+    pub reaction: Option<ReportedReaction>,
+    pub limit: Option<Limit>,
+}
+
+impl Summary {
+    pub fn write(&self, path: &Path) -> Result<(), OutputError> {
+        let text = serde_json::to_string_pretty(self).map_err(|e| OutputError::Invalid {
+            field: "summary",
+            message: e.to_string(),
+        })?;
+        std::fs::write(path, text + "\n").map_err(|source| OutputError::Io {
+            path: path.to_path_buf(),
+            source,
+        })
+    }
+
+    /// A summary written by [`Summary::write`].
+    pub fn read(path: &Path) -> Result<Self, OutputError> {
+        let text = std::fs::read_to_string(path).map_err(|e| OutputError::io(path, e))?;
+        serde_json::from_str(&text).map_err(|e| OutputError::invalid("summary", e.to_string()))
+    }
+
+    /// The summary in words: how the run ended, the reported reaction and its limit.
+    pub fn sentence(&self) -> String {
+        let status = match self.status {
+            RunStatus::Finished => "finished",
+            RunStatus::NotConverged => "stopped (a step did not converge)",
+            RunStatus::Failed => "stopped (failed)",
+        };
+        let mut s = format!(
+            "run {status} after {} of {} steps, t = {:.6e} s",
+            self.steps, self.steps_requested, self.time
+        );
+        if let Some(r) = &self.reaction {
+            s += &format!(
+                "; `{}` pushes with {:.4e} N/m at {:.4e} m settlement",
+                r.boundary, r.force, r.settlement
+            );
+            s += &match &self.limit {
+                Some(l) => format!(
+                    "; limit load {:.4e} N/m, plateau from {:.4e} m (step {})",
+                    l.force, l.settlement, l.step
+                ),
+                None => "; no plateau of the force (no limit load)".to_string(),
+            };
+        }
+        for (name, b) in &self.boundaries {
+            s += &format!(
+                "; {name}: final ({:.4e}, {:.4e}) N/m, peak ({:.4e}, {:.4e}) N/m",
+                b.last[0], b.last[1], b.peak[0], b.peak[1]
+            );
+        }
+        for (name, m) in &self.monitors {
+            s += &match m {
+                Some(m) => format!("; {name}: u = ({:.4e}, {:.4e}) m", m.ux, m.uy),
+                None => format!("; {name}: no material around the point"),
+            };
+        }
+        s
+    }
+}
