@@ -7,8 +7,8 @@
 //! the runout `(L − L₀)/L₀` (front = largest particle x).
 //!
 //! ```sh
-//! cargo bench -p talus-mpm --bench column_a2_large_step
-//! cargo bench -p talus-mpm --bench column_a2_large_step -- --per-cell 2 --steps 30
+//! cargo bench -p talus --bench mpm_column_a2_large_step
+//! cargo bench -p talus --bench mpm_column_a2_large_step -- --per-cell 2 --steps 30
 //! ```
 //! Without `--bench` (`cargo test --benches`) it runs 3 steps of a 200-particle column.
 use std::time::Instant;

@@ -15,15 +15,15 @@
 //! of the particles advanced by an `Mpm` whose material has c = 1e6 Pa, about 300 times the
 //! largest stress, so that every particle stays elastic: one Newton iteration), then the
 //! plastic step that advances the column. Times are `StepReport::seconds` (all of
-//! `Mpm::advance`: P2G, assembly, solver set-up, Newton, G2P); medians over the N steps.
+//! the engine's `advance`: P2G, assembly, solver set-up, Newton, G2P); medians over the N steps.
 //!
 //! Each size runs in a child process (this binary re-invoked with `--child`), so that its
 //! peak resident memory (`VmHWM`) is its own.
 //!
 //! ```sh
-//! cargo bench -p talus-mpm --bench column_step                   # 10k (5 steps), 100k (2)
-//! TALUS_MPM_BENCH_SIZES=10k cargo bench -p talus-mpm --bench column_step   # skip 100k
-//! cargo bench -p talus-mpm --bench column_step -- --sizes 10k,100k --steps 3
+//! cargo bench -p talus --bench mpm_column_step                   # 10k (5 steps), 100k (2)
+//! TALUS_MPM_BENCH_SIZES=10k cargo bench -p talus --bench mpm_column_step   # skip 100k
+//! cargo bench -p talus --bench mpm_column_step -- --sizes 10k,100k --steps 3
 //! ```
 //!
 //! Without `--bench` (`cargo test --benches`) it takes one step of a 128-particle column,
