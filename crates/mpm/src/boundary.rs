@@ -72,6 +72,9 @@ pub struct GridBoundary {
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(crate) struct NodeCondition {
     pub velocity: [Option<f64>; 2],
+    /// The prescribed box that set each component's velocity (`None`: a wall's zero), whose
+    /// multiplier scales it in a sub-step (`crate::SubstepLoads`).
+    pub source: [Option<usize>; 2],
     /// (normal axis, inward normal sign, μ).
     pub friction: Option<(usize, f64, f64)>,
     /// Which wall or box fixed the node last (index in walls, then prescribed), for the
@@ -137,11 +140,16 @@ impl GridBoundary {
                     match w.condition {
                         WallCondition::Fixed => {
                             c.velocity = [Some(0.0); 2];
+                            c.source = [None; 2];
                             c.friction = None;
                         }
-                        WallCondition::Slip => c.velocity[axis] = Some(0.0),
+                        WallCondition::Slip => {
+                            c.velocity[axis] = Some(0.0);
+                            c.source[axis] = None;
+                        }
                         WallCondition::Friction { coefficient } => {
                             c.velocity[axis] = Some(0.0);
+                            c.source[axis] = None;
                             if c.velocity[1 - axis].is_none() {
                                 c.friction = Some((axis, sign, coefficient));
                             }
@@ -161,6 +169,7 @@ impl GridBoundary {
                         for a in 0..2 {
                             if let Some(v) = p.velocity[a] {
                                 c.velocity[a] = Some(v);
+                                c.source[a] = Some(k);
                             }
                         }
                         if c.velocity.iter().all(Option::is_some) {

@@ -5,12 +5,13 @@ mod build;
 mod discretization;
 mod measure;
 mod outputs;
+mod programme;
 mod stepper;
 
 use std::path::Path;
 use std::time::Instant;
 
-use talus_mpm::{Mpm, Particles, SubstepStats};
+use talus_mpm::{Particles, SubstepStats};
 
 use crate::output;
 use crate::run::{RunError, RunOptions};
@@ -22,6 +23,7 @@ pub use build::{MpmModel, Reaction};
 pub use discretization::MpmState;
 pub use measure::{front, kinetic_energy, RunoutReference};
 use outputs::FieldWriter;
+pub use programme::{MpmLoadProgramme, ProgrammedMpm, RampedSurfaceLoad};
 pub use stepper::MpmStepper;
 
 /// What one MPM step did.
@@ -150,7 +152,7 @@ struct MpmOutputs<'a> {
     reaction_curve: Vec<(f64, f64)>,
 }
 
-impl RunOutputs<&Mpm> for MpmOutputs<'_> {
+impl RunOutputs<&ProgrammedMpm> for MpmOutputs<'_> {
     fn columns(&self) -> Vec<String> {
         [
             "contact_passes",
