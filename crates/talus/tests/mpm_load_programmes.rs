@@ -79,8 +79,8 @@ fn momentum_y(state: &MpmState) -> f64 {
 /// 2ν))` = 13.5 MPa) and `Δṙ ≤ 1.2 /s`: an inertia of `ū Δṙ/(g h)` ≈ 1.2e-3 of the weight
 /// at most (3.6e-3 of the load for the top load, `ū = p H/E_oed`), which the implicit step
 /// damps by `1/√(1 + ω²h²)` ≈ 1/6.6 per step (first mode `ω = π c/(2H)` ≈ 129 rad/s,
-/// `c = √(E_oed/ρ)`): two steps after a kink, below 1e-4, against 5e-2 for loads of `tₙ`
-/// (measured: 1.0e-4 under gravity, 1.5e-4 under the top load; FLIP damps less).
+/// `c = √(E_oed/ρ)`): two steps after a kink, ~1e-4 at most, against 5e-2 for loads of `tₙ`
+/// (measured: 1.0e-4 under gravity, 1.5e-4 under the top load).
 fn floor_force_follows_the_ramp(text: &str, load: f64) {
     let scene = scene(text);
     let model = MpmModel::from_scene(&scene).unwrap_or_else(|e| panic!("{e}"));
