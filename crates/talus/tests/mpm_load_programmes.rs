@@ -312,3 +312,23 @@ ramp = SURFACE
     assert_eq!(err.field, "gravity_ramp", "{err}");
     assert!(err.to_string().contains("not given"), "{err}");
 }
+
+/// The K₀ initial stress balances the gravity of `t = 0`, `f(0) g`: a ramp starting at 1/2
+/// halves it (exactly: a power of two), as in FEM scenes.
+#[test]
+fn k0_stress_balances_the_gravity_of_the_start() {
+    let k0 = "[initial_stress]\nk0 = 0.5\nsurface = 1.0\n";
+    let stress = |ramp: &str| {
+        let text = column(&format!("gravity = [0.0, -9.81]\n{ramp}"), k0);
+        MpmModel::from_scene(&scene(&text))
+            .unwrap_or_else(|e| panic!("{e}"))
+            .particles
+            .stress
+    };
+    let full = stress("");
+    let half = stress("gravity_ramp = [[0.0, 0.5], [1.0, 1.0]]");
+    assert!(full.iter().all(|s| s[1] < 0.0));
+    for (a, b) in full.iter().zip(&half) {
+        assert_eq!(a.map(|v| 0.5 * v), *b);
+    }
+}
