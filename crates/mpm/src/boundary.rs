@@ -74,6 +74,9 @@ pub struct GridBoundary {
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(crate) struct NodeCondition {
     pub velocity: [Option<f64>; 2],
+    /// The prescribed box that set each component's velocity (`None`: a wall's zero), whose
+    /// multiplier scales it in a sub-step (`crate::SubstepLoads`).
+    pub source: [Option<usize>; 2],
     /// (normal axis, inward normal sign, μ).
     pub friction: Option<(usize, f64, f64)>,
     /// Per component, the wall or box (index in walls, then prescribed) whose velocity it
@@ -141,15 +144,18 @@ impl GridBoundary {
                         WallCondition::Fixed => {
                             c.velocity = [Some(0.0); 2];
                             c.owner = [Some(k); 2];
+                            c.source = [None; 2];
                             c.friction = None;
                         }
                         WallCondition::Slip => {
                             c.velocity[axis] = Some(0.0);
                             c.owner[axis] = Some(k);
+                            c.source[axis] = None;
                         }
                         WallCondition::Friction { coefficient } => {
                             c.velocity[axis] = Some(0.0);
                             c.owner[axis] = Some(k);
+                            c.source[axis] = None;
                             if c.velocity[1 - axis].is_none() {
                                 c.friction = Some((axis, sign, coefficient));
                                 c.owner[1 - axis] = Some(k);
@@ -170,6 +176,7 @@ impl GridBoundary {
                             if let Some(v) = p.velocity[a] {
                                 c.velocity[a] = Some(v);
                                 c.owner[a] = Some(self.walls.len() + k);
+                                c.source[a] = Some(k);
                             }
                         }
                         if c.velocity.iter().all(Option::is_some) {

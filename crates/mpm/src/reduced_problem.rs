@@ -12,6 +12,7 @@ use crate::boundary::NodeCondition;
 use crate::contact::Contact;
 use crate::error::MpmError;
 use crate::grid::Stencil;
+use crate::loads::SubstepLoads;
 use crate::particles::Particles;
 use crate::transfer::add_internal_force;
 
@@ -56,12 +57,14 @@ pub(crate) struct Solved {
     pub reaction: Vec<[f64; 2]>,
 }
 
-/// Numbers the active nodes' velocity components: prescribed ones keep their velocity;
-/// the others, a friction node's tangential component included, are free velocities.
+/// Numbers the active nodes' velocity components: prescribed ones keep their velocity (a
+/// box's scaled by its multiplier in `loads`); the others, a friction node's tangential
+/// component included, are free velocities.
 pub(crate) fn numbering(
     conditions: &[NodeCondition],
     active: &[bool],
     mass: &[f64],
+    loads: &SubstepLoads,
 ) -> (Vec<[Dof; 2]>, Vec<f64>) {
     let mut dofs = vec![[Dof::Inactive; 2]; active.len()];
     let mut mass_free = Vec::new();
@@ -69,9 +72,9 @@ pub(crate) fn numbering(
         if !active[i] {
             continue;
         }
-        for (dof, velocity) in dofs[i].iter_mut().zip(c.velocity) {
+        for ((dof, velocity), source) in dofs[i].iter_mut().zip(c.velocity).zip(c.source) {
             *dof = match velocity {
-                Some(v) => Dof::Prescribed(v),
+                Some(v) => Dof::Prescribed(source.map_or(v, |k| loads.prescribed_velocity(k, v))),
                 None => {
                     mass_free.push(mass[i]);
                     Dof::Free(mass_free.len() - 1)

@@ -6,13 +6,14 @@ use talus_ssn::ReducedSystem;
 
 use crate::contact::{self, Contact, MAX_CONTACT_PASSES};
 use crate::error::MpmError;
+use crate::loads::SubstepLoads;
 use crate::particles::Particles;
 use crate::reduced_problem::{
     free_strain_operator, numbering, pass_system, solved, PassView, Prepared, Solved,
 };
 use crate::rotation::rotate;
 use crate::transfer::{
-    avoid_empty_nodes, grid_to_particle, particles_to_grid, stencils, velocity_gradient,
+    avoid_empty_nodes, grid_to_particle, particles_to_grid_with, stencils, velocity_gradient,
 };
 use crate::Mpm;
 
@@ -42,11 +43,22 @@ pub struct SubstepStats {
 
 impl Mpm {
     /// P2G (eq. 11) and the reduced problem of eq. 16 for a sub-step of `h` from
-    /// `particles`, with every friction node stuck.
+    /// `particles`, with every friction node stuck, under the constant loads.
     pub fn begin_substep(
         &self,
         particles: &Particles,
         h: f64,
+    ) -> Result<(Substep, ReducedSystem<4>), MpmError> {
+        self.begin_substep_with(particles, h, &SubstepLoads::default())
+    }
+
+    /// As [`Mpm::begin_substep`], under the loads of the sub-step's end `tₙ₊₁` (gravity,
+    /// prescribed velocities and particle forces scaled or replaced by `loads`).
+    pub fn begin_substep_with(
+        &self,
+        particles: &Particles,
+        h: f64,
+        loads: &SubstepLoads,
     ) -> Result<(Substep, ReducedSystem<4>), MpmError> {
         if !(h.is_finite() && h > 0.0) {
             return Err(MpmError::invalid(
@@ -55,13 +67,19 @@ impl Mpm {
             ));
         }
         particles.validate()?;
+        loads.validate(self.boundary().prescribed.len(), particles.len())?;
         let grid = self.grid();
         let conditions = self.conditions();
         let mut stencils = stencils(grid, particles)?;
-        let g = particles_to_grid(grid, particles, &stencils, self.gravity());
+        let gravity = self.gravity().map(|g| loads.gravity * g);
+        let external_force = loads
+            .external_force
+            .as_deref()
+            .unwrap_or(&particles.external_force);
+        let g = particles_to_grid_with(grid, particles, &stencils, gravity, external_force);
         let active: Vec<bool> = g.mass.iter().map(|m| *m > 0.0).collect();
         avoid_empty_nodes(grid, particles, &mut stencils, &active)?;
-        let (dofs, mass_free) = numbering(conditions, &active, &g.mass);
+        let (dofs, mass_free) = numbering(conditions, &active, &g.mass, loads);
         let b = free_strain_operator(&stencils, &particles.volume, &dofs, mass_free.len())?;
         let prep = Prepared {
             v_old: g.velocity(),

@@ -51,6 +51,24 @@ pub fn particles_to_grid(
     stencils: &[Stencil],
     gravity: [f64; 2],
 ) -> GridMomentum {
+    particles_to_grid_with(
+        grid,
+        particles,
+        stencils,
+        gravity,
+        &particles.external_force,
+    )
+}
+
+/// Eq. 11 with the particles' external forces of the sub-step, `external_force` (N/m, one
+/// per particle), in place of their own.
+pub fn particles_to_grid_with(
+    grid: &Grid,
+    particles: &Particles,
+    stencils: &[Stencil],
+    gravity: [f64; 2],
+    external_force: &[[f64; 2]],
+) -> GridMomentum {
     let n = grid.n_nodes();
     let mut g = GridMomentum {
         mass: vec![0.0; n],
@@ -58,11 +76,7 @@ pub fn particles_to_grid(
         force: vec![[0.0; 2]; n],
     };
     for (p, s) in stencils.iter().enumerate() {
-        let (m, v, f) = (
-            particles.mass[p],
-            particles.velocity[p],
-            particles.external_force[p],
-        );
+        let (m, v, f) = (particles.mass[p], particles.velocity[p], external_force[p]);
         for (i, w, _) in s.iter() {
             g.mass[i] += w * m;
             for a in 0..2 {

@@ -6,17 +6,19 @@ use talus_mpm::{
 };
 
 use crate::scene::{
-    check, AnalysisKind, MpmScene, PredictorSpec, SceneError, ShapeSpec, SideSpec,
+    check, AnalysisKind, MpmScene, PredictorSpec, Ramp, SceneError, ShapeSpec, SideSpec,
     WallConditionSpec,
 };
 use crate::simulation::engine::{Method, PredictorRule, StepSettings};
 use crate::simulation::initial_stress_at;
 
 use super::measure::RunoutReference;
+use super::programme::{MpmLoadProgramme, ProgrammedMpm, RampedSurfaceLoad};
 
 /// Everything a run needs: the solver, the particles at t = 0, and what to report.
 pub struct MpmModel {
-    pub mpm: Mpm,
+    /// The solver with the scene's load programme (it reads as an [`Mpm`]).
+    pub mpm: ProgrammedMpm,
     /// How the engine steps it (`[solver]`, `[mpm] predictor`).
     pub step_settings: StepSettings,
     pub particles: Particles,
@@ -75,13 +77,21 @@ impl MpmModel {
         if !gravity.iter().all(|g| g.is_finite()) {
             return Err(scene.error("gravity", format!("{gravity:?} m/s² must be finite")));
         }
+        let gravity_ramp = check::ramp(scene, "gravity_ramp", &spec.gravity_ramp)?;
+        if gravity_ramp.is_some() && spec.gravity.is_none() {
+            return Err(scene.error("gravity_ramp", "multiplies `gravity`, which is not given"));
+        }
         let mut particles = bodies(scene, &grid, density)?;
         let walls = walls(scene)?;
-        let prescribed = prescribed(scene, &grid)?;
+        let (prescribed, prescribed_ramps) = prescribed(scene, &grid)?;
         let reaction = reaction(scene, walls.len(), &prescribed)?;
-        surface_loads(scene, &mut particles)?;
+        let ramped_surface_loads = surface_loads(scene, &mut particles)?;
         if let Some(initial) = &spec.initial_stress {
-            let gamma = -density * gravity[1];
+            // In equilibrium with the gravity of the start, t = 0 (`gravity_ramp` scales it).
+            let gamma = match &gravity_ramp {
+                Some(r) => -density * gravity[1] * r.at(0.0),
+                None => -density * gravity[1],
+            };
             particles.stress =
                 initial_stress_at(scene, &material, gamma, initial, &particles.position)?;
         }
@@ -101,8 +111,13 @@ impl MpmModel {
         let boundary = GridBoundary { walls, prescribed };
         let mpm = Mpm::try_new(grid, boundary, &material, gravity, settings)
             .map_err(|e| scene.error("grid", e.to_string()))?;
+        let programme = MpmLoadProgramme {
+            gravity: gravity_ramp,
+            prescribed: prescribed_ramps,
+            surface_loads: ramped_surface_loads,
+        };
         Ok(Self {
-            mpm,
+            mpm: ProgrammedMpm::new(mpm, programme),
             step_settings: step_settings(scene),
             particles,
             reaction,
@@ -251,8 +266,12 @@ fn walls(scene: &MpmScene) -> Result<Vec<Wall>, SceneError> {
     Ok(walls)
 }
 
-fn prescribed(scene: &MpmScene, grid: &Grid) -> Result<Vec<PrescribedVelocity>, SceneError> {
+/// The boxes and their velocity ramps.
+type Boxes = (Vec<PrescribedVelocity>, Vec<Option<Ramp>>);
+
+fn prescribed(scene: &MpmScene, grid: &Grid) -> Result<Boxes, SceneError> {
     let mut boxes = Vec::new();
+    let mut ramps = Vec::new();
     for (k, p) in scene.spec.prescribed.iter().enumerate() {
         let field = format!("prescribed[{k}].region");
         check_rectangle(scene, &field, p.region, true)?;
@@ -297,12 +316,17 @@ fn prescribed(scene: &MpmScene, grid: &Grid) -> Result<Vec<PrescribedVelocity>, 
                 ));
             }
         }
+        ramps.push(check::ramp(
+            scene,
+            &format!("prescribed[{k}].ramp"),
+            &p.ramp,
+        )?);
         boxes.push(PrescribedVelocity {
             region: p.region,
             velocity,
         });
     }
-    Ok(boxes)
+    Ok((boxes, ramps))
 }
 
 /// Whether a node of the grid (ghosts aside) lies in `region`, edges included.
@@ -350,8 +374,14 @@ fn reaction(
 }
 
 /// Each load puts `pressure × √V_p` (N/m) downward on the particles whose centres lie in
-/// its region: the pressure times the particle's width along a horizontal surface.
-fn surface_loads(scene: &MpmScene, particles: &mut Particles) -> Result<(), SceneError> {
+/// its region: the pressure times the particle's width along a horizontal surface. A load
+/// without a ramp goes into `Particles::external_force`, as it always did; a ramped one is
+/// returned at multiplier 1.
+fn surface_loads(
+    scene: &MpmScene,
+    particles: &mut Particles,
+) -> Result<Vec<RampedSurfaceLoad>, SceneError> {
+    let mut ramped = Vec::new();
     for (k, s) in scene.spec.surface_load.iter().enumerate() {
         let field = format!("surface_load[{k}].region");
         check_rectangle(scene, &field, s.region, true)?;
@@ -387,11 +417,26 @@ fn surface_loads(scene: &MpmScene, particles: &mut Particles) -> Result<(), Scen
                 ));
             }
         }
-        for p in loaded {
-            particles.external_force[p][1] -= s.pressure * particles.volume[p].sqrt();
+        match check::ramp(scene, &format!("surface_load[{k}].ramp"), &s.ramp)? {
+            None => {
+                for p in loaded {
+                    particles.external_force[p][1] -= s.pressure * particles.volume[p].sqrt();
+                }
+            }
+            Some(ramp) => {
+                let force = loaded
+                    .iter()
+                    .map(|&p| [0.0, -s.pressure * particles.volume[p].sqrt()])
+                    .collect();
+                ramped.push(RampedSurfaceLoad {
+                    ramp,
+                    particles: loaded,
+                    force,
+                });
+            }
         }
     }
-    Ok(())
+    Ok(ramped)
 }
 
 fn settings(scene: &MpmScene) -> Result<MpmSettings, SceneError> {

@@ -5,13 +5,14 @@ mod build;
 mod discretization;
 mod measure;
 mod outputs;
+mod programme;
 mod results;
 mod stepper;
 
 use std::path::Path;
 use std::time::Instant;
 
-use talus_mpm::{Mpm, Particles, SubstepStats};
+use talus_mpm::{Particles, SubstepStats};
 
 use crate::output;
 use crate::output::Results;
@@ -24,6 +25,7 @@ pub use build::{MpmModel, Reaction};
 pub use discretization::MpmState;
 pub use measure::{front, kinetic_energy, RunoutReference};
 use outputs::FieldWriter;
+pub use programme::{MpmLoadProgramme, ProgrammedMpm, RampedSurfaceLoad};
 use results::MpmResults;
 pub use stepper::MpmStepper;
 
@@ -171,7 +173,7 @@ struct MpmOutputs<'a> {
     reaction_curve: Vec<(f64, f64)>,
 }
 
-impl RunOutputs<&Mpm> for MpmOutputs<'_> {
+impl RunOutputs<&ProgrammedMpm> for MpmOutputs<'_> {
     fn columns(&self) -> String {
         format!(
             ",{}{}",

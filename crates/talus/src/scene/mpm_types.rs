@@ -15,6 +15,9 @@ pub struct MpmSceneSpec {
     /// Body acceleration (m/s²); absent means weightless.
     #[serde(default)]
     pub gravity: Option<[f64; 2]>,
+    /// Multiplier of `gravity` in time (docs/scenes.md, 'Load programmes').
+    #[serde(default)]
+    pub gravity_ramp: Option<Vec<[f64; 2]>>,
     pub grid: GridSpec,
     /// Rectangles filled with particles, all of `material`.
     #[serde(default)]
@@ -122,14 +125,20 @@ pub struct PrescribedSpec {
     pub velocity_x: Option<f64>,
     #[serde(default)]
     pub velocity_y: Option<f64>,
+    /// Multiplier of the velocity in time.
+    #[serde(default)]
+    pub ramp: Option<Vec<[f64; 2]>>,
 }
 
 /// A downward pressure (Pa) carried by the particles whose centres lie in `region`.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SurfaceLoadSpec {
     pub region: [[f64; 2]; 2],
     pub pressure: f64,
+    /// Multiplier of the pressure in time.
+    #[serde(default)]
+    pub ramp: Option<Vec<[f64; 2]>>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
