@@ -113,7 +113,11 @@ fn run_reports_a_non_convergent_step_and_keeps_the_history() {
     let mut lines = history.lines();
     assert_eq!(
         lines.next(),
-        Some(format!("{HISTORY_COLUMNS},reaction_force,footing_displacement").as_str())
+        // The footing is a named boundary: its reaction columns follow.
+        Some(
+            format!("{HISTORY_COLUMNS},reaction_force,footing_displacement,footing_fx,footing_fy")
+                .as_str()
+        )
     );
     assert!(
         lines.next().is_some_and(|l| l.starts_with("0,")),
