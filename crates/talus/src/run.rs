@@ -178,6 +178,8 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
                 .sum::<f64>()
                 / self.reaction_nodes.len() as f64
         };
+        // + 0.0: a settlement of −0 (no motion yet) is written as 0.
+        let displacement = displacement + 0.0;
         let (reaction, rest) = match report {
             Some(r) => (
                 r.reaction_force(),

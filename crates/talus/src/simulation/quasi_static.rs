@@ -70,7 +70,7 @@ fn column_masses(
                 bp[ri[k] % MANDEL] += val[k];
             }
             flush(point, &bp);
-            (k_jj.is_finite() && k_jj > 0.0).then(|| scale * k_jj)
+            (k_jj.is_finite() && k_jj > 0.0).then_some(scale * k_jj)
         })
         .collect()
 }
