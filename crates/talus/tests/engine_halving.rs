@@ -2,15 +2,13 @@
 //! in each a step forced to fail at its full length is redone as two halves, and what the
 //! halved step returns equals the two half steps taken one by one from the same state and
 //! predictor, bit for bit (`docs/solver.md`, 'Time stepping').
+mod sand_column;
+
 use talus::mpm_run::{MpmState, MpmStepper};
 use talus::run::solver_settings;
 use talus::scene::{builtin_footing_with_cells, SolverSpec};
 use talus::simulation::engine::{Discretization, Method, StepSettings, Stepper};
 use talus::simulation::Model;
-use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters};
-use talus_mpm::{
-    Grid, GridBoundary, Mpm, MpmSettings, Particles, ShapeFunction, Side, Wall, WallCondition,
-};
 
 fn bits(v: &[f64]) -> Vec<u64> {
     v.iter().map(|x| x.to_bits()).collect()
@@ -81,30 +79,7 @@ fn fem_footing_halves_through_the_engine() {
 
 #[test]
 fn mpm_column_halves_through_the_engine() {
-    let soil = DruckerPrager::try_new(DruckerPragerParameters {
-        young_modulus: 1e7,
-        poisson_ratio: 0.3,
-        friction_angle: 30.0,
-        cohesion: 0.0,
-        dilatancy_angle: 0.0,
-        cone_fit: ConeFit::PlaneStrain,
-    })
-    .unwrap();
-    let grid = Grid::try_new([0.0, 0.0], 0.02, [20, 12], ShapeFunction::QuadraticBSpline).unwrap();
-    let boundary = GridBoundary {
-        walls: vec![
-            Wall {
-                side: Side::Left,
-                condition: WallCondition::Slip,
-            },
-            Wall {
-                side: Side::Bottom,
-                condition: WallCondition::Fixed,
-            },
-        ],
-        prescribed: vec![],
-    };
-    let mpm = Mpm::try_new(grid, boundary, &soil, [0.0, -9.81], MpmSettings::default()).unwrap();
+    let (mpm, particles) = sand_column::small_column();
     // The column of `mpm_halving_memory.rs`: its first step from rest takes 42 iterations
     // at h = 1/60 s and 26 at h/2; one halving allowed, no memory.
     let mut settings = StepSettings {
@@ -113,7 +88,6 @@ fn mpm_column_halves_through_the_engine() {
         ..StepSettings::from_spec(&SolverSpec::default(), Method::Mpm)
     };
     settings.solver.max_iterations = 34;
-    let particles = Particles::fill_rectangle([[0.0, 0.0], [0.1, 0.2]], 0.02, 2, 1800.0).unwrap();
     let state = MpmState {
         time: 0.0,
         particles,

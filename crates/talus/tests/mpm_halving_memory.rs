@@ -1,44 +1,21 @@
-//! The engine's step-size memory (`StepSettings::halving_memory`), on the MPM: a step that had to be halved makes
-//! the next one start at the sub-step that converged, which must be exactly the same as
+//! The engine's step-size memory (`StepSettings::halving_memory`), on the MPM: a step that
+//! had to be halved makes the next one start at the sub-step that converged, which must be exactly the same as
 //! taking those sub-steps by hand (no failed attempt, same particles bit for bit); after
 //! `halving_memory` clean steps the next step tries twice the size again.
 //!
-//! A small granular column whose first steps from rest need more Newton iterations at the
+//! The small sand column of `sand_column/`, whose first steps from rest need more Newton iterations at the
 //! full step than `max_iterations` allows, and fewer at a quarter of it.
+mod sand_column;
+
 use talus::mpm_run::MpmStepper;
 use talus::scene::SolverSpec;
 use talus::simulation::engine::{Method, StepSettings};
-use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters};
-use talus_mpm::{
-    Grid, GridBoundary, Mpm, MpmSettings, Particles, ShapeFunction, Side, Wall, WallCondition,
-};
+use talus_mpm::Particles;
 
 const H: f64 = 1.0 / 60.0;
 
 fn column(memory: usize) -> (MpmStepper, Particles) {
-    let soil = DruckerPrager::try_new(DruckerPragerParameters {
-        young_modulus: 1e7,
-        poisson_ratio: 0.3,
-        friction_angle: 30.0,
-        cohesion: 0.0,
-        dilatancy_angle: 0.0,
-        cone_fit: ConeFit::PlaneStrain,
-    })
-    .unwrap();
-    let grid = Grid::try_new([0.0, 0.0], 0.02, [20, 12], ShapeFunction::QuadraticBSpline).unwrap();
-    let boundary = GridBoundary {
-        walls: vec![
-            Wall {
-                side: Side::Left,
-                condition: WallCondition::Slip,
-            },
-            Wall {
-                side: Side::Bottom,
-                condition: WallCondition::Fixed,
-            },
-        ],
-        prescribed: vec![],
-    };
+    let (mpm, particles) = sand_column::small_column();
     let mut settings = StepSettings {
         halving_memory: memory,
         ..StepSettings::from_spec(&SolverSpec::default(), Method::Mpm)
@@ -47,9 +24,7 @@ fn column(memory: usize) -> (MpmStepper, Particles) {
     // 34, 19 and 13 iterations at h/1 … h/16 (before eq. 16's q was shared with the FEM, 42,
     // 33, 33, 24, 11). 16 fails down to h/8 and converges at h/16 with both, by a margin.
     settings.solver.max_iterations = 16;
-    let mpm = Mpm::try_new(grid, boundary, &soil, [0.0, -9.81], MpmSettings::default()).unwrap();
     let mpm = MpmStepper::with_settings(mpm, settings);
-    let particles = Particles::fill_rectangle([[0.0, 0.0], [0.1, 0.2]], 0.02, 2, 1800.0).unwrap();
     (mpm, particles)
 }
 
