@@ -209,24 +209,20 @@ impl<D: Discretization> Stepper<D> {
         let loading = disc.loading(state, h);
         let (mut substep, problem) = disc.begin(state, h).map_err(fatal_disc)?;
         let clock = Instant::now();
+        // A fixed operator's solver lives in `self.fixed`; a sub-step's own system, here.
         let mut own = None;
-        let fixed = match problem {
+        let solver = match problem {
             Problem::Rhs(q) => {
                 let p = self.fixed_solver(h)?;
-                self.fixed[p].1.set_q(q).map_err(fatal_solver)?;
-                Some(p)
+                let solver = &mut self.fixed[p].1;
+                solver.set_q(q).map_err(fatal_solver)?;
+                solver
             }
             Problem::System(system) => {
-                own = Some(Solver::new(system, self.settings.solver).map_err(fatal_solver)?);
-                None
+                own.insert(Solver::new(system, self.settings.solver).map_err(fatal_solver)?)
             }
         };
         let disc = &self.discretization;
-        let solver = match (fixed, own.as_mut()) {
-            (Some(p), _) => &mut self.fixed[p].1,
-            (None, Some(s)) => s,
-            (None, None) => unreachable!("a solver was just set"),
-        };
 
         // Starting point (`docs/solver.md`, "Time stepping"): σₙ + h σ̇ when the last
         // sub-step's loading was smooth (steady flow is then predicted to second order);
