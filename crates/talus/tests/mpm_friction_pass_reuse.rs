@@ -1,25 +1,14 @@
 //! The friction passes of a step share one dof numbering and one Schur analysis (a stuck
 //! tangential velocity is a zeroed column of `B`): the steps are the same, bit for bit, as
 //! with a new solver built for every pass, and a stuck node does not move.
+mod sand_column;
+
 use talus::mpm_run::{MpmStepReport, MpmStepper};
 use talus::scene::SolverSpec;
 use talus::simulation::engine::{Method, StepSettings};
-use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters};
 use talus_mpm::{
     Grid, GridBoundary, Mpm, MpmSettings, Particles, ShapeFunction, Side, Wall, WallCondition,
 };
-
-fn sand() -> DruckerPrager {
-    DruckerPrager::try_new(DruckerPragerParameters {
-        young_modulus: 1e7,
-        poisson_ratio: 0.3,
-        friction_angle: 30.0,
-        cohesion: 0.0,
-        dilatancy_angle: 0.0,
-        cone_fit: ConeFit::PlaneStrain,
-    })
-    .unwrap()
-}
 
 /// A small sand column collapsing on a rough floor (μ = 0.4): the floor nodes switch
 /// between stick and slide, so steps take several friction passes.
@@ -41,7 +30,7 @@ fn column(reuse: bool) -> (MpmStepper, Particles) {
     let mpm = Mpm::try_new(
         grid,
         boundary,
-        &sand(),
+        &sand_column::sand(),
         [0.0, -9.81],
         MpmSettings::default(),
     )
@@ -132,7 +121,7 @@ fn stuck_floor_equals_a_fixed_floor() {
         let mpm = Mpm::try_new(
             grid,
             boundary,
-            &sand(),
+            &sand_column::sand(),
             [0.0, -9.81],
             MpmSettings::default(),
         )

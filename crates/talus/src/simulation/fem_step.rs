@@ -29,15 +29,16 @@ impl Model {
     /// The reaction of the reported boundary in a state at rest (`M a = 0`): `Bᵀσ − f` on
     /// its vertical prescribed dofs, positive downward (N/m), `f` at the state's time.
     pub fn reaction(&self, state: &State) -> f64 {
-        let asm = &self.assembly;
-        let mut internal = vec![0.0; asm.lumped_mass_prescribed.len()];
-        add_mul_transpose(&asm.b_prescribed, &state.sigma, &mut internal);
-        let force_prescribed = self.loads_at(state.time).force_prescribed;
+        self.reported_reaction(&super::prescribed_forces_at_rest(self, state))
+    }
+
+    /// The reported boundary's vertical push on the body, downward positive, from the force
+    /// of every prescribed dof.
+    fn reported_reaction(&self, prescribed_forces: &[f64]) -> f64 {
         self.reaction_dofs
             .iter()
             .filter(|(_, comp)| *comp == 1)
-            .map(|&(j, _)| -(internal[j] - force_prescribed[j]))
-            .sum()
+            .fold(0.0, |r, &(j, _)| r - prescribed_forces[j])
     }
 }
 
@@ -115,16 +116,7 @@ impl Discretization for Model {
         for (j, v) in state.velocity_free.iter_mut().enumerate() {
             *v += h * (loads.force_free[j] - internal_free[j]) / asm.lumped_mass_free[j];
         }
-        // The force the boundary applies: M a + Bᵀσ − f on its prescribed dofs.
-        let mut reaction = 0.0;
-        for &(j, comp) in &self.reaction_dofs {
-            if comp == 1 {
-                let inertia = asm.lumped_mass_prescribed[j]
-                    * (loads.prescribed_velocity[j] - state.velocity_prescribed[j])
-                    / h;
-                reaction -= inertia + internal_prescribed[j] - loads.force_prescribed[j];
-            }
-        }
+        // The force each boundary applies: M a + Bᵀσ − f on its prescribed dofs.
         let prescribed_forces = super::prescribed_forces(
             self,
             &loads,
@@ -132,6 +124,7 @@ impl Discretization for Model {
             &internal_prescribed,
             h,
         );
+        let reaction = self.reported_reaction(&prescribed_forces);
         state
             .velocity_prescribed
             .copy_from_slice(&loads.prescribed_velocity);

@@ -1,6 +1,7 @@
 //! The small cohesionless sand column of the engine's halving tests: 0.1 m × 0.2 m on a
 //! fixed floor with a slip left wall, 4 particles per cell, at rest and stress free (its
 //! first step starts at the cone's apex).
+#![allow(dead_code)] // each test binary uses part of it
 use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters};
 use talus_mpm::{
     Grid, GridBoundary, Mpm, MpmSettings, Particles, ShapeFunction, Side, Wall, WallCondition,
