@@ -4,7 +4,7 @@ use rayon::prelude::*;
 use talus_bipotential::NaturalMapLinearization;
 
 use super::schur_factor::{Factorized, LuChoice, SchurFactor};
-use super::schur_pattern::{schur_pattern, SchurPattern};
+use super::schur_pattern::{block_len, point_groups, schur_pattern, SchurPattern};
 use crate::local_lu::LocalLu;
 use crate::operator::{block, PointBlocks, Structured};
 
@@ -12,16 +12,19 @@ use crate::operator::{block, PointBlocks, Structured};
 /// `(M + h² Bᵀ C B) u = Bᵀ A⁻¹ r`, `d = A⁻¹ r − h² C B u`,
 /// with per point `A_i = I − D_i + ρ_i G_i S_i` and `C_i = ρ_i A_i⁻¹ G_i`.
 /// The pattern of K is that of `Bᵀ B` plus the diagonal: fixed, factored symbolically once.
+/// Points with the same dofs (one element's Gauss points) are summed before the scatter.
 pub(crate) struct SchurSystem<const D: usize> {
     symmetric: bool,
     symbolic: SymbolicSparseColMat<usize>,
-    /// The contributions of `new`'s enumeration (masses, then each point's `h² Bᵢᵀ Cᵢ Bᵢ`
-    /// entries) that sum into each CSC value, in enumeration order (CSR-like: `gather[p]`
-    /// for value `p`). Each value is summed by one thread in that fixed order: the matrix
-    /// is the same whatever the thread count.
+    /// The contributions of `new`'s enumeration (masses, then each point group's
+    /// `h² Σᵢ Bᵢᵀ Cᵢ Bᵢ` entries) that sum into each CSC value, in enumeration order
+    /// (CSR-like: `gather[p]` for value `p`). Each value is summed by one thread in that
+    /// fixed order: the matrix is the same whatever the thread count.
     gather_ptr: Vec<usize>,
     gather: Vec<u32>,
-    /// Start of point i's entries in `contributions` (masses first).
+    /// Points sharing their dofs (`schur_pattern::point_groups`).
+    group_ptr: Vec<usize>,
+    /// Start of group g's entries in `contributions` (masses first).
     point_ptr: Vec<usize>,
     contributions: Vec<f64>,
     csc_values: Vec<f64>,
@@ -46,10 +49,11 @@ impl<const D: usize> SchurSystem<D> {
     ) -> Result<Self, String> {
         let n_v = structured.lumped_mass.len();
         let n_points = structured.compliance.len();
+        let group_ptr = point_groups(blocks);
         let SchurPattern {
             symbolic,
             positions,
-        } = schur_pattern(n_v, blocks, symmetric)?;
+        } = schur_pattern(n_v, blocks, &group_ptr, symmetric)?;
         let row_idx = symbolic.row_idx();
         let count = u32::try_from(positions.len())
             .map_err(|_| format!("{} Schur contributions exceed u32", positions.len()))?;
@@ -67,19 +71,12 @@ impl<const D: usize> SchurSystem<D> {
             gather[next[p]] = k;
             next[p] += 1;
         }
-        let mut point_ptr = Vec::with_capacity(n_points + 1);
+        let n_groups = group_ptr.len().saturating_sub(1);
+        let mut point_ptr = Vec::with_capacity(n_groups + 1);
         point_ptr.push(n_v);
-        for i in 0..n_points {
-            let m = blocks.point(i).0.len();
-            let entries = if symmetric {
-                let (dofs, _) = blocks.point(i);
-                dofs.iter()
-                    .map(|a| dofs.iter().filter(|b| a >= *b).count())
-                    .sum()
-            } else {
-                m * m
-            };
-            point_ptr.push(point_ptr[i] + entries);
+        for g in 0..n_groups {
+            let m = blocks.point(group_ptr[g]).0.len();
+            point_ptr.push(point_ptr[g] + block_len(m, symmetric));
         }
         let nnz = row_idx.len();
         let factorization = SchurFactor::analyse(symbolic.as_ref(), symmetric)?;
@@ -88,7 +85,8 @@ impl<const D: usize> SchurSystem<D> {
             symbolic,
             gather_ptr,
             gather,
-            contributions: vec![0.0; point_ptr[n_points]],
+            contributions: vec![0.0; point_ptr[n_groups]],
+            group_ptr,
             point_ptr,
             csc_values: vec![0.0; nnz],
             factorization,
@@ -148,36 +146,41 @@ impl<const D: usize> SchurSystem<D> {
         if let Some(i) = regular.iter().position(|ok| !ok) {
             return Err(SchurFailure::SingularBlock(i));
         }
-        // The contributions in the order of `new` (masses, then h² Bᵢᵀ Cᵢ Bᵢ per point),
-        // each point's into its own slice, then each CSC value summed from its list.
+        // The contributions in the order of `new` (masses, then h² Σᵢ Bᵢᵀ Cᵢ Bᵢ per group,
+        // its points in order), each group's into its own slice, then each CSC value
+        // summed from its list.
         let n_v = structured.lumped_mass.len();
         let (masses, mut rest) = self.contributions.split_at_mut(n_v);
         masses.copy_from_slice(&structured.lumped_mass);
-        let mut per_point = Vec::with_capacity(self.local_c.len());
+        let mut per_point = Vec::with_capacity(self.point_ptr.len() - 1);
         for w in self.point_ptr.windows(2) {
             let (this, tail) = rest.split_at_mut(w[1] - w[0]);
             per_point.push(this);
             rest = tail;
         }
-        let fill = |(i, out): (usize, &mut &mut [f64])| {
-            let c = &self.local_c[i];
-            let (dofs, bv) = blocks.point(i);
-            let m = dofs.len();
-            let mut pos = 0;
-            for a in 0..m {
-                // (C Bᵢ)[:, b] and Bᵢ[:, a]
-                let ba = SVector::<f64, D>::from_fn(|k, _| bv[k * m + a]);
-                let cta = c.transpose() * ba;
-                for b in 0..m {
-                    if symmetric && dofs[a] < dofs[b] {
-                        continue;
+        let group_ptr = &self.group_ptr;
+        let fill = |(g, out): (usize, &mut &mut [f64])| {
+            out.fill(0.0);
+            for i in group_ptr[g]..group_ptr[g + 1] {
+                let c = &self.local_c[i];
+                let (dofs, bv) = blocks.point(i);
+                let m = dofs.len();
+                let mut pos = 0;
+                for a in 0..m {
+                    // (C Bᵢ)[:, b] and Bᵢ[:, a]
+                    let ba = SVector::<f64, D>::from_fn(|k, _| bv[k * m + a]);
+                    let cta = c.transpose() * ba;
+                    for b in 0..m {
+                        if symmetric && dofs[a] < dofs[b] {
+                            continue;
+                        }
+                        let mut v = 0.0;
+                        for k in 0..D {
+                            v += cta[k] * bv[k * m + b];
+                        }
+                        out[pos] += h2 * v;
+                        pos += 1;
                     }
-                    let mut v = 0.0;
-                    for k in 0..D {
-                        v += cta[k] * bv[k * m + b];
-                    }
-                    out[pos] = h2 * v;
-                    pos += 1;
                 }
             }
         };
