@@ -74,7 +74,7 @@ impl Bracket {
         }
     }
 
-    pub fn next(&mut self) -> Next {
+    pub fn next_trial(&mut self) -> Next {
         while let Some(f) = self.pending.pop() {
             if self.open(f) {
                 return Next::Try(f);
@@ -121,7 +121,7 @@ mod tests {
     fn search(threshold: f64, tol: f64, first: f64, given: Option<[f64; 2]>) -> (f64, f64, usize) {
         let mut b = Bracket::new(tol, first, given);
         for n in 1..200 {
-            match b.next() {
+            match b.next_trial() {
                 Next::Try(f) if f > 2.0 * threshold => b.record(f, Outcome::Unknown),
                 Next::Try(f) => b.record(
                     f,
@@ -173,17 +173,17 @@ mod tests {
     fn unconverged_trials_only_cap_the_search() {
         let mut b = Bracket::new(0.01, 1.0, None);
         b.record(1.0, Outcome::Stable);
-        assert_eq!(b.next(), Next::Try(2.0));
+        assert_eq!(b.next_trial(), Next::Try(2.0));
         b.record(2.0, Outcome::Unknown);
-        assert_eq!(b.next(), Next::Try(1.5));
+        assert_eq!(b.next_trial(), Next::Try(1.5));
         b.record(1.5, Outcome::Unknown);
-        assert_eq!(b.next(), Next::Try(1.25));
+        assert_eq!(b.next_trial(), Next::Try(1.25));
         b.record(1.25, Outcome::Fails);
         assert_eq!(b.hi, Some(1.25));
         // Nothing fails by the criterion between 1 and a ceiling within the tolerance.
         let mut b = Bracket::new(0.01, 1.0, None);
         b.record(1.0, Outcome::Stable);
         b.record(1.005, Outcome::Unknown);
-        assert_eq!(b.next(), Next::Unbracketed);
+        assert_eq!(b.next_trial(), Next::Unbracketed);
     }
 }

@@ -66,7 +66,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<StabilityRun, RunError
     let mut trials: Vec<Trial> = Vec::new();
     let mut done = None;
     while trials.len() < max_trials {
-        let f = match bracket.next() {
+        let f = match bracket.next_trial() {
             Next::Try(f) => f,
             Next::Done { lo, hi } => {
                 done = Some((lo, hi));
@@ -89,7 +89,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<StabilityRun, RunError
         trials.push(trial);
     }
     if done.is_none() {
-        if let Next::Done { lo, hi } = bracket.next() {
+        if let Next::Done { lo, hi } = bracket.next_trial() {
             done = Some((lo, hi));
         }
     }
