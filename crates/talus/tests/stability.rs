@@ -25,7 +25,59 @@ fn assert_passed(results: &[CaseResult]) {
 /// bracket within 0.005, and the scene reduced by hand at 0.98 F at rest, at 1.02 F failing.
 #[test]
 fn slope_factor_of_safety_bracket_and_by_hand() {
-    assert_passed(&slope_cases());
+    let cases = slope_cases();
+    assert_passed(&cases);
+    // The run's files: one history row per trial after the loading's, summary.json's
+    // factor_of_safety (also the run's last line), the mechanism.
+    let dir = talus::verification::case_dir("slope");
+    let summary = talus::output::Summary::read(&dir.join("summary.json")).unwrap();
+    let fos = summary.factor_of_safety.clone().unwrap();
+    assert_eq!(fos.value, Some(cases[0].computed));
+    assert_eq!(fos.method, "strength_reduction");
+    let [lo, hi] = fos.bracket;
+    assert!(lo.unwrap() < fos.value.unwrap() && fos.value.unwrap() < hi.unwrap());
+    let sentence = summary.sentence();
+    assert!(
+        sentence.contains(&format!(
+            "factor of safety {:.4} in [{:.4}, {:.4}]",
+            fos.value.unwrap(),
+            lo.unwrap(),
+            hi.unwrap()
+        )),
+        "{sentence}"
+    );
+    let history = std::fs::read_to_string(dir.join("history.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = history
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(rows.len(), fos.trials + 1);
+    assert_eq!(rows[0][2], "equilibrium");
+    for r in &rows[1..] {
+        assert!(
+            ["stable", "fails", "not_at_rest", "not_converged"].contains(&r[2]),
+            "{r:?}"
+        );
+    }
+    // The bracket's ends are trials with those outcomes.
+    let outcome = |f: f64| {
+        rows[1..]
+            .iter()
+            .find(|r| r[1].parse::<f64>().unwrap() == f)
+            .map(|r| r[2])
+    };
+    assert_eq!(outcome(lo.unwrap()), Some("stable"));
+    assert!(matches!(
+        outcome(hi.unwrap()),
+        Some("fails" | "not_at_rest")
+    ));
+    for file in ["mechanism.png", "mechanism.vtu"] {
+        assert!(
+            std::fs::metadata(dir.join(file)).unwrap().len() > 1000,
+            "{file}"
+        );
+    }
 }
 
 /// γH_c/c of a vertical cut in Tresca soil within 3% of Pastor et al. (2000).

@@ -15,7 +15,7 @@ pub use elastic::{elastic_patch_test, elastic_step_identity};
 pub use material_point::{apex_return, associative_normality, dilatancy_ratio};
 pub use prandtl::{prandtl, prandtl_refinement, PrandtlRun};
 pub use stability::{
-    slope_by_hand, slope_cases, vertical_cut_case, CUT_REFERENCE, SLOPE_REFERENCE,
+    case_dir, slope_by_hand, slope_cases, vertical_cut_case, CUT_REFERENCE, SLOPE_REFERENCE,
 };
 
 /// One verified quantity.

@@ -25,11 +25,17 @@ fn scene_path(name: &str) -> PathBuf {
         .join(name)
 }
 
+/// The output folder of the case `name`.
+pub fn case_dir(name: &str) -> PathBuf {
+    std::env::temp_dir().join(format!("talus-verify-{name}"))
+}
+
 fn options(name: &str) -> RunOptions {
     RunOptions {
-        out_dir: std::env::temp_dir().join(format!("talus-verify-{name}")),
+        out_dir: case_dir(name),
         progress: false,
-        write_fields: false,
+        // The slope's files (history, summary, mechanism) are checked by its test.
+        write_fields: name == "slope",
     }
 }
 
