@@ -195,7 +195,9 @@ fn markdown(rows: &[Row], quick: bool, seconds: f64) -> String {
          10% instead of 5%, to show it, not to hide it). The footing edge makes the limit-load \
          problem singular, so its mesh convergence is slow. The Newton order is measured on the \
          iteration's own merit `‖F_ρ‖₂` (the map Newton linearizes), on steps with at least four \
-         iterates above round-off. Figures of the paper footing: [footing.md](footing.md).\n\n\
+         iterates above round-off. Figures of the paper footing: [footing.md](footing.md). \
+         Factors of safety (slope by strength reduction, vertical cut by gravity increase, the \
+         criterion and its measurements): [stability.md](stability.md).\n\n\
          ![Prandtl φ = 30°, P2](img/verification_prandtl_phi30_p2.png)\n\
          ![Newton residuals, paper footing, 60 steps](img/verification_newton_residuals.png)"
     );

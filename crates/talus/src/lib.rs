@@ -5,4 +5,5 @@ pub mod run_loop;
 pub mod run_results;
 pub mod scene;
 pub mod simulation;
+pub mod stability;
 pub mod verification;

@@ -94,6 +94,9 @@ fn run(scene: Option<PathBuf>, out: PathBuf) -> Result<ExitCode, Box<dyn std::er
 }
 
 fn run_fem(scene: &Scene, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    if scene.spec.stability.is_some() {
+        return run_stability(scene, out);
+    }
     let summary = run_scene(
         scene,
         &RunOptions {
@@ -118,6 +121,27 @@ fn run_fem(scene: &Scene, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::
         summary.seconds,
         last.map(|r| r.reaction_force()).unwrap_or(0.0),
         summary.displacements.last().copied().unwrap_or(0.0),
+        out.display()
+    );
+    print_summary(&out);
+    Ok(ExitCode::SUCCESS)
+}
+
+/// A `[stability]` scene: the factor of safety (`docs/stability.md`).
+fn run_stability(scene: &Scene, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    let options = RunOptions {
+        out_dir: out.clone(),
+        progress: true,
+        write_fields: true,
+    };
+    let Some(run) = ended(talus::stability::run(scene, &options), &out) else {
+        return Ok(ExitCode::FAILURE);
+    };
+    println!(
+        "loading in {} steps, then {} trials in {:.2} s; outputs in {}",
+        run.equilibrium.steps,
+        run.trials.len(),
+        run.seconds,
         out.display()
     );
     print_summary(&out);

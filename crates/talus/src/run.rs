@@ -82,6 +82,14 @@ pub fn solver_settings(scene: &Scene) -> Settings {
 }
 
 pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunError> {
+    if scene.spec.stability.is_some() {
+        return Err(scene
+            .error(
+                "stability",
+                "a factor-of-safety scene runs by talus::stability::run",
+            )
+            .into());
+    }
     let start = Instant::now();
     let model = Model::from_scene(scene)?;
     let asm = &model.assembly;

@@ -195,6 +195,7 @@ impl Results {
             monitors,
             reaction,
             limit,
+            factor_of_safety: None,
         }
     }
 }

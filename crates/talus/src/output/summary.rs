@@ -80,6 +80,25 @@ impl Limit {
     }
 }
 
+/// The factor of safety of a `[stability]` run (`docs/stability.md`): `value` is the
+/// middle of `bracket = [largest stable F, smallest failing F]` once its relative width is
+/// within `tolerance`; `null` otherwise.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FactorOfSafety {
+    pub value: Option<f64>,
+    pub bracket: [Option<f64>; 2],
+    pub within_tolerance: bool,
+    pub tolerance: f64,
+    /// `strength_reduction` or `gravity_increase`.
+    pub method: String,
+    /// Strength reduction's dilatancy rule.
+    pub dilatancy: Option<String>,
+    /// The failure criterion in words.
+    pub criterion: String,
+    /// Trials run.
+    pub trials: usize,
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Summary {
     pub status: RunStatus,
@@ -94,6 +113,9 @@ pub struct Summary {
     pub monitors: BTreeMap<String, Option<MonitorValues>>,
     pub reaction: Option<ReportedReaction>,
     pub limit: Option<Limit>,
+    /// Only for a `[stability]` run.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub factor_of_safety: Option<FactorOfSafety>,
 }
 
 impl Summary {
@@ -150,6 +172,33 @@ impl Summary {
                 None => format!("; {name}: no material around the point"),
             };
         }
+        if let Some(f) = &self.factor_of_safety {
+            s += &f.sentence();
+        }
         s
+    }
+}
+
+impl FactorOfSafety {
+    /// `; factor of safety 1.3950 in [1.3906, 1.3994] (strength_reduction, 9 trials)`.
+    fn sentence(&self) -> String {
+        let end = |v: Option<f64>| v.map_or("none".to_string(), |v| format!("{v:.4}"));
+        let [lo, hi] = self.bracket;
+        match self.value {
+            Some(v) => format!(
+                "; factor of safety {v:.4} in [{}, {}] ({}, {} trials)",
+                end(lo),
+                end(hi),
+                self.method,
+                self.trials
+            ),
+            None => format!(
+                "; no factor of safety within the tolerance: bracket [{}, {}] ({}, {} trials)",
+                end(lo),
+                end(hi),
+                self.method,
+                self.trials
+            ),
+        }
     }
 }

@@ -12,6 +12,7 @@ mod mpm_load;
 mod mpm_types;
 mod ramp;
 mod source;
+mod stability;
 mod types;
 
 pub use error::SceneError;
@@ -22,4 +23,5 @@ pub use mpm_load::MpmScene;
 pub use mpm_types::*;
 pub use ramp::{Ramp, RampError};
 pub use source::{Locate, SceneDocument};
+pub use stability::{DilatancyRule, StabilityMethod, StabilitySpec};
 pub use types::*;

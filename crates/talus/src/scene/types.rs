@@ -36,6 +36,9 @@ pub struct SceneSpec {
     /// Points whose displacement and velocity are recorded (`docs/scenes.md`, 'Results').
     #[serde(default)]
     pub monitor: Vec<super::MonitorSpec>,
+    /// A factor of safety instead of a run to the end (`docs/stability.md`).
+    #[serde(default)]
+    pub stability: Option<super::StabilitySpec>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]

@@ -6,6 +6,7 @@ mod convergence_order;
 mod elastic;
 mod material_point;
 mod prandtl;
+mod stability;
 
 use std::time::Instant;
 
@@ -13,6 +14,9 @@ pub use convergence_order::newton_convergence_order;
 pub use elastic::{elastic_patch_test, elastic_step_identity};
 pub use material_point::{apex_return, associative_normality, dilatancy_ratio};
 pub use prandtl::{prandtl, prandtl_refinement, PrandtlRun};
+pub use stability::{
+    case_dir, slope_by_hand, slope_cases, vertical_cut_case, CUT_REFERENCE, SLOPE_REFERENCE,
+};
 
 /// One verified quantity.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -83,5 +87,8 @@ pub fn all_cases(quick: bool, figures: Option<&std::path::Path>) -> Vec<CaseResu
     out.extend(timed(elastic_step_identity));
     out.extend(prandtl::all_prandtl_cases(quick, figures));
     out.extend(timed(|| newton_convergence_order(figures)));
+    // Each stamps its own seconds (the slope's by-hand runs apart from its search).
+    out.extend(slope_cases());
+    out.extend(vertical_cut_case());
     out
 }

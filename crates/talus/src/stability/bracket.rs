@@ -1,0 +1,189 @@
+//! Bracketing, then bisection, of the factor of safety: the largest `F` whose trial is
+//! stable and the smallest whose trial fails by the criterion, until
+//! `(hi − lo) ≤ tolerance · lo`. A trial whose solve did not converge is no evidence of
+//! failure (`criterion`): it only caps the search (the `ceiling`), never ends the bracket.
+
+/// Beyond the known side, the next trial multiplies (or divides) by this.
+pub const EXPANSION: f64 = 2.0;
+
+/// The trials so far: the largest stable `F` and the smallest failing `F`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Bracket {
+    pub lo: Option<f64>,
+    pub hi: Option<f64>,
+    /// The smallest factor whose trial did not converge (below `hi`).
+    pub ceiling: Option<f64>,
+    tolerance: f64,
+    /// Factors to try first (a given bracket's ends, or the first guess).
+    pending: Vec<f64>,
+    /// Trials whose outcome contradicted an earlier one (a stable `F` above a failing one):
+    /// the failing one is kept, so the bracket never widens.
+    pub contradictions: Vec<f64>,
+}
+
+/// What to do next.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Next {
+    Try(f64),
+    /// `hi − lo ≤ tolerance · lo`.
+    Done {
+        lo: f64,
+        hi: f64,
+    },
+    /// Between the largest stable factor and the smallest unconverged one no trial failed
+    /// by the criterion, and they are within the tolerance: no bracket.
+    Unbracketed,
+}
+
+/// What a trial tells the bracket.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outcome {
+    Stable,
+    Fails,
+    /// Not converged: no evidence either way.
+    Unknown,
+}
+
+impl Bracket {
+    /// From a first guess (one trial) or a given bracket (its two ends, each checked).
+    pub fn new(tolerance: f64, first_guess: f64, given: Option<[f64; 2]>) -> Self {
+        let pending = match given {
+            Some([lo, hi]) => vec![hi, lo],
+            None => vec![first_guess],
+        };
+        Self {
+            lo: None,
+            hi: None,
+            ceiling: None,
+            tolerance,
+            pending,
+            contradictions: Vec::new(),
+        }
+    }
+
+    /// Whether `f` is still worth a trial: strictly inside the current bracket.
+    fn open(&self, f: f64) -> bool {
+        self.lo.is_none_or(|lo| f > lo) && self.upper().is_none_or(|hi| f < hi)
+    }
+
+    /// The lowest factor above which the search need not go.
+    fn upper(&self) -> Option<f64> {
+        match (self.hi, self.ceiling) {
+            (Some(h), Some(c)) => Some(h.min(c)),
+            (h, c) => h.or(c),
+        }
+    }
+
+    pub fn next_trial(&mut self) -> Next {
+        while let Some(f) = self.pending.pop() {
+            if self.open(f) {
+                return Next::Try(f);
+            }
+        }
+        match (self.lo, self.hi, self.upper()) {
+            (Some(lo), Some(hi), _) if hi - lo <= self.tolerance * lo => Next::Done { lo, hi },
+            (Some(lo), _, Some(up)) if up - lo <= self.tolerance * lo => Next::Unbracketed,
+            (Some(lo), _, Some(up)) => Next::Try(0.5 * (lo + up)),
+            (Some(lo), _, None) => Next::Try(lo * EXPANSION),
+            (None, _, Some(up)) => Next::Try(up / EXPANSION),
+            // Nothing tried yet and nothing pending cannot happen (`new` queues one).
+            (None, _, None) => Next::Try(1.0),
+        }
+    }
+
+    /// The outcome of the trial at `f`.
+    pub fn record(&mut self, f: f64, outcome: Outcome) {
+        if outcome == Outcome::Unknown {
+            self.ceiling = Some(self.ceiling.map_or(f, |c| c.min(f)));
+            return;
+        }
+        if outcome == Outcome::Fails {
+            if self.lo.is_some_and(|lo| f <= lo) {
+                // A failure at or below a stable factor: the bracket restarts below it.
+                self.contradictions.push(f);
+                self.lo = None;
+            }
+            self.hi = Some(self.hi.map_or(f, |hi| hi.min(f)));
+        } else if self.hi.is_some_and(|hi| f >= hi) {
+            self.contradictions.push(f);
+        } else {
+            self.lo = Some(self.lo.map_or(f, |lo| lo.max(f)));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Bisection against a known threshold: every bracket holds it and the last one is
+    /// within the tolerance.
+    fn search(threshold: f64, tol: f64, first: f64, given: Option<[f64; 2]>) -> (f64, f64, usize) {
+        let mut b = Bracket::new(tol, first, given);
+        for n in 1..200 {
+            match b.next_trial() {
+                Next::Try(f) if f > 2.0 * threshold => b.record(f, Outcome::Unknown),
+                Next::Try(f) => b.record(
+                    f,
+                    if f > threshold {
+                        Outcome::Fails
+                    } else {
+                        Outcome::Stable
+                    },
+                ),
+                Next::Unbracketed => panic!("unbracketed"),
+                Next::Done { lo, hi } => return (lo, hi, n - 1),
+            }
+        }
+        panic!("no convergence");
+    }
+
+    #[test]
+    fn brackets_and_bisects_to_the_tolerance() {
+        for (threshold, first, given) in [
+            (1.38, 1.0, None),
+            (0.3, 1.0, None),
+            (7.7, 1.0, None),
+            (1.38, 1.0, Some([1.2, 1.6])),
+            (1.38, 1.0, Some([1.5, 1.9])),
+            (1.38, 1.0, Some([0.5, 1.3])),
+            (0.45, 1.0, None),
+            (1.38, 4.0, None),
+        ] {
+            let (lo, hi, trials) = search(threshold, 0.005, first, given);
+            assert!(lo <= threshold && threshold < hi, "{lo} {hi} {threshold}");
+            assert!(hi - lo <= 0.005 * lo);
+            assert!(trials < 20, "{trials}");
+        }
+    }
+
+    #[test]
+    fn a_contradiction_never_widens_the_bracket() {
+        let mut b = Bracket::new(0.01, 1.0, None);
+        b.record(1.0, Outcome::Stable);
+        b.record(2.0, Outcome::Fails);
+        b.record(1.5, Outcome::Fails);
+        b.record(1.8, Outcome::Stable); // above a failure: ignored
+        assert_eq!((b.lo, b.hi), (Some(1.0), Some(1.5)));
+        assert_eq!(b.contradictions, vec![1.8]);
+    }
+
+    /// Trials that do not converge never end the bracket.
+    #[test]
+    fn unconverged_trials_only_cap_the_search() {
+        let mut b = Bracket::new(0.01, 1.0, None);
+        b.record(1.0, Outcome::Stable);
+        assert_eq!(b.next_trial(), Next::Try(2.0));
+        b.record(2.0, Outcome::Unknown);
+        assert_eq!(b.next_trial(), Next::Try(1.5));
+        b.record(1.5, Outcome::Unknown);
+        assert_eq!(b.next_trial(), Next::Try(1.25));
+        b.record(1.25, Outcome::Fails);
+        assert_eq!(b.hi, Some(1.25));
+        // Nothing fails by the criterion between 1 and a ceiling within the tolerance.
+        let mut b = Bracket::new(0.01, 1.0, None);
+        b.record(1.0, Outcome::Stable);
+        b.record(1.005, Outcome::Unknown);
+        assert_eq!(b.next_trial(), Next::Unbracketed);
+    }
+}
