@@ -337,7 +337,8 @@ fn write_plots(
         },
         None,
         &plastic,
-        "cumulative plastic strain ∫‖ε̇ᵖ‖dt",
+        &format!("cumulative plastic strain at t = {:.4} s", state.time),
+        "∫‖ε̇ᵖ‖dt (-)",
     )?;
     Ok(())
 }

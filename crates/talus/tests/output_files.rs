@@ -300,6 +300,7 @@ fn field_on_deformed_p2_mesh_png() {
         &mesh,
         Some((&u, 10.0)),
         &strain,
+        "Footing at t = 3 s",
         "Equivalent plastic strain [-]",
     )
     .unwrap();
@@ -327,12 +328,20 @@ fn field_on_undeformed_p1_mesh_png() {
         triangles: &triangles,
     };
     let path = out_dir("png").join("field_p1.png");
-    plot_field_on_mesh(&path, &mesh, None, &[-150e3, -20e3], "Pressure p [Pa]").unwrap();
+    plot_field_on_mesh(
+        &path,
+        &mesh,
+        None,
+        &[-150e3, -20e3],
+        "title",
+        "Pressure p [Pa]",
+    )
+    .unwrap();
     let png = read_png(&path);
     assert_eq!(png.width, 1200);
     assert!(distinct_colours(&png) > 3);
     // A constant field is drawn too (one colour, mid-scale).
-    plot_field_on_mesh(&path, &mesh, None, &[1.0, 1.0], "constant").unwrap();
+    plot_field_on_mesh(&path, &mesh, None, &[1.0, 1.0], "title", "constant").unwrap();
 }
 
 // ---------------------------------------------------------------- bad inputs
@@ -465,20 +474,22 @@ fn bad_inputs_name_the_field_and_write_nothing() {
         "tolerance"
     );
     assert_eq!(
-        field_of(plot_field_on_mesh(&png, &mesh, None, &[1.0, 2.0], "v").unwrap_err()),
+        field_of(plot_field_on_mesh(&png, &mesh, None, &[1.0, 2.0], "t", "v").unwrap_err()),
         "values"
     );
     assert_eq!(
-        field_of(plot_field_on_mesh(&png, &mesh, None, &[f64::NAN], "v").unwrap_err()),
+        field_of(plot_field_on_mesh(&png, &mesh, None, &[f64::NAN], "t", "v").unwrap_err()),
         "values"
     );
     assert_eq!(
-        field_of(plot_field_on_mesh(&png, &mesh, Some((&short, 1.0)), &[1.0], "v").unwrap_err()),
+        field_of(
+            plot_field_on_mesh(&png, &mesh, Some((&short, 1.0)), &[1.0], "t", "v").unwrap_err()
+        ),
         "displacement"
     );
     assert_eq!(
         field_of(
-            plot_field_on_mesh(&png, &mesh, Some((&zero, f64::NAN)), &[1.0], "v").unwrap_err()
+            plot_field_on_mesh(&png, &mesh, Some((&zero, f64::NAN)), &[1.0], "t", "v").unwrap_err()
         ),
         "magnification"
     );

@@ -13,8 +13,8 @@ use super::{MeshView, OutputError};
 /// Element edges are drawn only when elements are at least this wide on the page.
 const MIN_EDGE_SPACING_PX: f64 = 7.0;
 
-/// Paints `values` (one per element, in the caller's units, named by `label`) on the mesh
-/// as a PNG 1200 px wide, x and y in m at equal scale.
+/// Paints `values` (one per element, in the caller's units, named by `label` on the colour
+/// bar) on the mesh as a PNG 1200 px wide under `title`, x and y in m at equal scale.
 ///
 /// With `displacement = Some((u, k))` the mesh is drawn at `x + k·u` (u per node, m; k the
 /// magnification) over the undeformed outline in grey. P2 elements are filled as 4
@@ -26,6 +26,7 @@ pub fn plot_field_on_mesh(
     mesh: &MeshView,
     displacement: Option<(&[[f64; 2]], f64)>,
     values: &[f64],
+    title: &str,
     label: &str,
 ) -> Result<(), OutputError> {
     mesh.validate()?;
@@ -53,8 +54,8 @@ pub fn plot_field_on_mesh(
         }
     };
     let title = match displacement {
-        Some((_, k)) => format!("{label} (deformed shape ×{})", tick(k)),
-        None => label.to_string(),
+        Some((_, k)) => format!("{title} (deformed shape ×{})", tick(k)),
+        None => title.to_string(),
     };
     prepare(path)?;
     let plot = FieldPlot {

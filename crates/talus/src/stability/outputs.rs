@@ -243,9 +243,10 @@ fn write_mechanism(
             None,
             &element_magnitude(model, &t.last_increment),
             &format!(
-                "failure mechanism, {method} {:.4}: last step's |Δu| (m)",
+                "failure mechanism, {method} {:.4}: displacement increment of the trial's last step",
                 t.factor
             ),
+            "|Δu| (m)",
         )
         .map_err(RunError::Output)?;
     }
