@@ -178,6 +178,8 @@ pub struct InitialStressSpec {
 #[serde(deny_unknown_fields, default)]
 pub struct AnalysisSpec {
     pub kind: AnalysisKind,
+    /// Plane strain (default) or axisymmetric about the y axis (`docs/axisymmetry.md`).
+    pub geometry: GeometryKind,
     /// Quasi-static only: the lumped mass is `inertia_ratio · h² · diag K` (K the elastic
     /// stiffness), so that inertia is this fraction of each node's elastic stiffness
     /// (`docs/derivations.md`, 'The quasi-static limit').
@@ -188,7 +190,28 @@ impl Default for AnalysisSpec {
     fn default() -> Self {
         Self {
             kind: AnalysisKind::Dynamic,
+            geometry: GeometryKind::PlaneStrain,
             inertia_ratio: None,
+        }
+    }
+}
+
+/// `[analysis] geometry`: what the mesh's plane stands for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GeometryKind {
+    /// A slice of unit thickness; forces per metre.
+    PlaneStrain,
+    /// A meridian section, `x = r ≥ 0`, `y` the axis; integrals per radian, reported
+    /// forces for the whole circumference.
+    Axisymmetric,
+}
+
+impl GeometryKind {
+    pub fn fem(self) -> talus_fem::Geometry {
+        match self {
+            GeometryKind::PlaneStrain => talus_fem::Geometry::PlaneStrain,
+            GeometryKind::Axisymmetric => talus_fem::Geometry::Axisymmetric,
         }
     }
 }

@@ -6,6 +6,7 @@ mod convergence_order;
 mod elastic;
 mod material_point;
 mod prandtl;
+mod triaxial;
 
 use std::time::Instant;
 
@@ -13,6 +14,10 @@ pub use convergence_order::newton_convergence_order;
 pub use elastic::{elastic_patch_test, elastic_step_identity};
 pub use material_point::{apex_return, associative_normality, dilatancy_ratio};
 pub use prandtl::{prandtl, prandtl_refinement, PrandtlRun};
+pub use triaxial::{
+    run_triaxial, triaxial_compression, triaxial_dilatancy_ratio, triaxial_peak_deviator,
+    triaxial_scene, TriaxialRun,
+};
 
 /// One verified quantity.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -81,6 +86,7 @@ pub fn all_cases(quick: bool, figures: Option<&std::path::Path>) -> Vec<CaseResu
     out.extend(timed(associative_normality));
     out.extend(timed(elastic_patch_test));
     out.extend(timed(elastic_step_identity));
+    out.extend(timed(triaxial_compression));
     out.extend(prandtl::all_prandtl_cases(quick, figures));
     out.extend(timed(|| newton_convergence_order(figures)));
     out
