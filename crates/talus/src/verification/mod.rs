@@ -2,6 +2,7 @@
 //! computation, and reports `(case, quantity, reference, computed, tolerance)`. Run by
 //! `talus verify` (and so by `cargo xtask verify`); the integration tests assert the same
 //! cases pass.
+mod axisymmetric_elastic;
 mod convergence_order;
 mod elastic;
 mod material_point;
@@ -10,6 +11,10 @@ mod triaxial;
 
 use std::time::Instant;
 
+pub use axisymmetric_elastic::{
+    circular_punch, lame, lame_axisymmetric, lame_errors, lame_scene, punch_stiffness,
+    sneddon_stiffness,
+};
 pub use convergence_order::newton_convergence_order;
 pub use elastic::{elastic_patch_test, elastic_step_identity};
 pub use material_point::{apex_return, associative_normality, dilatancy_ratio};
@@ -87,6 +92,8 @@ pub fn all_cases(quick: bool, figures: Option<&std::path::Path>) -> Vec<CaseResu
     out.extend(timed(elastic_patch_test));
     out.extend(timed(elastic_step_identity));
     out.extend(timed(triaxial_compression));
+    out.extend(timed(lame_axisymmetric));
+    out.extend(timed(circular_punch));
     out.extend(prandtl::all_prandtl_cases(quick, figures));
     out.extend(timed(|| newton_convergence_order(figures)));
     out
