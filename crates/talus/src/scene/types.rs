@@ -197,14 +197,28 @@ impl Default for AnalysisSpec {
 }
 
 /// `[analysis] geometry`: what the mesh's plane stands for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum GeometryKind {
     /// A slice of unit thickness; forces per metre.
     PlaneStrain,
     /// A meridian section, `x = r ≥ 0`, `y` the axis; integrals per radian, reported
     /// forces for the whole circumference.
     Axisymmetric,
+}
+
+/// By name, with an error that names the field and the value (serde's own names neither
+/// the field nor, for a typo, what it should be).
+impl<'de> Deserialize<'de> for GeometryKind {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(d)?;
+        match name.as_str() {
+            "plane_strain" => Ok(GeometryKind::PlaneStrain),
+            "axisymmetric" => Ok(GeometryKind::Axisymmetric),
+            _ => Err(serde::de::Error::custom(format!(
+                "analysis.geometry = \"{name}\": expected \"plane_strain\" or \"axisymmetric\""
+            ))),
+        }
+    }
 }
 
 impl GeometryKind {
