@@ -52,7 +52,11 @@ impl Geometry {
             return Ok(());
         }
         let tol = axis_tolerance(mesh);
-        match mesh.nodes.iter().position(|p| !(p[0] >= -tol)) {
+        match mesh
+            .nodes
+            .iter()
+            .position(|p| !(p[0].is_finite() && p[0] >= -tol))
+        {
             Some(n) => Err(MeshError::invalid(
                 "mesh",
                 format!(

@@ -51,7 +51,7 @@ impl GaussData {
                     )
                 })?;
                 let weight = geometry.weight(m.position);
-                if !(weight > 0.0) {
+                if !(weight.is_finite() && weight > 0.0) {
                     return Err(MeshError::element(
                         format!("triangle {e}"),
                         format!(

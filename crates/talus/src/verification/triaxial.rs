@@ -169,7 +169,7 @@ mod tests {
         for (k_d, theta) in [(1.2, 10.0f64), (1.7, 30.0), (0.9, 45.0)] {
             let r = triaxial_dilatancy_ratio(k_d, theta);
             // ε_v = a + 2b = r a  ⇒  b = (r − 1) a / 2.
-            let (a, b) = (-1.0, (r - 1.0) * -1.0 / 2.0);
+            let (a, b) = (-1.0, -(r - 1.0) / 2.0);
             let dev = (2.0f64 / 3.0).sqrt() * (a - b).abs();
             let expected = k_d * theta.to_radians().tan();
             assert!(((a + 2.0 * b) / dev - expected).abs() < 1e-12);
