@@ -1,4 +1,5 @@
-//! Plane-strain finite elements for Talus (thickness 1 m, SI units, tension positive):
+//! Plane-strain and axisymmetric finite elements for Talus (plane strain: thickness 1 m;
+//! axisymmetric: per radian, [`Geometry`]; SI units, tension positive):
 //! P1 / P2 triangle meshes (structured or Gmsh), Dirichlet dof maps, and the operators of
 //! Guillet et al. (2024), eq. 11–16: the volume-weighted strain operator `B` (Mandel rows),
 //! the lumped mass `M`, the compliance blocks `S` and the nodal loads `f`.
@@ -15,6 +16,7 @@ pub mod assembly;
 pub mod dofs;
 pub mod element;
 mod error;
+pub mod geometry;
 pub mod mesh;
 pub mod quadrature;
 
@@ -22,4 +24,5 @@ pub use assembly::Assembly;
 pub use dofs::{Constraint, Dof, DofMap};
 pub use element::ElementOrder;
 pub use error::{FemError, MeshError};
+pub use geometry::Geometry;
 pub use mesh::{graded_coordinates, BoundaryEdge, Mesh};

@@ -1,5 +1,6 @@
-//! Consistent nodal forces `f` of eq. 12 (N per metre of thickness), split into free and
-//! prescribed dofs like the columns of `B`. Forces on prescribed dofs do not move the
+//! Consistent nodal forces `f` of eq. 12 (N per metre of thickness, or per radian in
+//! axisymmetry, where every integrand carries `r`: `docs/axisymmetry.md`), split into free
+//! and prescribed dofs like the columns of `B`. Forces on prescribed dofs do not move the
 //! solution but enter the reaction (`docs/derivations.md`, 'Prescribed velocities and the
 //! reaction').
 use super::Assembly;
@@ -18,8 +19,8 @@ fn check_vector(field: &'static str, v: [f64; 2]) -> Result<(), FemError> {
 }
 
 impl Assembly {
-    /// Body force `f_a = ∫ N_a ρ g dA` (gravity: `g = [0, −9.81]` m/s², y up), integrated
-    /// with the Gauss points (exact on affine triangles; on P2 the vertices get 0 and the
+    /// Body force `f_a = ∫ N_a ρ g dA` (gravity: `g = [0, −9.81]` m/s², y up; axisymmetric:
+    /// `∫ N_a ρ g r dA`, through the Gauss volumes), integrated with the Gauss points (exact on affine triangles; on P2 the vertices get 0 and the
     /// mid nodes ρgA/3, as consistency demands). `density` (kg/m³, ≥ 0) may differ from the
     /// inertial one, e.g. 0 for weightless soil.
     pub fn body_force(&self, density: f64, g: [f64; 2]) -> Result<(Vec<f64>, Vec<f64>), FemError> {
@@ -45,7 +46,8 @@ impl Assembly {
     /// Traction `f_a = ∫ N_a t ds` over `edges` (nodes of `mesh`), `t` in Pa (N/m² in
     /// global axes, e.g. `[0, −q]` for a downward pressure q on a top face): the force per
     /// metre of thickness. 3-point Gauss-Legendre per edge: exact on straight edges (P2
-    /// weights 1/6, 1/6, 2/3 of `|t|·L` for end, end, mid node).
+    /// weights 1/6, 1/6, 2/3 of `|t|·L` for end, end, mid node). Axisymmetric: `∫ N_a t r ds`
+    /// per radian, still exact on straight edges (degree ≤ 3).
     pub fn traction(
         &self,
         mesh: &Mesh,
@@ -66,6 +68,7 @@ impl Assembly {
     /// at each quadrature point: the integrand `N_a x′` has degree ≤ 3, so the 3-point rule
     /// is exact on straight and curved (P2) edges alike, and the forces of an edge from `a`
     /// to `b` sum to `p` times `b − a` turned counter-clockwise, whatever its shape.
+    /// Axisymmetric: `−p ∫ N_a n r ds` per radian, degree ≤ 5, still exact.
     pub fn pressure(
         &self,
         mesh: &Mesh,
@@ -84,8 +87,9 @@ impl Assembly {
         })
     }
 
-    /// `Σ_edges Σ_gauss load(w, N_a, x′(s))` added to every node `a` of each edge, after
-    /// checking the edges' node counts against the mesh.
+    /// `Σ_edges Σ_gauss r load(w, N_a, x′(s))` added to every node `a` of each edge (`r`
+    /// the geometry's weight at the point, 1 in plane strain), after checking the edges'
+    /// node counts against the mesh.
     fn edge_integral(
         &self,
         mesh: &Mesh,
@@ -119,14 +123,18 @@ impl Assembly {
             for (s, w) in points.iter().zip(weights) {
                 let (n, dn) = shape_and_derivative(npe, *s);
                 let mut tangent = [0.0; 2];
+                let mut position = [0.0; 2];
                 for (a, &node) in edge.nodes.iter().enumerate() {
                     tangent[0] += dn[a] * mesh.nodes[node][0];
                     tangent[1] += dn[a] * mesh.nodes[node][1];
+                    position[0] += n[a] * mesh.nodes[node][0];
+                    position[1] += n[a] * mesh.nodes[node][1];
                 }
+                let weight = self.geometry.weight(position);
                 for (a, &node) in edge.nodes.iter().enumerate() {
                     let f = load(*w, n[a], tangent);
                     for (comp, fc) in f.into_iter().enumerate() {
-                        self.add_force(&mut out, node, comp, fc);
+                        self.add_force(&mut out, node, comp, fc * weight);
                     }
                 }
             }

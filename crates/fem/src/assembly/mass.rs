@@ -6,6 +6,11 @@
 //!   HRZ lumping scales the consistent diagonal instead, `m_a = m_e ∫N_a² / Σ_b ∫N_b²`
 //!   (vertex 1/19 and mid node 16/57 of the element mass on affine triangles), all
 //!   positive and summing to `m_e = ρ ∫ det J`.
+//!
+//! Axisymmetric (`docs/axisymmetry.md`): every integral carries `r` (kg per radian). P1:
+//! the one-point rule gives `ρ r_c A / 3` per vertex (the element's mass `ρ r_c A` is exact;
+//! a vertex on the axis keeps a positive mass). P2: `m_e = ρ ∫ r det J` and the HRZ
+//! weights `∫ N_a² r det J` (degree 5 on affine triangles, exact with the 7-point rule).
 use super::gauss::GaussData;
 use crate::element::{map_point, ElementOrder};
 use crate::error::MeshError;
@@ -44,8 +49,9 @@ pub(crate) fn nodal_masses(
                             format!("det J ≤ 0 at mass quadrature point {xi:?}"),
                         )
                     })?;
+                    let weight = gauss.geometry.weight(mp.position);
                     for (d, n) in diag.iter_mut().zip(&mp.shape) {
-                        *d += w * mp.det_j * n * n;
+                        *d += w * mp.det_j * n * n * weight;
                     }
                 }
                 let total: f64 = diag.iter().sum();

@@ -1,6 +1,7 @@
 //! Global operators of eq. 15–16 on a mesh: Gauss points and volumes, the strain
 //! operator `B` (free and prescribed columns), the lumped mass `M`, the compliance blocks
-//! `S`, and nodal loads. Units: SI, per metre of thickness (plane strain).
+//! `S`, and nodal loads. Units: SI, per metre of thickness (plane strain) or per radian
+//! (axisymmetric, [`Geometry`], `docs/axisymmetry.md`).
 mod gauss;
 mod loads;
 mod mass;
@@ -13,6 +14,7 @@ pub use strain_operator::{add_mul, add_mul_transpose, MANDEL};
 
 use crate::dofs::{Dof, DofMap};
 use crate::error::FemError;
+use crate::geometry::Geometry;
 use crate::mesh::Mesh;
 use gauss::GaussData;
 use strain_operator::strain_operator;
@@ -23,12 +25,13 @@ use strain_operator::strain_operator;
 pub struct Assembly {
     /// Gauss point positions (m).
     pub gauss_points: Vec<[f64; 2]>,
-    /// `V_p = w_p · det J · 1 m` (m³ per metre of thickness); `Σ V_p` = the mesh area.
+    /// `V_p = w_p · det J · 1 m` (m³ per metre of thickness; `Σ V_p` = the mesh area), or
+    /// `w_p · det J · r_p` (m³ per radian; `2π Σ V_p` = the solid's volume).
     pub gauss_volumes: Vec<f64>,
     /// Triangle of each Gauss point.
     pub gauss_element: Vec<usize>,
     /// `(4·n_gp) × n_free`: row block p is `V_p · ε̇(x_p)` in Mandel form (xx, yy, zz = 0,
-    /// √2 xy), one column per free velocity dof.
+    /// √2 xy; axisymmetric: rr, yy, θθ = v_r/r, √2 ry), one column per free velocity dof.
     pub b_free: SparseColMat<usize, f64>,
     /// `(4·n_gp) × n_prescribed`: the same rows for the prescribed dofs.
     pub b_prescribed: SparseColMat<usize, f64>,
@@ -38,12 +41,26 @@ pub struct Assembly {
     pub lumped_mass_prescribed: Vec<f64>,
     dofs: DofMap,
     gauss: GaussData,
+    geometry: Geometry,
 }
 
 impl Assembly {
     /// Validates `mesh` (see [`Mesh::validate`]) and builds `B`, the Gauss volumes and the
-    /// lumped mass for mass density `density` (kg/m³, finite and > 0: `M⁻¹` must exist).
+    /// lumped mass for mass density `density` (kg/m³, finite and > 0: `M⁻¹` must exist),
+    /// in plane strain.
     pub fn new(mesh: &Mesh, dofs: &DofMap, density: f64) -> Result<Self, FemError> {
+        Self::with_geometry(mesh, dofs, density, Geometry::PlaneStrain)
+    }
+
+    /// [`new`](Self::new) in `geometry`. Axisymmetric: refuses a node at `r < 0`, a Gauss
+    /// point at `r ≤ 0`, and a node on the axis whose radial velocity is free (prescribe
+    /// it, to 0: [`Geometry::axis_nodes`]).
+    pub fn with_geometry(
+        mesh: &Mesh,
+        dofs: &DofMap,
+        density: f64,
+        geometry: Geometry,
+    ) -> Result<Self, FemError> {
         if !(density.is_finite() && density > 0.0) {
             return Err(FemError::invalid(
                 "density",
@@ -61,7 +78,22 @@ impl Assembly {
             ));
         }
         mesh.validate()?;
-        let gauss = GaussData::new(mesh)?;
+        geometry.check_mesh(mesh)?;
+        if let Some(&n) = geometry
+            .axis_nodes(mesh)
+            .iter()
+            .find(|&&n| dofs.free(n, 0).is_some())
+        {
+            return Err(FemError::invalid(
+                "dofs",
+                format!(
+                    "node {n} lies on the axis (r = {:e} m) with a free radial velocity; \
+                     prescribe u_r = 0 on the axis",
+                    mesh.nodes[n][0]
+                ),
+            ));
+        }
+        let gauss = GaussData::new(mesh, geometry)?;
         let (b_free, b_prescribed) = strain_operator(&gauss, dofs)?;
         let nodal = mass::nodal_masses(mesh, &gauss, density)?;
         let mut lumped_mass_free = vec![0.0; dofs.n_free()];
@@ -93,7 +125,13 @@ impl Assembly {
             lumped_mass_prescribed,
             dofs: dofs.clone(),
             gauss,
+            geometry,
         })
+    }
+
+    /// Plane strain or axisymmetric.
+    pub fn geometry(&self) -> Geometry {
+        self.geometry
     }
 
     /// Number of Gauss points.
@@ -112,7 +150,8 @@ impl Assembly {
         self.gauss_volumes.iter().map(|v| s0 * *v).collect()
     }
 
-    /// Strain (or strain rate) at each Gauss point, Mandel `(xx, yy, zz, √2 xy)`, from a
+    /// Strain (or strain rate) at each Gauss point, Mandel `(xx, yy, zz, √2 xy)` (zz: the
+    /// hoop strain `θθ` in axisymmetry), from a
     /// nodal field given as free and prescribed values: `(B_f u_f + B_p u_p)_p / V_p`.
     pub fn strain(
         &self,
@@ -130,7 +169,7 @@ impl Assembly {
             .collect())
     }
 
-    /// Internal force `Bᵀσ` (N/m) on free and prescribed dofs for Mandel stresses `σ`
+    /// Internal force `Bᵀσ` (N/m, or N per radian) on free and prescribed dofs for Mandel stresses `σ`
     /// (Pa, flat, 4 per Gauss point). On prescribed dofs it is the reaction's main part.
     pub fn internal_force(&self, sigma: &[f64]) -> Result<(Vec<f64>, Vec<f64>), FemError> {
         if sigma.len() != MANDEL * self.n_points() {

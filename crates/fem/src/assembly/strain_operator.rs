@@ -2,13 +2,17 @@
 //! strain `(xx, yy, zz, √2 xy)`, tension positive) maps nodal velocities to
 //! `V_p · ε̇(x_p)`, with `ε̇ = sym ∇v`. So `B v` is the volume-weighted strain rate,
 //! `Bᵀσ` the internal force (N per metre of thickness), and `W = S + h² B M⁻¹ Bᵀ` of
-//! eq. 16 is symmetric when `S` carries `V_p` too. The zz row is structurally empty
-//! (plane strain: `ε̇zz = 0`) but kept, because `σzz` enters the yield cone.
+//! eq. 16 is symmetric when `S` carries `V_p` too. In plane strain the zz row is
+//! structurally empty (`ε̇zz = 0`) but kept, because `σzz` enters the yield cone. In
+//! axisymmetry (`x = r`, `y` the axis, `docs/axisymmetry.md`) the third row is the hoop
+//! strain rate `ε̇θθ = v_r / r`, and `V_p` carries `r_p`: the row's entries
+//! `V_p N_a(x_p) / r_p` are those of `∫ ε̇θθ r dr dy`.
 use faer::sparse::{SparseColMat, Triplet};
 
 use super::gauss::GaussData;
 use crate::dofs::{Dof, DofMap};
 use crate::error::FemError;
+use crate::geometry::Geometry;
 
 /// Mandel rows per Gauss point.
 pub const MANDEL: usize = 4;
@@ -23,20 +27,25 @@ pub(crate) fn strain_operator(
     let s = std::f64::consts::FRAC_1_SQRT_2;
     let mut free = Vec::new();
     let mut prescribed = Vec::new();
+    let axisymmetric = gauss.geometry == Geometry::Axisymmetric;
     for p in 0..gauss.len() {
         let v = gauss.volumes[p];
         let r = MANDEL * p;
-        for (node, _, g) in gauss.point(p) {
-            // ε̇xx = ∂vx/∂x, ε̇yy = ∂vy/∂y, √2 ε̇xy = (∂vx/∂y + ∂vy/∂x)/√2
+        // r_p > 0 at every Gauss point of an axisymmetric mesh (`GaussData::new`).
+        let radius = gauss.positions[p][0];
+        for (node, n, g) in gauss.point(p) {
+            // ε̇xx = ∂vx/∂x, ε̇yy = ∂vy/∂y, √2 ε̇xy = (∂vx/∂y + ∂vy/∂x)/√2,
+            // axisymmetric: ε̇θθ = v_r / r.
+            let hoop = axisymmetric.then(|| (r + 2, n / radius));
             let entries = [
-                (0, [(r, g[0]), (r + 3, s * g[1])]),
-                (1, [(r + 1, g[1]), (r + 3, s * g[0])]),
+                (0, [Some((r, g[0])), Some((r + 3, s * g[1])), hoop]),
+                (1, [Some((r + 1, g[1])), Some((r + 3, s * g[0])), None]),
             ];
             for (comp, rows) in entries {
                 let dof = dofs.dof(node, comp).ok_or_else(|| {
                     FemError::invalid("dofs", format!("node {node} is not in the dof map"))
                 })?;
-                for (row, value) in rows {
+                for (row, value) in rows.into_iter().flatten() {
                     match dof {
                         Dof::Free(j) => free.push(Triplet::new(row, j, v * value)),
                         Dof::Prescribed(j) => prescribed.push(Triplet::new(row, j, v * value)),

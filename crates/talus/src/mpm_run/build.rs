@@ -6,8 +6,8 @@ use talus_mpm::{
 };
 
 use crate::scene::{
-    check, AnalysisKind, MpmScene, PredictorSpec, Ramp, SceneError, ShapeSpec, SideSpec,
-    WallConditionSpec,
+    check, AnalysisKind, GeometryKind, MpmScene, PredictorSpec, Ramp, SceneError, ShapeSpec,
+    SideSpec, WallConditionSpec,
 };
 use crate::simulation::engine::{Method, PredictorRule, StepSettings};
 use crate::simulation::initial_stress_at;
@@ -53,6 +53,13 @@ impl MpmModel {
                 "analysis.kind",
                 "\"quasi_static\" is for finite-element scenes ([mesh]); a material point \
                  scene ([grid]) runs \"dynamic\" only",
+            ));
+        }
+        if spec.analysis.geometry != GeometryKind::PlaneStrain {
+            return Err(scene.error(
+                "analysis.geometry",
+                "\"axisymmetric\" is for finite-element scenes ([mesh]); a material point \
+                 scene ([grid]) is plane strain only",
             ));
         }
         if let Some(r) = spec.analysis.inertia_ratio {

@@ -181,6 +181,8 @@ pub struct InitialStressSpec {
 #[serde(deny_unknown_fields, default)]
 pub struct AnalysisSpec {
     pub kind: AnalysisKind,
+    /// Plane strain (default) or axisymmetric about the y axis (`docs/axisymmetry.md`).
+    pub geometry: GeometryKind,
     /// Quasi-static only: the lumped mass is `inertia_ratio · h² · diag K` (K the elastic
     /// stiffness), so that inertia is this fraction of each node's elastic stiffness
     /// (`docs/derivations.md`, 'The quasi-static limit').
@@ -191,7 +193,42 @@ impl Default for AnalysisSpec {
     fn default() -> Self {
         Self {
             kind: AnalysisKind::Dynamic,
+            geometry: GeometryKind::PlaneStrain,
             inertia_ratio: None,
+        }
+    }
+}
+
+/// `[analysis] geometry`: what the mesh's plane stands for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GeometryKind {
+    /// A slice of unit thickness; forces per metre.
+    PlaneStrain,
+    /// A meridian section, `x = r ≥ 0`, `y` the axis; integrals per radian, reported
+    /// forces for the whole circumference.
+    Axisymmetric,
+}
+
+/// By name, with an error that names the field and the value (serde's own names neither
+/// the field nor, for a typo, what it should be).
+impl<'de> Deserialize<'de> for GeometryKind {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(d)?;
+        match name.as_str() {
+            "plane_strain" => Ok(GeometryKind::PlaneStrain),
+            "axisymmetric" => Ok(GeometryKind::Axisymmetric),
+            _ => Err(serde::de::Error::custom(format!(
+                "analysis.geometry = \"{name}\": expected \"plane_strain\" or \"axisymmetric\""
+            ))),
+        }
+    }
+}
+
+impl GeometryKind {
+    pub fn fem(self) -> talus_fem::Geometry {
+        match self {
+            GeometryKind::PlaneStrain => talus_fem::Geometry::PlaneStrain,
+            GeometryKind::Axisymmetric => talus_fem::Geometry::Axisymmetric,
         }
     }
 }

@@ -11,9 +11,10 @@ use super::{Loads, Model, State};
 #[derive(Debug, Clone, PartialEq)]
 pub struct FemStats {
     /// Reaction on the reported boundary: the force it applies to the body, vertical,
-    /// positive downward, N per metre of thickness.
+    /// positive downward, N per metre of thickness (axisymmetric: N on the whole
+    /// circumference, `2π` times the per-radian force).
     pub reaction_force: f64,
-    /// Force each prescribed dof's condition applies to the body (N/m,
+    /// Force each prescribed dof's condition applies to the body (N/m, or N per radian,
     /// `reaction_groups::prescribed_forces`).
     pub prescribed_forces: Vec<f64>,
 }
@@ -33,12 +34,13 @@ impl Model {
     }
 
     /// The reported boundary's vertical push on the body, downward positive, from the force
-    /// of every prescribed dof.
+    /// of every prescribed dof; axisymmetric: on the whole circumference (`2π` times).
     fn reported_reaction(&self, prescribed_forces: &[f64]) -> f64 {
         self.reaction_dofs
             .iter()
             .filter(|(_, comp)| *comp == 1)
             .fold(0.0, |r, &(j, _)| r - prescribed_forces[j])
+            * self.assembly.geometry().whole_body_factor()
     }
 }
 

@@ -1,6 +1,8 @@
 use nalgebra::{SMatrix, SVector};
 use talus_bipotential::{DruckerPrager, FlowRule};
-use talus_fem::{Assembly, BoundaryEdge, Constraint, DofMap, ElementOrder, Mesh};
+use talus_fem::{
+    Assembly, BoundaryEdge, Constraint, DofMap, ElementOrder, FemError, Geometry, Mesh,
+};
 use talus_ssn::{
     reduced_rhs, FreeVelocities, Operator, PrescribedVelocities, ReducedSystem, SolveError,
     Structured,
@@ -47,7 +49,8 @@ pub struct Model {
     /// Prescribed dofs of the boundary whose reaction is reported, with their component.
     pub reaction_dofs: Vec<(usize, usize)>,
     /// Per prescribed dof, the `[[boundary]]` whose velocity it follows (the last that
-    /// fixes it), which also owns its reaction (`ReactionGroups`).
+    /// fixes it), which also owns its reaction (`ReactionGroups`); `boundary.len()` for an
+    /// axis node's radial dof that no `[[boundary]]` fixes (axisymmetric).
     pub dof_owner: Vec<usize>,
 }
 
@@ -58,7 +61,18 @@ impl Model {
         let m = &spec.material;
         let material = check::material(scene, m)?;
 
+        // Axisymmetric: the axis nodes' radial velocity is 0, first, so that a
+        // `[[boundary]]` naming them later owns them (and their reaction).
+        let geometry = spec.analysis.geometry.fem();
+        geometry
+            .check_mesh(&mesh)
+            .map_err(|e| scene.error("analysis.geometry", e.to_string()))?;
+        let axis = geometry.axis_nodes(&mesh);
         let mut constraints = Vec::new();
+        if !axis.is_empty() {
+            constraints.push((axis, Constraint::FixX));
+        }
+        let axis_constraints = constraints.len();
         let mut boundary_ramps = Vec::new();
         for (k, b) in spec.boundary.iter().enumerate() {
             let nodes = select_nodes(scene, &mesh, &b.nodes, &format!("boundary[{k}].nodes"))?;
@@ -79,14 +93,26 @@ impl Model {
             return Err(scene.error("boundary", "every degree of freedom is prescribed"));
         }
         let density = required_density(scene)?;
-        let mut assembly = Assembly::new(&mesh, &dofs, density)
-            .map_err(|e| scene.error("material.density", e.to_string()))?;
+        let mut assembly =
+            Assembly::with_geometry(&mesh, &dofs, density, geometry).map_err(|e| {
+                let field = match &e {
+                    FemError::InvalidInput {
+                        field: "density", ..
+                    } => "material.density",
+                    _ if geometry == Geometry::Axisymmetric => "analysis.geometry",
+                    _ => "material.density",
+                };
+                scene.error(field, e.to_string())
+            })?;
 
         // Prescribed velocities: later conditions win where sets overlap.
         let mut prescribed_velocity = vec![0.0; dofs.n_prescribed()];
-        let mut owner = vec![0; dofs.n_prescribed()];
+        // A dof no `[[boundary]]` fixes (the axis) belongs to no condition: index
+        // `boundary.len()`, which names no reaction group and follows no ramp.
+        let mut owner = vec![spec.boundary.len(); dofs.n_prescribed()];
         let mut reaction_dofs = Vec::new();
-        for (k, (b, (nodes, _))) in spec.boundary.iter().zip(&constraints).enumerate() {
+        let boundary_constraints = &constraints[axis_constraints..];
+        for (k, (b, (nodes, _))) in spec.boundary.iter().zip(boundary_constraints).enumerate() {
             let is_reaction = b.name.is_some() && b.name == spec.output.reaction;
             for &n in nodes {
                 for comp in 0..2 {

@@ -15,6 +15,9 @@ pub struct ReactionGroups {
     pub names: Vec<(String, String)>,
     /// Per group, its prescribed dofs `j` and their component.
     pub dofs: Vec<Vec<(usize, usize)>>,
+    /// From the prescribed forces' unit to the reported one: 1, or `2π` in axisymmetry
+    /// (forces per radian, reported for the whole circumference: `docs/axisymmetry.md`).
+    pub scale: f64,
 }
 
 impl ReactionGroups {
@@ -28,6 +31,7 @@ impl ReactionGroups {
         let mut groups = Self {
             names: Vec::new(),
             dofs: Vec::new(),
+            scale: 1.0,
         };
         let mut group_of = vec![None; names.len()];
         for (k, name) in names.iter().enumerate() {
@@ -52,7 +56,7 @@ impl ReactionGroups {
         groups
     }
 
-    /// `[fx, fy]` per group, from the force on every prescribed dof.
+    /// `[fx, fy]` per group, from the force on every prescribed dof, times `scale`.
     pub fn sums(&self, forces: &[f64]) -> Vec<[f64; 2]> {
         self.dofs
             .iter()
@@ -61,17 +65,22 @@ impl ReactionGroups {
                 for &(j, comp) in dofs {
                     f[comp] += forces.get(j).copied().unwrap_or(0.0);
                 }
-                f
+                f.map(|x| x * self.scale)
             })
             .collect()
     }
 
+    /// The groups of a FEM model, reported per metre (plane strain) or for the whole
+    /// circumference (axisymmetric).
     pub fn of_model(model: &Model, names: &[Option<String>]) -> Self {
-        Self::new(
-            names,
-            &model.dof_owner,
-            model.assembly.dofs().prescribed_dofs(),
-        )
+        Self {
+            scale: model.assembly.geometry().whole_body_factor(),
+            ..Self::new(
+                names,
+                &model.dof_owner,
+                model.assembly.dofs().prescribed_dofs(),
+            )
+        }
     }
 }
 

@@ -93,7 +93,7 @@ pub fn elastic_patch_test() -> Vec<CaseResult> {
         .collect()
 }
 
-fn dense(m: &SparseColMat<usize, f64>) -> DMatrix<f64> {
+pub(crate) fn dense(m: &SparseColMat<usize, f64>) -> DMatrix<f64> {
     let mut d = DMatrix::zeros(m.nrows(), m.ncols());
     let (cp, ri, v) = (m.symbolic().col_ptr(), m.symbolic().row_idx(), m.val());
     for j in 0..m.ncols() {

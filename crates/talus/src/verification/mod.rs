@@ -2,20 +2,30 @@
 //! computation, and reports `(case, quantity, reference, computed, tolerance)`. Run by
 //! `talus verify` (and so by `cargo xtask verify`); the integration tests assert the same
 //! cases pass.
+mod axisymmetric_elastic;
 mod convergence_order;
 mod elastic;
 mod material_point;
 mod prandtl;
 mod stability;
+mod triaxial;
 
 use std::time::Instant;
 
+pub use axisymmetric_elastic::{
+    circular_punch, lame, lame_axisymmetric, lame_errors, lame_scene, punch_stiffness,
+    sneddon_stiffness,
+};
 pub use convergence_order::newton_convergence_order;
 pub use elastic::{elastic_patch_test, elastic_step_identity};
 pub use material_point::{apex_return, associative_normality, dilatancy_ratio};
 pub use prandtl::{prandtl, prandtl_refinement, PrandtlRun};
 pub use stability::{
     case_dir, slope_by_hand, slope_cases, vertical_cut_case, CUT_REFERENCE, SLOPE_REFERENCE,
+};
+pub use triaxial::{
+    run_triaxial, triaxial_compression, triaxial_dilatancy_ratio, triaxial_peak_deviator,
+    triaxial_scene, TriaxialRun,
 };
 
 /// One verified quantity.
@@ -85,6 +95,9 @@ pub fn all_cases(quick: bool, figures: Option<&std::path::Path>) -> Vec<CaseResu
     out.extend(timed(associative_normality));
     out.extend(timed(elastic_patch_test));
     out.extend(timed(elastic_step_identity));
+    out.extend(timed(triaxial_compression));
+    out.extend(timed(lame_axisymmetric));
+    out.extend(timed(circular_punch));
     out.extend(prandtl::all_prandtl_cases(quick, figures));
     out.extend(timed(|| newton_convergence_order(figures)));
     // Each stamps its own seconds (the slope's by-hand runs apart from its search).
