@@ -1,3 +1,4 @@
+pub mod exit;
 pub mod mpm_run;
 pub mod output;
 pub mod run;

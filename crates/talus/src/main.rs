@@ -5,6 +5,7 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
+use talus::exit::Exit;
 use talus::mpm_run::run_mpm_scene;
 use talus::run::{run_scene, RunOptions};
 use talus::scene::{builtin_footing, MpmScene, Scene, SceneFile};
@@ -15,7 +16,8 @@ mod reduced;
 #[command(
     name = "talus",
     version,
-    about = "Implicit elasto-plasticity of geomaterials by semi-smooth Newton"
+    about = "Implicit elasto-plasticity of geomaterials by semi-smooth Newton",
+    after_help = talus::exit::TABLE
 )]
 struct Cli {
     #[command(subcommand)]
@@ -65,7 +67,10 @@ fn main() -> ExitCode {
         .init();
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Reduced(args) => reduced::run(&args).map_err(Into::into),
+        Command::Reduced(args) => reduced::run(&args).or_else(|e| {
+            eprintln!("error: {e}");
+            Ok(e.exit().into())
+        }),
         Command::Run { scene, out } => run(scene, out),
         Command::Verify {
             json,
@@ -77,7 +82,7 @@ fn main() -> ExitCode {
         Ok(code) => code,
         Err(e) => {
             eprintln!("error: {e}");
-            ExitCode::from(1)
+            Exit::InvalidInput.into()
         }
     }
 }
@@ -102,8 +107,9 @@ fn run_fem(scene: &Scene, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::
             write_fields: true,
         },
     );
-    let Some(summary) = ended(summary, &out) else {
-        return Ok(ExitCode::FAILURE);
+    let summary = match ended(summary, &out) {
+        Ok(summary) => summary,
+        Err(code) => return Ok(code.into()),
     };
     let iterations: Vec<usize> = summary
         .records
@@ -133,8 +139,9 @@ fn run_mpm(scene: &MpmScene, out: PathBuf) -> Result<ExitCode, Box<dyn std::erro
             write_fields: true,
         },
     );
-    let Some(summary) = ended(summary, &out) else {
-        return Ok(ExitCode::FAILURE);
+    let summary = match ended(summary, &out) {
+        Ok(summary) => summary,
+        Err(code) => return Ok(code.into()),
     };
     let runout = if summary.runout_reported {
         format!(
@@ -158,19 +165,16 @@ fn run_mpm(scene: &MpmScene, out: PathBuf) -> Result<ExitCode, Box<dyn std::erro
 }
 
 /// The run's result; a failed run prints its error, then `summary.json` in words as its
-/// last line.
-fn ended<T>(result: Result<T, talus::run::RunError>, out: &std::path::Path) -> Option<T> {
-    match result {
-        Ok(summary) => Some(summary),
-        Err(e) => {
-            eprintln!("error: {e}");
-            // A scene error stops the run before it starts: no summary of it.
-            if !matches!(e, talus::run::RunError::Scene(_)) {
-                print_summary(out);
-            }
-            None
+/// last line, and gives its exit code.
+fn ended<T>(result: Result<T, talus::run::RunError>, out: &std::path::Path) -> Result<T, Exit> {
+    result.map_err(|e| {
+        eprintln!("error: {e}");
+        // A scene error stops the run before it starts: no summary of it.
+        if !matches!(e, talus::run::RunError::Scene(_)) {
+            print_summary(out);
         }
-    }
+        Exit::of_run_error(&e)
+    })
 }
 
 /// `summary.json` in words (nothing when the run stopped before writing it).
@@ -212,6 +216,6 @@ fn verify(
     Ok(if failed == 0 {
         ExitCode::SUCCESS
     } else {
-        ExitCode::FAILURE
+        Exit::VerificationFailed.into()
     })
 }

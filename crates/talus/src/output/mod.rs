@@ -33,5 +33,7 @@ pub use plot_field::plot_field_on_mesh;
 pub use plot_particles::{plot_particles, ParticlePlot};
 pub use pvd::write_pvd;
 pub use results::{BadColumn, Results};
-pub use summary::{BoundaryReaction, Limit, MonitorValues, ReportedReaction, RunStatus, Summary};
+pub use summary::{
+    BoundaryReaction, CollapseTime, Limit, MonitorValues, ReportedReaction, RunStatus, Summary,
+};
 pub use vtu::{pressure, von_mises, write_vtu, FieldSnapshot};

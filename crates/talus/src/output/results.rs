@@ -195,6 +195,7 @@ impl Results {
             monitors,
             reaction,
             limit,
+            collapse: None,
         }
     }
 }

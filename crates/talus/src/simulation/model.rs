@@ -49,6 +49,9 @@ pub struct Model {
     /// Per prescribed dof, the `[[boundary]]` whose velocity it follows (the last that
     /// fixes it), which also owns its reaction (`ReactionGroups`).
     pub dof_owner: Vec<usize>,
+    /// The smallest side of the mesh's bounding box (m): the body's scale for the collapse
+    /// criterion (`docs/scenes.md`, 'Collapse').
+    pub size: f64,
 }
 
 impl Model {
@@ -181,7 +184,9 @@ impl Model {
         check::solver(scene, &spec.solver)?;
         let compliance = material.compliance::<4>();
         super::quasi_static::scale_masses(scene, &mut assembly, &compliance)?;
+        let size = body_size(&mesh.nodes);
         Ok(Self {
+            size,
             compliance,
             flow_rule: material.flow_rule::<4>(),
             material,
@@ -343,6 +348,18 @@ fn required_density(scene: &Scene) -> Result<f64, SceneError> {
         )),
         None => Ok(1.0),
     }
+}
+
+/// The smallest side of the bounding box of `nodes` (m).
+fn body_size(nodes: &[[f64; 2]]) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in nodes {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (hi[0] - lo[0]).min(hi[1] - lo[1])
 }
 
 fn add(into: &mut [f64], from: &[f64]) {
