@@ -6,4 +6,5 @@ pub mod run_loop;
 pub mod run_results;
 pub mod scene;
 pub mod simulation;
+pub mod size;
 pub mod verification;

@@ -9,6 +9,7 @@ use talus::exit::Exit;
 use talus::mpm_run::run_mpm_scene;
 use talus::run::{run_scene, RunOptions};
 use talus::scene::{builtin_footing, MpmScene, Scene, SceneFile};
+use talus::size::SizeEstimate;
 
 mod reduced;
 
@@ -34,6 +35,10 @@ enum Command {
         /// Output folder: history.csv, vtu/, solution.pvd, PNG plots.
         #[arg(long, default_value = "out")]
         out: PathBuf,
+        /// Run even when the estimated memory exceeds what is available or the steps ×
+        /// stress points exceed 1e11 (docs/scenes.md, 'Size').
+        #[arg(long)]
+        allow_large: bool,
     },
     /// Run the verification cases (closed forms, published values, independent solves).
     Verify {
@@ -71,7 +76,11 @@ fn main() -> ExitCode {
             eprintln!("error: {e}");
             Ok(e.exit().into())
         }),
-        Command::Run { scene, out } => run(scene, out),
+        Command::Run {
+            scene,
+            out,
+            allow_large,
+        } => run(scene, out, allow_large),
         Command::Verify {
             json,
             quick,
@@ -87,11 +96,34 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(scene: Option<PathBuf>, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
+fn run(
+    scene: Option<PathBuf>,
+    out: PathBuf,
+    allow_large: bool,
+) -> Result<ExitCode, Box<dyn std::error::Error>> {
     let scene = match scene {
         Some(path) => SceneFile::from_path(&path)?,
         None => SceneFile::Fem(builtin_footing()),
     };
+    // Before anything is allocated: the estimated memory and work (docs/scenes.md, 'Size').
+    let estimate = match &scene {
+        SceneFile::Fem(s) => SizeEstimate::of_fem(s)?,
+        SceneFile::Mpm(s) => SizeEstimate::of_mpm(s),
+    };
+    let available = talus::size::available_memory();
+    tracing::info!(
+        points = estimate.points,
+        bytes = estimate.bytes,
+        available,
+        "size estimate"
+    );
+    if let Err(e) = estimate.check(available) {
+        if !allow_large {
+            eprintln!("error: {e}");
+            return Ok(Exit::InvalidInput.into());
+        }
+        tracing::warn!("{e} (--allow-large: running anyway)");
+    }
     match scene {
         SceneFile::Fem(scene) => run_fem(&scene, out),
         SceneFile::Mpm(scene) => run_mpm(&scene, out),
