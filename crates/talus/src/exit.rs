@@ -47,6 +47,7 @@ impl Exit {
             RunError::Io { .. } | RunError::Output(_) => Exit::Io,
             RunError::Step { .. } | RunError::MpmStep { .. } => Exit::NotConverged,
             RunError::Collapsed(_) => Exit::Collapsed,
+            RunError::Interrupted { .. } => Exit::Interrupted,
         }
     }
 }

@@ -1,4 +1,5 @@
 pub mod exit;
+pub mod interrupt;
 pub mod mpm_run;
 pub mod output;
 pub mod run;

@@ -71,6 +71,9 @@ fn main() -> ExitCode {
         .with_writer(std::io::stderr)
         .init();
     let cli = Cli::parse();
+    if let Err(e) = talus::interrupt::install() {
+        tracing::warn!("no SIGINT/SIGTERM handler ({e}): an interrupted run leaves no summary");
+    }
     let result = match cli.command {
         Command::Reduced(args) => reduced::run(&args).or_else(|e| {
             eprintln!("error: {e}");

@@ -30,6 +30,11 @@ pub enum RunError {
     /// The body collapsed (`docs/scenes.md`, 'Collapse'); what was written before is kept.
     #[error("{0}")]
     Collapsed(crate::run_loop::Collapsed),
+    /// SIGINT/SIGTERM stopped the run after `step` (at `time`, s); its outputs are written.
+    #[error(
+        "interrupted after step {step} (t = {time:.6e} s); the outputs written so far are complete"
+    )]
+    Interrupted { step: usize, time: f64 },
     /// An MPM run stopped at `step`, which started at `time` (s); what was written before
     /// it is kept.
     #[error("step {step} (from t = {time:.6} s): {source}")]
@@ -131,6 +136,10 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunE
         &mut outputs,
         options.progress,
     )?;
+    if let Some(step) = stepped.interrupted {
+        let time = stepped.state.time;
+        return Err(RunError::Interrupted { step, time });
+    }
     if let Some(c) = stepped.collapse {
         return Err(RunError::Collapsed(c));
     }
@@ -222,12 +231,10 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
         if !self.write_fields {
             return Ok(());
         }
-        // A run that stopped early (collapse, failure) ends with its last state too.
+        // A run that stopped early (collapse, failure, interruption) ends with its last
+        // state too; `write_vtu` keeps solution.pvd current.
         if self.pvd.last().map(|(t, _)| *t) != Some(state.time) {
             self.write_vtu(reports.len(), state)?;
-        }
-        if !self.pvd.is_empty() {
-            output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
         }
         if self.scene.spec.output.plots && !reports.is_empty() {
             write_plots(
@@ -255,6 +262,8 @@ impl FemOutputs<'_> {
         let name = format!("step_{step:05}.vtu");
         write_snapshot(self.model, state, &dir.join(&name))?;
         self.pvd.push((state.time, format!("vtu/{name}")));
+        // The collection lists every VTU written so far: ParaView opens a killed run.
+        output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
         Ok(())
     }
 }

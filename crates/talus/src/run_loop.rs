@@ -49,6 +49,8 @@ pub struct Stepped<D: Discretization> {
     pub state: D::State,
     pub failure: Option<(usize, StepError<D::Error>)>,
     pub collapse: Option<Collapsed>,
+    /// The last step completed before SIGINT/SIGTERM stopped the run.
+    pub interrupted: Option<usize>,
 }
 
 /// Where a run ended in collapse (`docs/scenes.md`, 'Collapse').
@@ -83,6 +85,7 @@ pub fn run_steps<D: Discretization, O: RunOutputs<D>>(
     progress: bool,
 ) -> Result<Stepped<D>, RunError> {
     std::fs::create_dir_all(out).map_err(io_err(out))?;
+    check_writable(out)?;
     let summary_path = out.join("summary.json");
     let _ = std::fs::remove_file(&summary_path);
     let mut history = History::create(out.join("history.csv"), &outputs.columns())?;
@@ -97,7 +100,12 @@ pub fn run_steps<D: Discretization, O: RunOutputs<D>>(
     if let Some(m) = stepper.discretization().motion(&state) {
         watch.observe(&m);
     }
+    let mut interrupted = None;
     for step in 1..=steps {
+        if crate::interrupt::requested() {
+            interrupted = Some(step - 1);
+            break;
+        }
         let report = match stepper.advance(&mut state, h) {
             Ok(r) => r,
             Err(e) => {
@@ -148,6 +156,7 @@ pub fn run_steps<D: Discretization, O: RunOutputs<D>>(
     }
     outputs.finish(&state, &reports)?;
     let (status, error) = match (&failure, &collapse) {
+        _ if interrupted.is_some() => (RunStatus::Interrupted, None),
         (_, Some(c)) => (RunStatus::Collapsed, Some(c.to_string())),
         (None, None) => (RunStatus::Finished, None),
         (Some((step, e)), None) => (
@@ -170,6 +179,7 @@ pub fn run_steps<D: Discretization, O: RunOutputs<D>>(
         state,
         failure,
         collapse,
+        interrupted,
     })
 }
 
@@ -221,4 +231,11 @@ impl History {
             .and_then(|_| self.writer.flush())
             .map_err(io_err(&self.path))
     }
+}
+
+/// The output folder takes a file: checked before the first step, not found out after it.
+fn check_writable(out: &Path) -> Result<(), RunError> {
+    let probe = out.join(".talus_write_test");
+    std::fs::write(&probe, b"").map_err(io_err(out))?;
+    std::fs::remove_file(&probe).map_err(io_err(out))
 }

@@ -142,6 +142,10 @@ pub fn run_mpm_scene(scene: &MpmScene, options: &RunOptions) -> Result<MpmRunSum
         &mut outputs,
         options.progress,
     )?;
+    if let Some(step) = stepped.interrupted {
+        let time = stepped.state.time;
+        return Err(RunError::Interrupted { step, time });
+    }
     if let Some(c) = stepped.collapse {
         return Err(RunError::Collapsed(c));
     }

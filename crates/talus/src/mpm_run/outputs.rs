@@ -57,6 +57,8 @@ impl FieldWriter<'_> {
         let name = format!("step_{step:05}.vtu");
         write_vtu(&dir.join(&name), particles, time)?;
         self.pvd.push((time, format!("vtu/{name}")));
+        // The collection lists every VTU written so far: ParaView opens a killed run.
+        output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
         Ok(())
     }
 
@@ -71,9 +73,6 @@ impl FieldWriter<'_> {
     ) -> Result<(), RunError> {
         if self.pvd.last().map(|(t, _)| *t) != Some(time) {
             self.write_vtu(particles, step, time)?;
-        }
-        if !self.pvd.is_empty() {
-            output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
         }
         self.png(model, particles, &self.out.join("plastic_strain.png"), time)
     }

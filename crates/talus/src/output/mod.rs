@@ -8,6 +8,7 @@
 //! Inputs are plain slices (no dependency on the FEM crate); every writer checks lengths
 //! and finiteness first and returns `OutputError::Invalid` naming the field, so no NaN
 //! reaches a file.
+mod atomic;
 mod canvas;
 mod colormap;
 mod error;

@@ -28,6 +28,18 @@ pub fn plot_field_on_mesh(
     values: &[f64],
     label: &str,
 ) -> Result<(), OutputError> {
+    super::atomic::through_temp(path, |tmp| {
+        draw_plot_field_on_mesh(tmp, mesh, displacement, values, label)
+    })
+}
+
+fn draw_plot_field_on_mesh(
+    path: &Path,
+    mesh: &MeshView,
+    displacement: Option<(&[[f64; 2]], f64)>,
+    values: &[f64],
+    label: &str,
+) -> Result<(), OutputError> {
     mesh.validate()?;
     check_len("values", values.len(), mesh.triangles.len(), "element")?;
     check_finite_scalars("values", values)?;

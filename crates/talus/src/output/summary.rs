@@ -21,6 +21,8 @@ pub enum RunStatus {
     Failed,
     /// The body accelerated without bound under its loads (`docs/scenes.md`, 'Collapse').
     Collapsed,
+    /// SIGINT/SIGTERM stopped the run between two steps.
+    Interrupted,
 }
 
 /// Where a collapsed run ended: the step after which the criterion held (MPM: the step
@@ -115,10 +117,7 @@ impl Summary {
             field: "summary",
             message: e.to_string(),
         })?;
-        std::fs::write(path, text + "\n").map_err(|source| OutputError::Io {
-            path: path.to_path_buf(),
-            source,
-        })
+        super::atomic::write(path, text + "\n")
     }
 
     /// A summary written by [`Summary::write`].
@@ -134,6 +133,7 @@ impl Summary {
             RunStatus::NotConverged => "stopped (a step did not converge)",
             RunStatus::Failed => "stopped (failed)",
             RunStatus::Collapsed => "stopped: the body COLLAPSED",
+            RunStatus::Interrupted => "interrupted (SIGINT/SIGTERM)",
         };
         let mut s = format!(
             "run {status} after {} of {} steps, t = {:.6e} s",
