@@ -16,7 +16,7 @@ mod reduced;
 #[derive(Parser)]
 #[command(
     name = "talus",
-    version,
+    version = concat!(env!("CARGO_PKG_VERSION"), " (commit ", env!("TALUS_COMMIT"), ")"),
     about = "Implicit elasto-plasticity of geomaterials by semi-smooth Newton",
     after_help = talus::exit::TABLE
 )]
@@ -57,19 +57,19 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    // On a terminal a progress bar reports the run; elsewhere (CI, files) step logs do.
-    let default_filter = if std::io::stderr().is_terminal() {
-        "warn"
-    } else {
-        "info"
-    };
+    // On a terminal a progress bar reports the run; elsewhere (CI, files) step logs do,
+    // without colour codes.
+    let terminal = std::io::stderr().is_terminal();
+    let default_filter = if terminal { "warn" } else { "info" };
+    let (filter, bad_filter) = log_filter(default_filter);
     tracing_subscriber::fmt()
-        .with_env_filter(
-            tracing_subscriber::EnvFilter::try_from_env("TALUS_LOG")
-                .unwrap_or_else(|_| default_filter.into()),
-        )
+        .with_env_filter(filter)
+        .with_ansi(terminal)
         .with_writer(std::io::stderr)
         .init();
+    if let Some(why) = bad_filter {
+        tracing::warn!("{why}");
+    }
     let cli = Cli::parse();
     if let Err(e) = talus::interrupt::install() {
         tracing::warn!("no SIGINT/SIGTERM handler ({e}): an interrupted run leaves no summary");
@@ -210,6 +210,34 @@ fn ended<T>(result: Result<T, talus::run::RunError>, out: &std::path::Path) -> R
         }
         Exit::of_run_error(&e)
     })
+}
+
+/// The log filter of `TALUS_LOG`, or `default` with the reason when it is set but not a
+/// filter (`tracing_subscriber::EnvFilter` syntax: `warn`, `talus=debug`, ...).
+fn log_filter(default: &str) -> (tracing_subscriber::EnvFilter, Option<String>) {
+    use tracing_subscriber::EnvFilter;
+    const LEVELS: [&str; 6] = ["trace", "debug", "info", "warn", "error", "off"];
+    let Ok(value) = std::env::var("TALUS_LOG") else {
+        return (EnvFilter::new(default), None);
+    };
+    let bare_word = !value.contains(['=', ',', '[']) && !value.trim().is_empty();
+    let parsed = EnvFilter::try_new(&value);
+    match parsed {
+        Ok(_) if bare_word && !LEVELS.contains(&value.trim().to_lowercase().as_str()) => (
+            EnvFilter::new(default),
+            Some(format!(
+                "TALUS_LOG={value:?} is not a level ({}) nor `target=level`: using {default:?}",
+                LEVELS.join(", ")
+            )),
+        ),
+        Ok(filter) => (filter, None),
+        Err(e) => (
+            EnvFilter::new(default),
+            Some(format!(
+                "TALUS_LOG={value:?} is not a valid filter ({e}): using {default:?}"
+            )),
+        ),
+    }
 }
 
 /// `summary.json` in words (nothing when the run stopped before writing it).

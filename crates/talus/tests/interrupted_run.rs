@@ -12,7 +12,7 @@ fn interrupt_footing(signal: &str) {
         .join(signal);
     let _ = std::fs::remove_dir_all(&out);
     // The built-in footing, 300 steps (several seconds), VTUs every 30 steps.
-    let mut child = Command::new(env!("CARGO_BIN_EXE_talus"))
+    let child = Command::new(env!("CARGO_BIN_EXE_talus"))
         .arg("run")
         .arg("--out")
         .arg(&out)
