@@ -71,6 +71,7 @@ impl Discretization for Mpm {
     fn motion(&self, state: &MpmState) -> Option<Motion> {
         Some(Motion {
             kinetic_energy: super::kinetic_energy(&state.particles),
+            prescribed_kinetic_energy: 0.0,
             free_displacement_ratio: None,
         })
     }

@@ -164,8 +164,15 @@ impl Discretization for Model {
             .iter()
             .map(|&(n, comp)| state.displacement[n][comp].abs())
             .fold(0.0, f64::max);
+        let mass: f64 = asm.lumped_mass_free.iter().sum::<f64>()
+            + asm.lumped_mass_prescribed.iter().sum::<f64>();
+        let v_d = state
+            .velocity_prescribed
+            .iter()
+            .fold(0.0f64, |m, v| m.max(v.abs()));
         Some(Motion {
             kinetic_energy,
+            prescribed_kinetic_energy: 0.5 * mass * v_d * v_d,
             free_displacement_ratio: Some((largest - prescribed).max(0.0) / self.size),
         })
     }

@@ -7,6 +7,10 @@
 pub struct Motion {
     /// `½ Σ m v²` (J/m).
     pub kinetic_energy: f64,
+    /// `½ Σ m · v_D²` with `v_D` the largest prescribed speed (J/m): the kinetic energy of
+    /// the whole body moving as fast as its fastest boundary. A mechanism driven by its
+    /// boundaries moves at a few times their speed; a collapse outgrows it without bound.
+    pub prescribed_kinetic_energy: f64,
     /// Small strains (FEM): the largest nodal displacement beyond the largest prescribed
     /// one, over the smallest side of the body's bounding box. `None` for a method made
     /// for large deformations (MPM), whose motion alone never ends a run: there a collapse
@@ -24,6 +28,11 @@ pub const COLLAPSE_DISPLACEMENT_RATIO: f64 = 0.1;
 /// accelerates, not the transient of a load applied at once (which the implicit steps damp
 /// within a step or two) nor motion at a prescribed rate (constant energy).
 pub const COLLAPSE_RISING_STEPS: usize = 3;
+
+/// The kinetic energy, over the prescribed one of [`Motion`], past which the motion is no
+/// longer the boundaries' doing: the body as a whole ten times faster than its fastest
+/// boundary.
+pub const COLLAPSE_ENERGY_RATIO: f64 = 100.0;
 
 /// Why the watch called a collapse.
 #[derive(Debug, Clone, PartialEq)]
@@ -78,10 +87,13 @@ impl CollapseWatch {
         };
         self.last = Some(e);
         let ratio = motion.free_displacement_ratio?;
-        (self.accelerating() && ratio > COLLAPSE_DISPLACEMENT_RATIO).then_some(Collapse {
-            kinetic_energy: e,
-            free_displacement_ratio: Some(ratio),
-        })
+        let driven = e <= COLLAPSE_ENERGY_RATIO * motion.prescribed_kinetic_energy;
+        (self.accelerating() && !driven && ratio > COLLAPSE_DISPLACEMENT_RATIO).then_some(
+            Collapse {
+                kinetic_energy: e,
+                free_displacement_ratio: Some(ratio),
+            },
+        )
     }
 
     /// Whether the kinetic energy rose over the last [`COLLAPSE_RISING_STEPS`] steps.
@@ -105,7 +117,21 @@ mod tests {
     fn motion(e: f64, r: f64) -> Motion {
         Motion {
             kinetic_energy: e,
+            prescribed_kinetic_energy: 0.0,
             free_displacement_ratio: Some(r),
+        }
+    }
+
+    #[test]
+    fn motion_at_the_pace_of_the_boundaries_is_no_collapse() {
+        let mut w = CollapseWatch::new();
+        for k in 0..15 {
+            let m = Motion {
+                kinetic_energy: k as f64,
+                prescribed_kinetic_energy: 0.1,
+                free_displacement_ratio: Some(0.5),
+            };
+            assert_eq!(w.observe(&m).is_some(), k > 10, "{k}");
         }
     }
 
@@ -137,6 +163,7 @@ mod tests {
         for k in 0..5 {
             let m = Motion {
                 kinetic_energy: k as f64,
+                prescribed_kinetic_energy: 0.0,
                 free_displacement_ratio: None,
             };
             assert!(w.observe(&m).is_none());
@@ -144,6 +171,7 @@ mod tests {
         assert!(w.on_leaving_domain().is_some());
         let m = Motion {
             kinetic_energy: 0.0,
+            prescribed_kinetic_energy: 0.0,
             free_displacement_ratio: None,
         };
         w.observe(&m);
