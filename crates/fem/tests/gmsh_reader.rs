@@ -173,6 +173,29 @@ fn gmsh_missing_node_is_named() {
 }
 
 #[test]
+fn gmsh_repeated_node_tags_are_errors() {
+    // Within a block: tags 1 2 3 4 4.
+    let text = p1_file(P1_TRIANGLES).replace("1\n2\n3\n4\n5\n", "1\n2\n3\n4\n4\n");
+    let err = Mesh::from_msh_bytes(text.as_bytes()).unwrap_err();
+    assert!(
+        err.to_string().contains("node tag 4 is given twice"),
+        "{err}"
+    );
+    // Across blocks: the square's five nodes, then a point block re-using tag 2.
+    let text = p1_file(P1_TRIANGLES)
+        .replace("$Nodes\n1 5 1 5\n", "$Nodes\n2 6 1 5\n")
+        .replace(
+            "0.5 0.5 0\n$EndNodes",
+            "0.5 0.5 0\n0 1 0 1\n2\n1 0 0\n$EndNodes",
+        );
+    let err = Mesh::from_msh_bytes(text.as_bytes()).unwrap_err();
+    assert!(
+        err.to_string().contains("node tag 2 is given twice"),
+        "{err}"
+    );
+}
+
+#[test]
 fn gmsh_mixed_orders_are_rejected() {
     // a Tri6 block after the Tri3 block (reusing nodes; only the type matters)
     let text = p1_file(P1_TRIANGLES)

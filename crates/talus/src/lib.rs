@@ -1,3 +1,5 @@
+pub mod exit;
+pub mod interrupt;
 pub mod mpm_run;
 pub mod output;
 pub mod run;
@@ -5,5 +7,6 @@ pub mod run_loop;
 pub mod run_results;
 pub mod scene;
 pub mod simulation;
+pub mod size;
 pub mod stability;
 pub mod verification;

@@ -5,17 +5,20 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
+use talus::exit::Exit;
 use talus::mpm_run::run_mpm_scene;
 use talus::run::{run_scene, RunOptions};
 use talus::scene::{builtin_footing, MpmScene, Scene, SceneFile};
+use talus::size::SizeEstimate;
 
 mod reduced;
 
 #[derive(Parser)]
 #[command(
     name = "talus",
-    version,
-    about = "Implicit elasto-plasticity of geomaterials by semi-smooth Newton"
+    version = concat!(env!("CARGO_PKG_VERSION"), " (commit ", env!("TALUS_COMMIT"), ")"),
+    about = "Implicit elasto-plasticity of geomaterials by semi-smooth Newton",
+    after_help = talus::exit::TABLE
 )]
 struct Cli {
     #[command(subcommand)]
@@ -32,6 +35,10 @@ enum Command {
         /// Output folder: history.csv, vtu/, solution.pvd, PNG plots.
         #[arg(long, default_value = "out")]
         out: PathBuf,
+        /// Run even when the estimated memory exceeds what is available or the steps ×
+        /// stress points exceed 1e11 (docs/scenes.md, 'Size').
+        #[arg(long)]
+        allow_large: bool,
     },
     /// Run the verification cases (closed forms, published values, independent solves).
     Verify {
@@ -50,23 +57,33 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    // On a terminal a progress bar reports the run; elsewhere (CI, files) step logs do.
-    let default_filter = if std::io::stderr().is_terminal() {
-        "warn"
-    } else {
-        "info"
-    };
+    // On a terminal a progress bar reports the run; elsewhere (CI, files) step logs do,
+    // without colour codes.
+    let terminal = std::io::stderr().is_terminal();
+    let default_filter = if terminal { "warn" } else { "info" };
+    let (filter, bad_filter) = log_filter(default_filter);
     tracing_subscriber::fmt()
-        .with_env_filter(
-            tracing_subscriber::EnvFilter::try_from_env("TALUS_LOG")
-                .unwrap_or_else(|_| default_filter.into()),
-        )
+        .with_env_filter(filter)
+        .with_ansi(terminal)
         .with_writer(std::io::stderr)
         .init();
+    if let Some(why) = bad_filter {
+        tracing::warn!("{why}");
+    }
     let cli = Cli::parse();
+    if let Err(e) = talus::interrupt::install() {
+        tracing::warn!("no SIGINT/SIGTERM handler ({e}): an interrupted run leaves no summary");
+    }
     let result = match cli.command {
-        Command::Reduced(args) => reduced::run(&args).map_err(Into::into),
-        Command::Run { scene, out } => run(scene, out),
+        Command::Reduced(args) => reduced::run(&args).or_else(|e| {
+            eprintln!("error: {e}");
+            Ok(e.exit().into())
+        }),
+        Command::Run {
+            scene,
+            out,
+            allow_large,
+        } => run(scene, out, allow_large),
         Command::Verify {
             json,
             quick,
@@ -77,16 +94,39 @@ fn main() -> ExitCode {
         Ok(code) => code,
         Err(e) => {
             eprintln!("error: {e}");
-            ExitCode::from(1)
+            Exit::InvalidInput.into()
         }
     }
 }
 
-fn run(scene: Option<PathBuf>, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
+fn run(
+    scene: Option<PathBuf>,
+    out: PathBuf,
+    allow_large: bool,
+) -> Result<ExitCode, Box<dyn std::error::Error>> {
     let scene = match scene {
         Some(path) => SceneFile::from_path(&path)?,
         None => SceneFile::Fem(builtin_footing()),
     };
+    // Before anything is allocated: the estimated memory and work (docs/scenes.md, 'Size').
+    let estimate = match &scene {
+        SceneFile::Fem(s) => SizeEstimate::of_fem(s)?,
+        SceneFile::Mpm(s) => SizeEstimate::of_mpm(s),
+    };
+    let available = talus::size::available_memory();
+    tracing::info!(
+        points = estimate.points,
+        bytes = estimate.bytes,
+        available,
+        "size estimate"
+    );
+    if let Err(e) = estimate.check(available) {
+        if !allow_large {
+            eprintln!("error: {e}");
+            return Ok(Exit::InvalidInput.into());
+        }
+        tracing::warn!("{e} (--allow-large: running anyway)");
+    }
     match scene {
         SceneFile::Fem(scene) => run_fem(&scene, out),
         SceneFile::Mpm(scene) => run_mpm(&scene, out),
@@ -105,8 +145,9 @@ fn run_fem(scene: &Scene, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::
             write_fields: true,
         },
     );
-    let Some(summary) = ended(summary, &out) else {
-        return Ok(ExitCode::FAILURE);
+    let summary = match ended(summary, &out) {
+        Ok(summary) => summary,
+        Err(code) => return Ok(code.into()),
     };
     let iterations: Vec<usize> = summary
         .records
@@ -134,8 +175,9 @@ fn run_stability(scene: &Scene, out: PathBuf) -> Result<ExitCode, Box<dyn std::e
         progress: true,
         write_fields: true,
     };
-    let Some(run) = ended(talus::stability::run(scene, &options), &out) else {
-        return Ok(ExitCode::FAILURE);
+    let run = match ended(talus::stability::run(scene, &options), &out) {
+        Ok(run) => run,
+        Err(code) => return Ok(code.into()),
     };
     println!(
         "loading in {} steps, then {} trials in {:.2} s; outputs in {}",
@@ -157,8 +199,9 @@ fn run_mpm(scene: &MpmScene, out: PathBuf) -> Result<ExitCode, Box<dyn std::erro
             write_fields: true,
         },
     );
-    let Some(summary) = ended(summary, &out) else {
-        return Ok(ExitCode::FAILURE);
+    let summary = match ended(summary, &out) {
+        Ok(summary) => summary,
+        Err(code) => return Ok(code.into()),
     };
     let runout = if summary.runout_reported {
         format!(
@@ -182,18 +225,43 @@ fn run_mpm(scene: &MpmScene, out: PathBuf) -> Result<ExitCode, Box<dyn std::erro
 }
 
 /// The run's result; a failed run prints its error, then `summary.json` in words as its
-/// last line.
-fn ended<T>(result: Result<T, talus::run::RunError>, out: &std::path::Path) -> Option<T> {
-    match result {
-        Ok(summary) => Some(summary),
-        Err(e) => {
-            eprintln!("error: {e}");
-            // A scene error stops the run before it starts: no summary of it.
-            if !matches!(e, talus::run::RunError::Scene(_)) {
-                print_summary(out);
-            }
-            None
+/// last line, and gives its exit code.
+fn ended<T>(result: Result<T, talus::run::RunError>, out: &std::path::Path) -> Result<T, Exit> {
+    result.map_err(|e| {
+        eprintln!("error: {e}");
+        // A scene error stops the run before it starts: no summary of it.
+        if !matches!(e, talus::run::RunError::Scene(_)) {
+            print_summary(out);
         }
+        Exit::of_run_error(&e)
+    })
+}
+
+/// The log filter of `TALUS_LOG`, or `default` with the reason when it is set but not a
+/// filter (`tracing_subscriber::EnvFilter` syntax: `warn`, `talus=debug`, ...).
+fn log_filter(default: &str) -> (tracing_subscriber::EnvFilter, Option<String>) {
+    use tracing_subscriber::EnvFilter;
+    const LEVELS: [&str; 6] = ["trace", "debug", "info", "warn", "error", "off"];
+    let Ok(value) = std::env::var("TALUS_LOG") else {
+        return (EnvFilter::new(default), None);
+    };
+    let bare_word = !value.contains(['=', ',', '[']) && !value.trim().is_empty();
+    let parsed = EnvFilter::try_new(&value);
+    match parsed {
+        Ok(_) if bare_word && !LEVELS.contains(&value.trim().to_lowercase().as_str()) => (
+            EnvFilter::new(default),
+            Some(format!(
+                "TALUS_LOG={value:?} is not a level ({}) nor `target=level`: using {default:?}",
+                LEVELS.join(", ")
+            )),
+        ),
+        Ok(filter) => (filter, None),
+        Err(e) => (
+            EnvFilter::new(default),
+            Some(format!(
+                "TALUS_LOG={value:?} is not a valid filter ({e}): using {default:?}"
+            )),
+        ),
     }
 }
 
@@ -236,6 +304,6 @@ fn verify(
     Ok(if failed == 0 {
         ExitCode::SUCCESS
     } else {
-        ExitCode::FAILURE
+        Exit::VerificationFailed.into()
     })
 }

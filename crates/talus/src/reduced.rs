@@ -3,6 +3,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use talus::exit::Exit;
 use talus_ssn::siconos::SiconosProblem;
 use talus_ssn::{reduced_system_from_siconos, Report, Rho, Settings, SolveError, Solver, Status};
 
@@ -43,6 +44,16 @@ pub enum ReducedError {
     },
 }
 
+impl ReducedError {
+    /// Bad input, or an output that could not be written.
+    pub fn exit(&self) -> Exit {
+        match self {
+            ReducedError::Write { .. } => Exit::Io,
+            _ => Exit::InvalidInput,
+        }
+    }
+}
+
 pub fn run(args: &Args) -> Result<ExitCode, ReducedError> {
     let problem = SiconosProblem::from_path(&args.file)?;
     let system = reduced_system_from_siconos::<3>(&problem).map_err(ReducedError::Solve)?;
@@ -79,14 +90,16 @@ pub fn run(args: &Args) -> Result<ExitCode, ReducedError> {
     Ok(exit_code(report.status))
 }
 
-/// 0 converged, 2 not converged, 3 stopped at the round-off floor above the tolerance
-/// (σ is the best attainable, the tolerance is not met); 1 is bad input (in `main`).
+/// The exit table of `talus::exit`: 0 converged, 3 not converged, 6 stopped at the
+/// round-off floor above the tolerance (σ is the best attainable, the tolerance is not
+/// met); 1 is bad input (in `main`).
 pub fn exit_code(status: Status) -> ExitCode {
     match status {
-        Status::Converged => ExitCode::SUCCESS,
-        Status::RoundOffFloor => ExitCode::from(3),
-        _ => ExitCode::from(2),
+        Status::Converged => Exit::Success,
+        Status::RoundOffFloor => Exit::RoundOffFloor,
+        _ => Exit::NotConverged,
     }
+    .into()
 }
 
 fn print_report(args: &Args, report: &Report, sigma_inf: f64) {

@@ -27,6 +27,14 @@ pub enum RunError {
     /// The run stopped at `step`; what was written before it is kept.
     #[error("step {step}: {source}")]
     Step { step: usize, source: FemStepError },
+    /// The body collapsed (`docs/scenes.md`, 'Collapse'); what was written before is kept.
+    #[error("{0}")]
+    Collapsed(crate::run_loop::Collapsed),
+    /// SIGINT/SIGTERM stopped the run after `step` (at `time`, s); its outputs are written.
+    #[error(
+        "interrupted after step {step} (t = {time:.6e} s); the outputs written so far are complete"
+    )]
+    Interrupted { step: usize, time: f64 },
     /// An MPM run stopped at `step`, which started at `time` (s); what was written before
     /// it is kept.
     #[error("step {step} (from t = {time:.6} s): {source}")]
@@ -136,6 +144,13 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunE
         &mut outputs,
         options.progress,
     )?;
+    if let Some(step) = stepped.interrupted {
+        let time = stepped.state.time;
+        return Err(RunError::Interrupted { step, time });
+    }
+    if let Some(c) = stepped.collapse {
+        return Err(RunError::Collapsed(c));
+    }
     if let Some((step, source)) = stepped.failure {
         return Err(RunError::Step { step, source });
     }
@@ -207,11 +222,7 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
         let every = self.scene.spec.output.vtu_every;
         let last = self.scene.spec.time.steps;
         if self.write_fields && (step == 0 || (every > 0 && step % every == 0) || step == last) {
-            let dir = self.out.join("vtu");
-            std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
-            let name = format!("step_{step:05}.vtu");
-            write_snapshot(self.model, state, &dir.join(&name))?;
-            self.pvd.push((state.time, format!("vtu/{name}")));
+            self.write_vtu(step, state)?;
         }
         Ok(())
     }
@@ -228,8 +239,10 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
         if !self.write_fields {
             return Ok(());
         }
-        if !self.pvd.is_empty() {
-            output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
+        // A run that stopped early (collapse, failure, interruption) ends with its last
+        // state too; `write_vtu` keeps solution.pvd current.
+        if self.pvd.last().map(|(t, _)| *t) != Some(state.time) {
+            self.write_vtu(reports.len(), state)?;
         }
         if self.scene.spec.output.plots && !reports.is_empty() {
             write_plots(
@@ -246,6 +259,20 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
 
     fn results(&self) -> &Results {
         &self.results.results
+    }
+}
+
+impl FemOutputs<'_> {
+    /// `vtu/step_NNNNN.vtu` of `state`, listed in the collection.
+    fn write_vtu(&mut self, step: usize, state: &State) -> Result<(), RunError> {
+        let dir = self.out.join("vtu");
+        std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
+        let name = format!("step_{step:05}.vtu");
+        write_snapshot(self.model, state, &dir.join(&name))?;
+        self.pvd.push((state.time, format!("vtu/{name}")));
+        // The collection lists every VTU written so far: ParaView opens a killed run.
+        output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
+        Ok(())
     }
 }
 

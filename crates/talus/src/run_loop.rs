@@ -4,9 +4,11 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use crate::output::{Results, RunStatus};
+use crate::output::{CollapseTime, Results, RunStatus};
 use crate::run::{io_err, progress_bar, RunError};
-use crate::simulation::engine::{Discretization, StepError, StepReport, Stepper};
+use crate::simulation::engine::{
+    Collapse, CollapseWatch, Discretization, StepError, StepReport, Stepper,
+};
 
 /// The columns every `history.csv` starts with (`docs/scenes.md`, 'Outputs'). `residual`
 /// is `‖F‖∞` of the step's last solve; `relative_residual` is it over `max(1, ‖σ‖∞)`, the
@@ -40,11 +42,35 @@ pub trait RunOutputs<D: Discretization> {
 }
 
 /// What the run loop returns: every step's report, the last state, and the step that
-/// failed (the files written before it are kept).
+/// failed or after which the body was found collapsed (the files written before it are
+/// kept).
 pub struct Stepped<D: Discretization> {
     pub reports: Vec<StepReport<D::Stats>>,
     pub state: D::State,
     pub failure: Option<(usize, StepError<D::Error>)>,
+    pub collapse: Option<Collapsed>,
+    /// The last step completed before SIGINT/SIGTERM stopped the run.
+    pub interrupted: Option<usize>,
+}
+
+/// Where a run ended in collapse (`docs/scenes.md`, 'Collapse').
+#[derive(Debug, Clone, PartialEq)]
+pub struct Collapsed {
+    /// The step after which the criterion held (MPM: the step that left the grid), and
+    /// the time it started from (s).
+    pub step: usize,
+    pub time: f64,
+    pub why: Collapse,
+}
+
+impl std::fmt::Display for Collapsed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "collapse at step {} (t = {:.6e} s): {}",
+            self.step, self.time, self.why
+        )
+    }
 }
 
 /// Steps `state` `steps` times by `h`, writing `out/history.csv`, what `outputs` asks, and
@@ -59,6 +85,7 @@ pub fn run_steps<D: Discretization, O: RunOutputs<D>>(
     progress: bool,
 ) -> Result<Stepped<D>, RunError> {
     std::fs::create_dir_all(out).map_err(io_err(out))?;
+    check_writable(out)?;
     let summary_path = out.join("summary.json");
     let _ = std::fs::remove_file(&summary_path);
     let mut history = History::create(out.join("history.csv"), &outputs.columns())?;
@@ -68,10 +95,32 @@ pub fn run_steps<D: Discretization, O: RunOutputs<D>>(
     let bar = progress_bar(steps, progress);
     let mut reports = Vec::new();
     let mut failure = None;
+    let mut collapse = None;
+    let mut watch = CollapseWatch::new();
+    if let Some(m) = stepper.discretization().motion(&state) {
+        watch.observe(&m);
+    }
+    let mut interrupted = None;
     for step in 1..=steps {
+        if crate::interrupt::requested() {
+            interrupted = Some(step - 1);
+            break;
+        }
         let report = match stepper.advance(&mut state, h) {
             Ok(r) => r,
             Err(e) => {
+                // A step that left the domain while the body accelerated: the collapse is
+                // the cause, not the grid.
+                let left = matches!(&e, StepError::Discretization(d)
+                    if stepper.discretization().left_domain(d));
+                collapse = left
+                    .then(|| watch.on_leaving_domain())
+                    .flatten()
+                    .map(|why| Collapsed {
+                        step,
+                        time: stepper.discretization().time(&state),
+                        why,
+                    });
                 failure = Some((step, e));
                 break;
             }
@@ -92,14 +141,25 @@ pub fn run_steps<D: Discretization, O: RunOutputs<D>>(
         }
         outputs.after_step(step, &state)?;
         reports.push(report);
+        let motion = stepper.discretization().motion(&state);
+        if let Some(why) = motion.and_then(|m| watch.observe(&m)) {
+            collapse = Some(Collapsed {
+                step,
+                time: stepper.discretization().time(&state),
+                why,
+            });
+            break;
+        }
     }
     if let Some(bar) = bar {
         bar.finish();
     }
     outputs.finish(&state, &reports)?;
-    let (status, error) = match &failure {
-        None => (RunStatus::Finished, None),
-        Some((step, e)) => (
+    let (status, error) = match (&failure, &collapse) {
+        _ if interrupted.is_some() => (RunStatus::Interrupted, None),
+        (_, Some(c)) => (RunStatus::Collapsed, Some(c.to_string())),
+        (None, None) => (RunStatus::Finished, None),
+        (Some((step, e)), None) => (
             match e {
                 StepError::NotConverged { .. } => RunStatus::NotConverged,
                 _ => RunStatus::Failed,
@@ -107,13 +167,19 @@ pub fn run_steps<D: Discretization, O: RunOutputs<D>>(
             Some(format!("step {step}: {e}")),
         ),
     };
-    let summary = outputs.results().summary(status, error, steps);
+    let mut summary = outputs.results().summary(status, error, steps);
+    summary.collapse = collapse.as_ref().map(|c| CollapseTime {
+        step: c.step,
+        time: c.time,
+    });
     summary.write(&summary_path)?;
     tracing::info!("{}", summary.sentence());
     Ok(Stepped {
         reports,
         state,
         failure,
+        collapse,
+        interrupted,
     })
 }
 
@@ -165,4 +231,11 @@ impl History {
             .and_then(|_| self.writer.flush())
             .map_err(io_err(&self.path))
     }
+}
+
+/// The output folder takes a file: checked before the first step, not found out after it.
+fn check_writable(out: &Path) -> Result<(), RunError> {
+    let probe = out.join(".talus_write_test");
+    std::fs::write(&probe, b"").map_err(io_err(out))?;
+    std::fs::remove_file(&probe).map_err(io_err(out))
 }

@@ -50,12 +50,12 @@ fn reduced_prints_json_and_writes_the_solution() {
 }
 
 #[test]
-fn reduced_reports_non_convergence_with_exit_code_2() {
+fn reduced_reports_non_convergence_with_exit_code_3() {
     let out = Command::new(env!("CARGO_BIN_EXE_talus"))
         .args(["reduced", FILE, "--json", "--max-iterations", "1"])
         .output()
         .unwrap();
-    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(out.status.code(), Some(3));
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(json["status"], "max_iterations");
 }
@@ -75,13 +75,13 @@ fn reduced_names_a_bad_file() {
 }
 
 #[test]
-fn reduced_reports_the_round_off_floor_with_exit_code_3() {
+fn reduced_reports_the_round_off_floor_with_exit_code_6() {
     // 1e-18 is below what floating point allows on this problem (docs/solver.md).
     let out = Command::new(env!("CARGO_BIN_EXE_talus"))
         .args(["reduced", FILE, "--json", "--tol", "1e-18"])
         .output()
         .unwrap();
-    assert_eq!(out.status.code(), Some(3));
+    assert_eq!(out.status.code(), Some(6));
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(json["status"], "round_off_floor");
     let reached = json["round_off_floor"]["reached"].as_f64().unwrap();

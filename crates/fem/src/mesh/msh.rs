@@ -37,6 +37,7 @@ impl Mesh {
     /// Same as [`from_msh`](Self::from_msh) for the file's content.
     pub fn from_msh_bytes(bytes: &[u8]) -> Result<Mesh, MeshError> {
         check_header(bytes)?;
+        check_ascii_node_tags(bytes)?;
         let names = physical_names(bytes)?;
         let file = parse(bytes)?;
         build(&file, &names)
@@ -191,16 +192,26 @@ fn build(file: &MshFile<u64, i32, f64>, names: &Names) -> Result<Mesh, MeshError
         for block in &nodes.node_blocks {
             match &block.node_tags {
                 Some(tags) => {
+                    // mshio keeps one index per tag: fewer tags than nodes is a repeat.
+                    if tags.len() != block.nodes.len() {
+                        return Err(MeshError::msh(format!(
+                            "a $Nodes block of entity {} lists {} nodes under {} distinct \
+                             tags: a node tag is repeated",
+                            block.entity_tag,
+                            block.nodes.len(),
+                            tags.len()
+                        )));
+                    }
                     for (&tag, &i) in tags {
                         let n = block.nodes.get(i).ok_or_else(|| {
                             MeshError::msh(format!("node tag {tag} has no coordinates"))
                         })?;
-                        coords.insert(tag, [n.x, n.y, n.z]);
+                        insert_node(&mut coords, tag, [n.x, n.y, n.z])?;
                     }
                 }
                 None => {
                     for n in &block.nodes {
-                        coords.insert(next, [n.x, n.y, n.z]);
+                        insert_node(&mut coords, next, [n.x, n.y, n.z])?;
                         next += 1;
                     }
                 }
@@ -359,4 +370,55 @@ fn build(file: &MshFile<u64, i32, f64>, names: &Names) -> Result<Mesh, MeshError
     };
     mesh.validate_labelled(&|e| format!("Gmsh element {}", tags[e]))?;
     Ok(mesh)
+}
+
+/// A node's coordinates under its tag; a tag given twice is an error naming it.
+fn insert_node(
+    coords: &mut HashMap<u64, [f64; 3]>,
+    tag: u64,
+    x: [f64; 3],
+) -> Result<(), MeshError> {
+    match coords.insert(tag, x) {
+        Some(_) => Err(MeshError::msh(format!("node tag {tag} is given twice"))),
+        None => Ok(()),
+    }
+}
+
+/// mshio drops the node tags of a `$Nodes` section whose header says they are contiguous,
+/// renumbering the nodes by position: a repeated tag there would pass silently. The tags
+/// of an ASCII file are read here first; a repeat is an error naming the tag.
+fn check_ascii_node_tags(bytes: &[u8]) -> Result<(), MeshError> {
+    let Ok(text) = std::str::from_utf8(bytes) else {
+        return Ok(()); // binary: mshio keeps the tags of sparse sections, checked in `build`
+    };
+    let Some(start) = text.find("$Nodes") else {
+        return Ok(());
+    };
+    let Some(len) = text[start..].find("$EndNodes") else {
+        return Ok(());
+    };
+    let mut tokens = text[start + "$Nodes".len()..start + len].split_whitespace();
+    let mut int = || tokens.next().and_then(|t| t.parse::<u64>().ok());
+    let (Some(blocks), Some(_), Some(_), Some(_)) = (int(), int(), int(), int()) else {
+        return Ok(()); // malformed: mshio reports it
+    };
+    let mut seen = std::collections::HashSet::new();
+    for _ in 0..blocks {
+        let (Some(_), Some(_), Some(parametric), Some(count)) = (int(), int(), int(), int()) else {
+            return Ok(());
+        };
+        if parametric != 0 {
+            return Ok(()); // parametric coordinates: not read here
+        }
+        for _ in 0..count {
+            let Some(tag) = int() else { return Ok(()) };
+            if !seen.insert(tag) {
+                return Err(MeshError::msh(format!("node tag {tag} is given twice")));
+            }
+        }
+        for _ in 0..3 * count {
+            int(); // coordinates
+        }
+    }
+    Ok(())
 }

@@ -6,8 +6,8 @@ use talus_mpm::{
 };
 
 use crate::scene::{
-    check, AnalysisKind, GeometryKind, MpmScene, PredictorSpec, Ramp, SceneError, ShapeSpec,
-    SideSpec, WallConditionSpec,
+    check, scales, AnalysisKind, GeometryKind, MpmScene, PredictorSpec, Ramp, SceneError,
+    ShapeSpec, SideSpec, WallConditionSpec,
 };
 use crate::simulation::engine::{Method, PredictorRule, StepSettings};
 use crate::simulation::initial_stress_at;
@@ -88,6 +88,8 @@ impl MpmModel {
         if gravity_ramp.is_some() && spec.gravity.is_none() {
             return Err(scene.error("gravity_ramp", "multiplies `gravity`, which is not given"));
         }
+        check::time(scene, &spec.time)?;
+        scales::caps(scene, &spec.time, spec.solver.max_step_halvings)?;
         let mut particles = bodies(scene, &grid, density)?;
         let walls = walls(scene)?;
         let (prescribed, prescribed_ramps) = prescribed(scene, &grid)?;
@@ -104,6 +106,7 @@ impl MpmModel {
         }
         check::time(scene, &spec.time)?;
         check::solver(scene, &spec.solver)?;
+        check_scales(scene)?;
         let settings = settings(scene)?;
         let floor = walls
             .iter()
@@ -133,6 +136,66 @@ impl MpmModel {
             bounds,
         })
     }
+}
+
+/// The largest |multiplier| of a ramp (1 without one).
+fn ramp_max(ramp: &Option<Vec<[f64; 2]>>) -> f64 {
+    ramp.as_ref()
+        .map_or(1.0, |r| r.iter().fold(0.0, |m, p| m.max(p[1].abs())))
+}
+
+/// The scene against its own scales (`scene::scales`): `h` against the wave time of a cell
+/// and the boxes' motion (at most a cell per step), the stresses against E.
+fn check_scales(scene: &MpmScene) -> Result<(), SceneError> {
+    let spec = &scene.spec;
+    let dx = spec.grid.spacing;
+    let (bottom, top) = spec
+        .body
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(b, t), r| {
+            (b.min(r.rectangle[0][1]), t.max(r.rectangle[1][1]))
+        });
+    let mut stresses = scales::material_stresses(
+        &spec.material,
+        spec.gravity,
+        top - bottom,
+        spec.initial_stress.as_ref(),
+    );
+    for (k, l) in spec.surface_load.iter().enumerate() {
+        stresses.push((
+            format!("surface_load[{k}].pressure"),
+            l.pressure * ramp_max(&l.ramp),
+        ));
+    }
+    let speed = spec
+        .prescribed
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let [vx, vy] = match p.velocity {
+                Some(v) => v,
+                None => [p.velocity_x.unwrap_or(0.0), p.velocity_y.unwrap_or(0.0)],
+            };
+            (
+                format!("prescribed[{k}].velocity"),
+                vx.hypot(vy) * ramp_max(&p.ramp),
+            )
+        })
+        .filter(|(_, v)| *v > 0.0)
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    scales::check(
+        scene,
+        &spec.material,
+        &spec.time,
+        &stresses,
+        &scales::Scales {
+            cell: dx,
+            max_step_motion: dx,
+            motion_limit: "one grid cell",
+            speed,
+            dynamic: true,
+        },
+    )
 }
 
 fn grid(scene: &MpmScene) -> Result<Grid, SceneError> {
@@ -211,6 +274,20 @@ fn bodies(scene: &MpmScene, grid: &Grid, density: f64) -> Result<Particles, Scen
             return Err(scene.error(
                 &format!("body[{k}].particles_per_cell"),
                 format!("{per_cell} must be between 1 and 16 per axis"),
+            ));
+        }
+        // A body must hold at least one particle per axis.
+        let particle = dx / per_cell as f64;
+        let side = (r[1][0] - r[0][0]).min(r[1][1] - r[0][1]);
+        if side < particle * (1.0 - EPS) {
+            return Err(scene.error(
+                &field,
+                format!(
+                    "{r:?} is {side:.3e} m across, less than one particle spacing \
+                     (grid.spacing / particles_per_cell = {dx:e} / {per_cell} = {particle:e} m): \
+                     it would hold no particle; use grid.spacing ≤ {:.3e} m",
+                    side * per_cell as f64
+                ),
             ));
         }
         let body = Particles::fill_rectangle(r, dx, per_cell, density)

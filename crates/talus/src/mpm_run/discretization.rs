@@ -4,7 +4,7 @@
 use talus_mpm::{Mpm, MpmError, Particles, Substep, SubstepStats};
 use talus_ssn::{ReducedSystem, SolveError};
 
-use crate::simulation::engine::{Discretization, Loading, Problem};
+use crate::simulation::engine::{Discretization, Loading, Motion, Problem};
 
 /// The particles and the time they are at.
 #[derive(Debug, Clone, PartialEq)]
@@ -64,5 +64,19 @@ impl Discretization for Mpm {
         let stats = substep.finish(self, &mut state.particles, sigma)?;
         state.time += h;
         Ok(stats)
+    }
+
+    /// Large deformations are what the method is for: only the kinetic energy is watched
+    /// (`docs/scenes.md`, 'Collapse').
+    fn motion(&self, state: &MpmState) -> Option<Motion> {
+        Some(Motion {
+            kinetic_energy: super::kinetic_energy(&state.particles),
+            prescribed_kinetic_energy: 0.0,
+            free_displacement_ratio: None,
+        })
+    }
+
+    fn left_domain(&self, error: &MpmError) -> bool {
+        matches!(error, MpmError::ParticleLeftGrid { .. })
     }
 }

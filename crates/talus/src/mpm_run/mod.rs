@@ -142,6 +142,13 @@ pub fn run_mpm_scene(scene: &MpmScene, options: &RunOptions) -> Result<MpmRunSum
         &mut outputs,
         options.progress,
     )?;
+    if let Some(step) = stepped.interrupted {
+        let time = stepped.state.time;
+        return Err(RunError::Interrupted { step, time });
+    }
+    if let Some(c) = stepped.collapse {
+        return Err(RunError::Collapsed(c));
+    }
     if let Some((step, source)) = stepped.failure {
         return Err(RunError::MpmStep {
             step,
@@ -232,12 +239,12 @@ impl RunOutputs<&ProgrammedMpm> for MpmOutputs<'_> {
         )
     }
 
-    fn finish(&mut self, state: &MpmState, _: &[MpmStepReport]) -> Result<(), RunError> {
+    fn finish(&mut self, state: &MpmState, reports: &[MpmStepReport]) -> Result<(), RunError> {
         if !self.write_fields {
             return Ok(());
         }
         self.fields
-            .finish(self.model, &state.particles, state.time)?;
+            .finish(self.model, &state.particles, reports.len(), state.time)?;
         if self.plots && self.reaction_curve.len() > 1 {
             output::plot_force_displacement(
                 &self.out.join("force_displacement.png"),

@@ -35,11 +35,7 @@ impl FieldWriter<'_> {
         time: f64,
     ) -> Result<(), RunError> {
         if due(step, self.vtu_every, self.last_step) {
-            let dir = self.out.join("vtu");
-            std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
-            let name = format!("step_{step:05}.vtu");
-            write_vtu(&dir.join(&name), particles, time)?;
-            self.pvd.push((time, format!("vtu/{name}")));
+            self.write_vtu(particles, step, time)?;
         }
         if due(step, self.snapshot_every, self.last_step) {
             let dir = self.out.join("snapshots");
@@ -54,15 +50,29 @@ impl FieldWriter<'_> {
         Ok(())
     }
 
-    /// The `.pvd` collection and the final plastic strain map `plastic_strain.png`.
+    /// `vtu/step_NNNNN.vtu` of the particles at `time`, listed in the collection.
+    fn write_vtu(&mut self, particles: &Particles, step: usize, time: f64) -> Result<(), RunError> {
+        let dir = self.out.join("vtu");
+        std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
+        let name = format!("step_{step:05}.vtu");
+        write_vtu(&dir.join(&name), particles, time)?;
+        self.pvd.push((time, format!("vtu/{name}")));
+        // The collection lists every VTU written so far: ParaView opens a killed run.
+        output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
+        Ok(())
+    }
+
+    /// The last state's VTU when a run stopped early (collapse, failure), the `.pvd`
+    /// collection and the final plastic strain map `plastic_strain.png`.
     pub fn finish(
-        &self,
+        &mut self,
         model: &MpmModel,
         particles: &Particles,
+        step: usize,
         time: f64,
     ) -> Result<(), RunError> {
-        if !self.pvd.is_empty() {
-            output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
+        if self.pvd.last().map(|(t, _)| *t) != Some(time) {
+            self.write_vtu(particles, step, time)?;
         }
         self.png(model, particles, &self.out.join("plastic_strain.png"), time)
     }

@@ -8,7 +8,7 @@ use talus_mpm::{Mpm, MpmError, Particles, Substep, SubstepLoads, SubstepStats};
 use talus_ssn::{ReducedSystem, SolveError};
 
 use crate::scene::Ramp;
-use crate::simulation::engine::{Discretization, Loading, Problem};
+use crate::simulation::engine::{Discretization, Loading, Motion, Problem};
 
 use super::MpmState;
 
@@ -138,5 +138,13 @@ impl Discretization for ProgrammedMpm {
         h: f64,
     ) -> Result<SubstepStats, MpmError> {
         self.mpm.finish(substep, state, sigma, z, h)
+    }
+
+    fn motion(&self, state: &MpmState) -> Option<Motion> {
+        self.mpm.motion(state)
+    }
+
+    fn left_domain(&self, error: &MpmError) -> bool {
+        self.mpm.left_domain(error)
     }
 }

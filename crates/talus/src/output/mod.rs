@@ -8,6 +8,7 @@
 //! Inputs are plain slices (no dependency on the FEM crate); every writer checks lengths
 //! and finiteness first and returns `OutputError::Invalid` naming the field, so no NaN
 //! reaches a file.
+mod atomic;
 mod canvas;
 mod colormap;
 mod error;
@@ -34,6 +35,7 @@ pub use plot_particles::{plot_particles, ParticlePlot};
 pub use pvd::write_pvd;
 pub use results::{BadColumn, Results};
 pub use summary::{
-    BoundaryReaction, FactorOfSafety, Limit, MonitorValues, ReportedReaction, RunStatus, Summary,
+    BoundaryReaction, CollapseTime, FactorOfSafety, Limit, MonitorValues, ReportedReaction,
+    RunStatus, Summary,
 };
 pub use vtu::{pressure, von_mises, write_vtu, FieldSnapshot};

@@ -66,7 +66,7 @@ impl ParticleSnapshot<'_> {
 pub fn write_particle_vtu(path: &Path, s: &ParticleSnapshot) -> Result<(), OutputError> {
     s.validate()?;
     let xml = particle_vtu_string(s);
-    std::fs::write(path, xml).map_err(|e| OutputError::io(path, e))
+    super::atomic::write(path, xml)
 }
 
 fn particle_vtu_string(s: &ParticleSnapshot) -> String {

@@ -27,6 +27,14 @@ pub fn plot_force_displacement(
     points: &[(f64, f64)],
     title: &str,
 ) -> Result<(), OutputError> {
+    super::atomic::through_temp(path, |tmp| draw_plot_force_displacement(tmp, points, title))
+}
+
+fn draw_plot_force_displacement(
+    path: &Path,
+    points: &[(f64, f64)],
+    title: &str,
+) -> Result<(), OutputError> {
     if points.is_empty() {
         return Err(OutputError::invalid(
             "points",
@@ -128,6 +136,16 @@ fn draw_force_displacement(
 /// empty history, a negative or non-finite residual, a tolerance that is not finite and
 /// positive.
 pub fn plot_newton_residuals(
+    path: &Path,
+    histories: &[(usize, Vec<f64>)],
+    tolerance: f64,
+) -> Result<(), OutputError> {
+    super::atomic::through_temp(path, |tmp| {
+        draw_plot_newton_residuals(tmp, histories, tolerance)
+    })
+}
+
+fn draw_plot_newton_residuals(
     path: &Path,
     histories: &[(usize, Vec<f64>)],
     tolerance: f64,

@@ -29,6 +29,19 @@ pub fn plot_field_on_mesh(
     title: &str,
     label: &str,
 ) -> Result<(), OutputError> {
+    super::atomic::through_temp(path, |tmp| {
+        draw_plot_field_on_mesh(tmp, mesh, displacement, values, title, label)
+    })
+}
+
+fn draw_plot_field_on_mesh(
+    path: &Path,
+    mesh: &MeshView,
+    displacement: Option<(&[[f64; 2]], f64)>,
+    values: &[f64],
+    title: &str,
+    label: &str,
+) -> Result<(), OutputError> {
     mesh.validate()?;
     check_len("values", values.len(), mesh.triangles.len(), "element")?;
     check_finite_scalars("values", values)?;

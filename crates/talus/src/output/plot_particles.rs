@@ -47,6 +47,15 @@ pub fn plot_particles(
     value: &[f64],
     view: ParticlePlot,
 ) -> Result<(), OutputError> {
+    super::atomic::through_temp(path, |tmp| draw_plot_particles(tmp, position, value, view))
+}
+
+fn draw_plot_particles(
+    path: &Path,
+    position: &[[f64; 2]],
+    value: &[f64],
+    view: ParticlePlot,
+) -> Result<(), OutputError> {
     if position.is_empty() {
         return Err(OutputError::invalid("position", "there are no particles"));
     }

@@ -41,7 +41,7 @@ pub fn write_pvd(path: &Path, entries: &[(f64, String)]) -> Result<(), OutputErr
     }
     let _ = writeln!(x, "  </Collection>");
     let _ = writeln!(x, "</VTKFile>");
-    std::fs::write(path, x).map_err(|e| OutputError::io(path, e))
+    super::atomic::write(path, x)
 }
 
 /// File names go into an XML attribute.

@@ -196,6 +196,7 @@ impl Results {
             reaction,
             limit,
             factor_of_safety: None,
+            collapse: None,
         }
     }
 }

@@ -19,6 +19,18 @@ pub enum RunStatus {
     NotConverged,
     /// Any other error (solver setup, an inverted particle, a file that cannot be written).
     Failed,
+    /// The body accelerated without bound under its loads (`docs/scenes.md`, 'Collapse').
+    Collapsed,
+    /// SIGINT/SIGTERM stopped the run between two steps.
+    Interrupted,
+}
+
+/// Where a collapsed run ended: the step after which the criterion held (MPM: the step
+/// that left the grid) and the time reached then (s).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct CollapseTime {
+    pub step: usize,
+    pub time: f64,
 }
 
 /// Reaction of a named boundary (N/m): the force it applies to the body.
@@ -116,6 +128,9 @@ pub struct Summary {
     /// Only for a `[stability]` run.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub factor_of_safety: Option<FactorOfSafety>,
+    /// Only when `status` is `collapsed`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub collapse: Option<CollapseTime>,
 }
 
 impl Summary {
@@ -124,10 +139,7 @@ impl Summary {
             field: "summary",
             message: e.to_string(),
         })?;
-        std::fs::write(path, text + "\n").map_err(|source| OutputError::Io {
-            path: path.to_path_buf(),
-            source,
-        })
+        super::atomic::write(path, text + "\n")
     }
 
     /// A summary written by [`Summary::write`].
@@ -142,11 +154,20 @@ impl Summary {
             RunStatus::Finished => "finished",
             RunStatus::NotConverged => "stopped (a step did not converge)",
             RunStatus::Failed => "stopped (failed)",
+            RunStatus::Collapsed => "stopped: the body COLLAPSED",
+            RunStatus::Interrupted => "interrupted (SIGINT/SIGTERM)",
         };
         let mut s = format!(
             "run {status} after {} of {} steps, t = {:.6e} s",
             self.steps, self.steps_requested, self.time
         );
+        if let Some(c) = &self.collapse {
+            s += &format!(
+                " (collapse found at step {}, t = {:.6e} s: the loads exceed what the body \
+                 can carry)",
+                c.step, c.time
+            );
+        }
         if let Some(r) = &self.reaction {
             s += &format!(
                 "; `{}` pushes with {:.4e} N/m at {:.4e} m settlement",

@@ -77,7 +77,7 @@ pub fn pressure(m: &[f64; 4]) -> f64 {
 pub fn write_vtu(path: &Path, s: &FieldSnapshot) -> Result<(), OutputError> {
     s.validate()?;
     let xml = vtu_string(s);
-    std::fs::write(path, xml).map_err(|e| OutputError::io(path, e))
+    super::atomic::write(path, xml)
 }
 
 fn vtu_string(s: &FieldSnapshot) -> String {

@@ -11,6 +11,7 @@ mod monitor;
 mod mpm_load;
 mod mpm_types;
 mod ramp;
+pub mod scales;
 mod source;
 mod stability;
 mod types;

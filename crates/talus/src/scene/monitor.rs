@@ -1,9 +1,9 @@
 //! `[[monitor]]`: a point whose displacement and velocity go to `history.csv` and
 //! `summary.json`, and the rule that every named result gets its own CSV columns.
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// A monitored point (m): the nearest node (FEM) or the grid-interpolated value (MPM).
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct MonitorSpec {
     pub name: String,

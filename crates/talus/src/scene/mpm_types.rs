@@ -2,12 +2,12 @@
 //! particles, walls and prescribed-velocity boxes on the grid, surface loads on particles.
 //! `[material]`, `[time]`, `[solver]` and `[initial_stress]` are those of FEM scenes;
 //! `[analysis]` is read so that `kind = "quasi_static"` can be refused by name.
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use super::{AnalysisSpec, InitialStressSpec, MaterialSpec, SolverSpec, TimeSpec};
 
 /// The whole MPM scene (see docs/scenes.md, "MPM scenes").
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct MpmSceneSpec {
     #[serde(default)]
@@ -48,7 +48,7 @@ pub struct MpmSceneSpec {
 }
 
 /// Square cells of side `spacing` (m) from `origin` (lower-left corner, m).
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct GridSpec {
     pub origin: [f64; 2],
@@ -58,7 +58,7 @@ pub struct GridSpec {
     pub shape: ShapeSpec,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ShapeSpec {
     Linear,
@@ -68,7 +68,7 @@ pub enum ShapeSpec {
 }
 
 /// `[[xmin, ymin], [xmax, ymax]]` filled with `particles_per_cell²` particles per cell.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct BodySpec {
     pub rectangle: [[f64; 2]; 2],
@@ -81,7 +81,7 @@ fn two() -> usize {
     2
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SideSpec {
     Left,
@@ -90,7 +90,7 @@ pub enum SideSpec {
     Top,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum WallConditionSpec {
     Fixed,
@@ -99,7 +99,7 @@ pub enum WallConditionSpec {
 }
 
 /// A wall on a side of the grid; `friction` (μ ≥ 0) is required iff `condition = "friction"`.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct WallSpec {
     /// Names the wall's reaction columns in history.csv.
@@ -113,7 +113,7 @@ pub struct WallSpec {
 
 /// Grid nodes inside `region` move with the given velocity (m/s): `velocity = [vx, vy]`
 /// prescribes both components, `velocity_x` / `velocity_y` one each (the other stays free).
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct PrescribedSpec {
     #[serde(default)]
@@ -131,7 +131,7 @@ pub struct PrescribedSpec {
 }
 
 /// A downward pressure (Pa) carried by the particles whose centres lie in `region`.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SurfaceLoadSpec {
     pub region: [[f64; 2]; 2],
@@ -141,7 +141,7 @@ pub struct SurfaceLoadSpec {
     pub ramp: Option<Vec<[f64; 2]>>,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum PredictorSpec {
     #[default]
@@ -150,7 +150,7 @@ pub enum PredictorSpec {
 }
 
 /// The MPM transfer and stress-update options.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct MpmSpec {
     /// FLIP weight α in `v = α v_FLIP + (1 − α) v_PIC`, in [0, 1].
@@ -169,7 +169,7 @@ impl Default for MpmSpec {
     }
 }
 
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct MpmOutputSpec {
     /// Particle VTU every this many steps (0: only the first and the last).

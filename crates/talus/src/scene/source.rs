@@ -3,6 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use serde::de::DeserializeOwned;
+use serde::Serialize;
 use toml::de::{DeTable, DeValue};
 
 use super::SceneError;
@@ -17,7 +18,7 @@ pub struct SceneDocument<S> {
     pub path: Option<PathBuf>,
 }
 
-impl<S: DeserializeOwned> SceneDocument<S> {
+impl<S: DeserializeOwned + Serialize> SceneDocument<S> {
     pub fn from_path(path: &Path) -> Result<Self, SceneError> {
         let source = read(path)?;
         Self::parse(&source, Some(path.to_path_buf()))
@@ -48,17 +49,71 @@ pub(super) fn read(path: &Path) -> Result<String, SceneError> {
     })
 }
 
-/// Parses `source` into a spec; a TOML or schema error names the line it found.
-pub(super) fn parse_spec<S: DeserializeOwned>(
+/// Parses `source` into a spec; a TOML or schema error names the line it found, and so
+/// does an array longer than its field (`cells = [32, 14, 3]`), which the TOML reader
+/// would otherwise cut silently.
+pub(super) fn parse_spec<S: DeserializeOwned + Serialize>(
     source: &str,
     path: Option<&PathBuf>,
 ) -> Result<S, SceneError> {
-    toml::from_str::<S>(source).map_err(|e| SceneError {
+    let spec = toml::from_str::<S>(source).map_err(|e| SceneError {
         file: path.cloned(),
         field: "toml".into(),
         line: e.span().map(|s| line_of_offset(source, s.start)),
         message: e.message().to_string(),
+    })?;
+    // Read back: every array of the file must have the length of the spec's.
+    if let (Ok(given), Ok(toml::Value::Table(read))) = (
+        toml::from_str::<toml::Table>(source),
+        toml::Value::try_from(&spec),
+    ) {
+        if let Some((field, n, expected)) = longer_array("", &given, &read) {
+            return Err(error_at(
+                source,
+                path,
+                &field,
+                format!("{n} values given, {expected} expected"),
+            ));
+        }
+    }
+    Ok(spec)
+}
+
+/// The first array of `given` whose length differs from the same field of `read`, as
+/// `(field path, given length, read length)`.
+fn longer_array(
+    at: &str,
+    given: &toml::Table,
+    read: &toml::Table,
+) -> Option<(String, usize, usize)> {
+    given.iter().find_map(|(key, g)| {
+        let field = if at.is_empty() {
+            key.clone()
+        } else {
+            format!("{at}.{key}")
+        };
+        compare(&field, g, read.get(key)?)
     })
+}
+
+fn compare(field: &str, given: &toml::Value, read: &toml::Value) -> Option<(String, usize, usize)> {
+    match (given, read) {
+        (toml::Value::Table(g), toml::Value::Table(r)) => longer_array(field, g, r),
+        (toml::Value::Array(g), toml::Value::Array(r)) => {
+            if g.len() != r.len() {
+                return Some((field.to_string(), g.len(), r.len()));
+            }
+            g.iter().zip(r).enumerate().find_map(|(i, (g, r))| {
+                // Arrays of tables are located by index (`boundary[1].velocity`); a row
+                // of numbers by its array.
+                match g {
+                    toml::Value::Table(_) => compare(&format!("{field}[{i}]"), g, r),
+                    _ => compare(field, g, r),
+                }
+            })
+        }
+        _ => None,
+    }
 }
 
 /// An error at `field` with the line where that field stands in `source`.

@@ -1,8 +1,8 @@
 //! `[stability]`: a factor of safety instead of a run to the end (`docs/stability.md`).
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// What a trial factor `F` changes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum StabilityMethod {
     /// `c/F`, `tan φ/F` (and the dilatancy by [`DilatancyRule`]).
@@ -21,7 +21,7 @@ impl StabilityMethod {
 }
 
 /// How strength reduction treats the dilatancy angle ψ (`docs/stability.md`, 'Dilatancy').
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum DilatancyRule {
     /// `tan ψ_F = tan ψ / F`.
@@ -43,7 +43,7 @@ impl DilatancyRule {
 }
 
 /// `[stability]` as written; checked by `talus::stability::StabilitySettings`.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct StabilitySpec {
     pub method: StabilityMethod,

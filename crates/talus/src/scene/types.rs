@@ -1,9 +1,9 @@
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use talus_bipotential::ConeFit;
 
 /// The whole scene. Optional sections cost nothing when left out: no gravity, no
 /// tractions, default solver settings and outputs.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneSpec {
     #[serde(default)]
@@ -41,13 +41,13 @@ pub struct SceneSpec {
     pub stability: Option<super::StabilitySpec>,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 pub enum Order {
     P1,
     P2,
 }
 
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, rename_all = "snake_case")]
 pub enum MeshSpec {
     /// A structured rectangle, graded geometrically away from `focus` by `ratio` per cell.
@@ -71,7 +71,7 @@ fn uniform() -> [f64; 2] {
 
 /// Drucker-Prager parameters (Pa, degrees) and the density (kg/m³): required for a
 /// dynamic analysis (the mass) and with `gravity` (the weight), otherwise unused.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialSpec {
     pub young_modulus: f64,
@@ -87,7 +87,7 @@ pub struct MaterialSpec {
 }
 
 /// Nodes by the name of a mesh set or by an axis-aligned box `[[xmin, ymin], [xmax, ymax]]`.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(untagged)]
 pub enum Selection {
     Named(String),
@@ -97,7 +97,7 @@ pub enum Selection {
     },
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Fix {
     X,
@@ -106,7 +106,7 @@ pub enum Fix {
 }
 
 /// Dirichlet condition: the fixed components move at `velocity` (default 0, m/s).
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct BoundarySpec {
     #[serde(default)]
@@ -121,7 +121,7 @@ pub struct BoundarySpec {
 }
 
 /// Surface traction (Pa) on the boundary edges selected.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct TractionSpec {
     pub edges: Selection,
@@ -133,7 +133,7 @@ pub struct TractionSpec {
 
 /// Normal pressure (Pa, positive pushing into the body) on the boundary edges selected,
 /// straight or curved; each edge's outward normal comes from its triangle.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct PressureSpec {
     pub edges: Selection,
@@ -143,7 +143,7 @@ pub struct PressureSpec {
     pub ramp: Option<Vec<[f64; 2]>>,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct TimeSpec {
     /// h, s.
@@ -160,7 +160,7 @@ pub struct TimeSpec {
 ///   `(a − t)/(a + 2t) ≤ K₀ ≤ (a + t)/(a − 2t)`, `a = √(2/3)/k_d`, `t = tan φ / 3` (Jaky's
 ///   `1 − sin φ` is inside up to φ ≈ 36° with the plane-strain fit);
 /// - a uniform `stress = [σxx, σyy, σxy, σzz]` (Pa, tension positive), inside the cone.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct InitialStressSpec {
     #[serde(default)]
@@ -177,7 +177,7 @@ pub struct InitialStressSpec {
 }
 
 /// `[analysis]`: what eq. 15's inertia term means (`docs/scenes.md`, 'Analysis').
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct AnalysisSpec {
     pub kind: AnalysisKind,
@@ -224,6 +224,15 @@ impl<'de> Deserialize<'de> for GeometryKind {
     }
 }
 
+impl Serialize for GeometryKind {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(match self {
+            GeometryKind::PlaneStrain => "plane_strain",
+            GeometryKind::Axisymmetric => "axisymmetric",
+        })
+    }
+}
+
 impl GeometryKind {
     pub fn fem(self) -> talus_fem::Geometry {
         match self {
@@ -233,7 +242,7 @@ impl GeometryKind {
     }
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum AnalysisKind {
     /// Eq. 15 with the material's density: today's behaviour.
@@ -242,7 +251,7 @@ pub enum AnalysisKind {
     QuasiStatic,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SolverSpec {
     pub tolerance: f64,
@@ -275,14 +284,14 @@ impl Default for SolverSpec {
     }
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RhoScaling {
     Compliance,
     Diagonal,
 }
 
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct OutputSpec {
     /// The boundary (by `name`) whose reaction force and displacement go to history.csv.

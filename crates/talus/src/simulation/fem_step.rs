@@ -4,7 +4,7 @@
 use talus_fem::assembly::add_mul_transpose;
 use talus_ssn::{ReducedSystem, SolveError};
 
-use super::engine::{Discretization, Loading, Problem};
+use super::engine::{Discretization, Loading, Motion, Problem};
 use super::{Loads, Model, State};
 
 /// What a FEM sub-step measured.
@@ -144,6 +144,38 @@ impl Discretization for Model {
         Ok(FemStats {
             reaction_force: reaction,
             prescribed_forces,
+        })
+    }
+
+    /// The lumped kinetic energy, and the largest nodal displacement beyond the largest
+    /// prescribed one over the smallest side of the mesh's bounding box.
+    fn motion(&self, state: &State) -> Option<Motion> {
+        let asm = &self.assembly;
+        let energy =
+            |m: &[f64], v: &[f64]| -> f64 { m.iter().zip(v).map(|(m, v)| 0.5 * m * v * v).sum() };
+        let kinetic_energy = energy(&asm.lumped_mass_free, &state.velocity_free)
+            + energy(&asm.lumped_mass_prescribed, &state.velocity_prescribed);
+        let largest = state
+            .displacement
+            .iter()
+            .map(|u| u[0].hypot(u[1]))
+            .fold(0.0, f64::max);
+        let prescribed = asm
+            .dofs()
+            .prescribed_dofs()
+            .iter()
+            .map(|&(n, comp)| state.displacement[n][comp].abs())
+            .fold(0.0, f64::max);
+        let mass: f64 = asm.lumped_mass_free.iter().sum::<f64>()
+            + asm.lumped_mass_prescribed.iter().sum::<f64>();
+        let v_d = state
+            .velocity_prescribed
+            .iter()
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+        Some(Motion {
+            kinetic_energy,
+            prescribed_kinetic_energy: 0.5 * mass * v_d * v_d,
+            free_displacement_ratio: Some((largest - prescribed).max(0.0) / self.size),
         })
     }
 }

@@ -10,7 +10,9 @@ use talus_ssn::{
 
 use super::State;
 
-use crate::scene::{check, AnalysisKind, Fix, MeshSpec, Order, Ramp, Scene, SceneError, Selection};
+use crate::scene::{
+    check, scales, AnalysisKind, Fix, MeshSpec, Order, Ramp, Scene, SceneError, Selection,
+};
 
 /// A load that follows a ramp: its nodal forces at multiplier 1 (N/m).
 #[derive(Debug, Clone, PartialEq)]
@@ -52,6 +54,9 @@ pub struct Model {
     /// fixes it), which also owns its reaction (`ReactionGroups`); `boundary.len()` for an
     /// axis node's radial dof that no `[[boundary]]` fixes (axisymmetric).
     pub dof_owner: Vec<usize>,
+    /// The smallest side of the mesh's bounding box (m): the body's scale for the collapse
+    /// criterion (`docs/scenes.md`, 'Collapse').
+    pub size: f64,
 }
 
 impl Model {
@@ -60,6 +65,9 @@ impl Model {
         let mesh = build_mesh(scene)?;
         let m = &spec.material;
         let material = check::material(scene, m)?;
+        check::time(scene, &spec.time)?;
+        check::solver(scene, &spec.solver)?;
+        check_scales(scene, &mesh)?;
 
         // Axisymmetric: the axis nodes' radial velocity is 0, first, so that a
         // `[[boundary]]` naming them later owns them (and their reaction).
@@ -203,11 +211,12 @@ impl Model {
                 ramp,
             );
         }
-        check::time(scene, &spec.time)?;
-        check::solver(scene, &spec.solver)?;
         let compliance = material.compliance::<4>();
         super::quasi_static::scale_masses(scene, &mut assembly, &compliance)?;
+        let (lo, hi) = bounding_box(&mesh.nodes);
+        let size = (hi[0] - lo[0]).min(hi[1] - lo[1]);
         Ok(Self {
+            size,
             compliance,
             flow_rule: material.flow_rule::<4>(),
             material,
@@ -369,6 +378,81 @@ fn required_density(scene: &Scene) -> Result<f64, SceneError> {
         )),
         None => Ok(1.0),
     }
+}
+
+/// The bounding box of `nodes` (m).
+fn bounding_box(nodes: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in nodes {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (lo, hi)
+}
+
+/// The largest |multiplier| of a ramp (1 without one).
+fn ramp_max(ramp: &Option<Vec<[f64; 2]>>) -> f64 {
+    ramp.as_ref()
+        .map_or(1.0, |r| r.iter().fold(0.0, |m, p| m.max(p[1].abs())))
+}
+
+/// The scene against its own scales (`scene::scales`): caps, `h` against the wave time of
+/// the smallest element and the boundaries' motion, the stresses against E.
+fn check_scales(scene: &Scene, mesh: &Mesh) -> Result<(), SceneError> {
+    let spec = &scene.spec;
+    scales::caps(scene, &spec.time, spec.solver.max_step_halvings)?;
+    let (lo, hi) = bounding_box(&mesh.nodes);
+    let cell = mesh
+        .triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = [mesh.nodes[t[0]], mesh.nodes[t[1]], mesh.nodes[t[2]]];
+            ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]))
+                .abs()
+                .sqrt()
+        })
+        .fold(f64::INFINITY, f64::min);
+    let mut stresses = scales::material_stresses(
+        &spec.material,
+        spec.gravity,
+        hi[1] - lo[1],
+        spec.initial_stress.as_ref(),
+    );
+    for (k, t) in spec.traction.iter().enumerate() {
+        let v = t.value[0].hypot(t.value[1]) * ramp_max(&t.ramp);
+        stresses.push((format!("traction[{k}].value"), v));
+    }
+    for (k, p) in spec.pressure.iter().enumerate() {
+        stresses.push((
+            format!("pressure[{k}].value"),
+            p.value.abs() * ramp_max(&p.ramp),
+        ));
+    }
+    let speed = spec
+        .boundary
+        .iter()
+        .enumerate()
+        .map(|(k, b)| {
+            let v = b.velocity[0].hypot(b.velocity[1]) * ramp_max(&b.ramp);
+            (format!("boundary[{k}].velocity"), v)
+        })
+        .filter(|(_, v)| *v > 0.0)
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    scales::check(
+        scene,
+        &spec.material,
+        &spec.time,
+        &stresses,
+        &scales::Scales {
+            cell,
+            max_step_motion: (hi[0] - lo[0]).min(hi[1] - lo[1]),
+            motion_limit: "the body's smallest side",
+            speed,
+            dynamic: spec.analysis.kind == AnalysisKind::Dynamic,
+        },
+    )
 }
 
 fn add(into: &mut [f64], from: &[f64]) {

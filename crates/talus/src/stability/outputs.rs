@@ -147,6 +147,7 @@ fn empty_summary(status: RunStatus, steps: usize, requested: usize, time: f64) -
         reaction: None,
         limit: None,
         factor_of_safety: None,
+        collapse: None,
     }
 }
 

@@ -3,6 +3,8 @@
 //! The engine runs the Newton solves; a discretization never does.
 use talus_ssn::{ReducedSystem, SolveError};
 
+use super::Motion;
+
 /// The reduced problem `h z = Wσ + q` of one solve.
 pub enum Problem {
     /// `q` for the operator [`Discretization::fixed_system`] gave for this `h` (FEM: `W`
@@ -68,6 +70,18 @@ pub trait Discretization {
         z: &[f64],
         h: f64,
     ) -> Result<Self::Stats, Self::Error>;
+
+    /// The state's motion for the collapse watch (`docs/scenes.md`, 'Collapse'); `None`:
+    /// not watched.
+    fn motion(&self, _state: &Self::State) -> Option<Motion> {
+        None
+    }
+
+    /// Whether `error` says the body left what the method can represent (MPM: a particle
+    /// left the grid): during accelerating motion, a collapse.
+    fn left_domain(&self, _error: &Self::Error) -> bool {
+        false
+    }
 }
 
 impl<T: Discretization> Discretization for &T {
@@ -109,5 +123,11 @@ impl<T: Discretization> Discretization for &T {
         h: f64,
     ) -> Result<Self::Stats, Self::Error> {
         (**self).finish(substep, state, sigma, z, h)
+    }
+    fn motion(&self, state: &Self::State) -> Option<Motion> {
+        (**self).motion(state)
+    }
+    fn left_domain(&self, error: &Self::Error) -> bool {
+        (**self).left_domain(error)
     }
 }

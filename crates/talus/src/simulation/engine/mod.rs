@@ -2,6 +2,7 @@
 //! each the reduced problem `h z = Wσ + q` of eqs. 15–16 built by a [`Discretization`] and
 //! solved by talus-ssn's semi-smooth Newton from a predictor; a sub-step whose solve fails
 //! is redone as two halves (`docs/solver.md`, "Time stepping").
+mod collapse;
 mod discretization;
 mod report;
 mod settings;
@@ -10,6 +11,9 @@ use std::time::Instant;
 
 use talus_ssn::{Report, SolveError, Solver};
 
+pub use collapse::{
+    Collapse, CollapseWatch, Motion, COLLAPSE_DISPLACEMENT_RATIO, COLLAPSE_RISING_STEPS,
+};
 pub use discretization::{Discretization, Loading, Problem};
 pub use report::{Predictor, StepError, StepReport};
 pub use settings::{

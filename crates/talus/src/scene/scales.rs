@@ -1,0 +1,187 @@
+//! A scene against its own scales (`docs/scenes.md`, 'Limits'): the time step against the
+//! elastic wave time of the smallest cell and against the prescribed motion, the stresses
+//! the scene imposes against the Young modulus, and the caps on steps and halvings. Each
+//! refusal names the field, its value and the range that works.
+use super::source::Locate;
+use super::{InitialStressSpec, MaterialSpec, SceneError, TimeSpec};
+
+/// `h / t_w` (t_w = Δx √(ρ/E), the elastic wave time across the smallest cell) must lie in
+/// `[MIN_STEP_RATIO, MAX_STEP_RATIO]`. Above, `h² B M⁻¹ Bᵀ` exceeds `S` in `W` by
+/// `(h/t_w)² > 1e16`: the elastic compliance is below round-off. Below, `S` exceeds the
+/// inertia term by as much: a step changes nothing the arithmetic can hold.
+pub const MAX_STEP_RATIO: f64 = 1e8;
+pub const MIN_STEP_RATIO: f64 = 1e-8;
+/// The largest stress of the scene over E: at least `MIN_STRESS_RATIO` counting the
+/// cohesion (below, elastic strains sit under the round-off of the stresses), at most
+/// `MAX_STRESS_RATIO` counting the loads, weight and initial stress (above, elastic strains
+/// exceed 100%, far from small strains).
+pub const MIN_STRESS_RATIO: f64 = 1e-12;
+pub const MAX_STRESS_RATIO: f64 = 1.0;
+/// The cohesion over E at most: a cohesion far above every stress keeps a material
+/// elastic (the elastic verification cases use 2e4 E); beyond, the cone's apex outgrows
+/// the arithmetic.
+pub const MAX_COHESION_RATIO: f64 = 1e6;
+/// At most this many steps (`time.steps`).
+pub const MAX_STEPS: usize = 100_000_000;
+/// At most this many nested halvings (`solver.max_step_halvings`): a step may then take
+/// up to 2¹⁶ sub-steps.
+pub const MAX_STEP_HALVINGS: usize = 16;
+
+/// The lengths and speeds of a built scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scales {
+    /// The smallest cell: element (√(2A) of the smallest triangle) or grid spacing (m).
+    pub cell: f64,
+    /// How far a prescribed boundary may move in one step (m): the body's smallest side
+    /// (FEM, small strains) or one grid cell (MPM: particles cross at most a cell).
+    pub max_step_motion: f64,
+    /// What `max_step_motion` is, in words.
+    pub motion_limit: &'static str,
+    /// The largest prescribed speed, ramps at their largest multiplier (m/s), and its field.
+    pub speed: Option<(String, f64)>,
+    /// Whether inertia is physical (dynamic analysis): then `h` is checked against t_w.
+    pub dynamic: bool,
+}
+
+/// Steps and halvings within their caps.
+pub fn caps(scene: &impl Locate, time: &TimeSpec, halvings: usize) -> Result<(), SceneError> {
+    if time.steps > MAX_STEPS {
+        return Err(scene.error(
+            "time.steps",
+            format!(
+                "{} is more than the {MAX_STEPS} steps a run may take",
+                time.steps
+            ),
+        ));
+    }
+    if halvings > MAX_STEP_HALVINGS {
+        return Err(scene.error(
+            "solver.max_step_halvings",
+            format!(
+                "{halvings} is more than {MAX_STEP_HALVINGS} (a step would split into up to \
+                 2^{halvings} sub-steps); use 0 to {MAX_STEP_HALVINGS}"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The stresses a scene imposes (Pa), with their fields: cohesion, the weight of `depth`
+/// metres of ground, the initial stress. The caller adds its loads.
+pub fn material_stresses(
+    m: &MaterialSpec,
+    gravity: Option<[f64; 2]>,
+    depth: f64,
+    initial: Option<&InitialStressSpec>,
+) -> Vec<(String, f64)> {
+    let mut s = vec![("material.cohesion".to_string(), m.cohesion.abs())];
+    if let (Some(g), Some(rho)) = (gravity, m.density) {
+        s.push(("material.density".into(), rho * g[0].hypot(g[1]) * depth));
+    }
+    if let Some(i) = initial {
+        if let Some(q) = i.surcharge {
+            s.push(("initial_stress.surcharge".into(), q.abs()));
+        }
+        if let Some(st) = i.stress {
+            let largest = st.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            s.push(("initial_stress.stress".into(), largest));
+        }
+    }
+    s
+}
+
+/// `h` against the wave time and the prescribed motion, the stresses against E.
+pub fn check(
+    scene: &impl Locate,
+    m: &MaterialSpec,
+    time: &TimeSpec,
+    stresses: &[(String, f64)],
+    s: &Scales,
+) -> Result<(), SceneError> {
+    let e = m.young_modulus;
+    let h = time.step;
+    let largest = |cohesion: bool| {
+        stresses
+            .iter()
+            .filter(|(f, v)| v.is_finite() && (cohesion || f != "material.cohesion"))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .filter(|(_, v)| *v > 0.0)
+    };
+    let refuse = |field: &str, sigma: f64, bound: f64, low: bool| {
+        let (lo, hi) = if low {
+            (MIN_STRESS_RATIO, f64::INFINITY)
+        } else {
+            (0.0, bound)
+        };
+        scene.error(
+            "material.young_modulus",
+            format!(
+                "{e:e} Pa against {sigma:e} Pa ({field}): their ratio {:.3e} must be {} \
+                 {:e}, i.e. E {} {:.3e} Pa",
+                sigma / e,
+                if low { "at least" } else { "at most" },
+                if low { lo } else { hi },
+                if low { "at most" } else { "at least" },
+                if low { sigma / lo } else { sigma / hi }
+            ),
+        )
+    };
+    // The lower bound counts the cohesion; the upper one does not: a cohesion far above
+    // E is the usual way to keep a material elastic, capped where it would overflow.
+    if let Some((field, sigma)) = largest(true) {
+        if !(sigma / e >= MIN_STRESS_RATIO) {
+            return Err(refuse(field, *sigma, MIN_STRESS_RATIO, true));
+        }
+    }
+    if let Some((field, sigma)) = largest(false) {
+        if !(sigma / e <= MAX_STRESS_RATIO) {
+            return Err(refuse(field, *sigma, MAX_STRESS_RATIO, false));
+        }
+    }
+    if !(m.cohesion / e <= MAX_COHESION_RATIO) {
+        return Err(scene.error(
+            "material.cohesion",
+            format!(
+                "{:e} Pa is {:.3e} times material.young_modulus ({e:e} Pa): at most \
+                 {MAX_COHESION_RATIO:e} (a material that never yields needs no more)",
+                m.cohesion,
+                m.cohesion / e
+            ),
+        ));
+    }
+    if s.dynamic {
+        if let Some(rho) = m.density {
+            let wave = s.cell * (rho / e).sqrt();
+            let ratio = h / wave;
+            if !(ratio.is_finite() && (MIN_STEP_RATIO..=MAX_STEP_RATIO).contains(&ratio)) {
+                return Err(scene.error(
+                    "time.step",
+                    format!(
+                        "{h:e} s is {ratio:.3e} times the elastic wave time across the smallest \
+                         cell ({:.3e} m · √(ρ/E) = {wave:.3e} s, from material.density and \
+                         material.young_modulus): use h from {:.3e} to {:.3e} s",
+                        s.cell,
+                        MIN_STEP_RATIO * wave,
+                        MAX_STEP_RATIO * wave
+                    ),
+                ));
+            }
+        }
+    }
+    if let Some((field, v)) = &s.speed {
+        let motion = h * v;
+        if !(motion <= s.max_step_motion) {
+            return Err(scene.error(
+                "time.step",
+                format!(
+                    "{h:e} s moves {field} ({v:e} m/s) by {motion:.3e} m per step, more than \
+                     {} ({:.3e} m): use h ≤ {:.3e} s",
+                    s.motion_limit,
+                    s.max_step_motion,
+                    s.max_step_motion / v
+                ),
+            ));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,71 @@
+//! Logs and version of the `talus` binary: no colour codes when stderr is not a terminal,
+//! an invalid `TALUS_LOG` reported, `--version` naming the commit it was built from.
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn footing_run(name: &str, log: &str) -> Output {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join("cli_logs")
+        .join(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/footing.toml"),
+    )
+    .unwrap()
+    .replace("steps = 300", "steps = 2");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, text).unwrap();
+    Command::new(env!("CARGO_BIN_EXE_talus"))
+        .arg("run")
+        .arg(&scene)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .env("TALUS_LOG", log)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn logs_into_a_pipe_carry_no_colour_codes() {
+    let out = footing_run("plain", "info");
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("INFO"), "{err}");
+    assert!(!err.contains('\u{1b}'), "escape codes in: {err:?}");
+}
+
+#[test]
+fn an_invalid_talus_log_is_reported() {
+    for bad in ["talus=loud", "verbose"] {
+        let out = footing_run("bad_filter", bad);
+        assert!(out.status.success());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("TALUS_LOG") && err.contains(bad),
+            "{bad}: {err}"
+        );
+    }
+    let out = footing_run("good_filter", "talus=warn");
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("TALUS_LOG"));
+}
+
+#[test]
+fn version_names_the_commit() {
+    let out = Command::new(env!("CARGO_BIN_EXE_talus"))
+        .arg("--version")
+        .output()
+        .unwrap();
+    let version = String::from_utf8_lossy(&out.stdout);
+    let head = Command::new("git")
+        .args(["rev-parse", "--short=12", "HEAD"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .unwrap_or_else(|| "unknown".into());
+    assert!(
+        version.contains(&format!("(commit {head})")),
+        "{version} against {head}"
+    );
+}

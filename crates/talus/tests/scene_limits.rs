@@ -1,0 +1,195 @@
+//! Scenes outside their own scales are refused up front (`docs/scenes.md`, 'Limits'), each
+//! error naming the field, its line and the range that works: arrays of the wrong length,
+//! time steps against the elastic wave time and the prescribed motion, stresses against E,
+//! caps on steps and halvings, MPM bodies smaller than a particle spacing.
+use talus::mpm_run::MpmModel;
+use talus::scene::{MpmScene, Scene, SceneError};
+use talus::simulation::Model;
+
+fn with(text: &str, from: &str, to: &str) -> String {
+    assert!(text.contains(from), "test setup: `{from}` not in the scene");
+    text.replacen(from, to, 1)
+}
+
+fn fem(from: &str, to: &str) -> (String, SceneError) {
+    let text = with(include_str!("../../../scenes/footing.toml"), from, to);
+    let err = match Scene::parse(&text, None) {
+        Err(e) => e,
+        Ok(scene) => Model::from_scene(&scene).err().expect("refused"),
+    };
+    (text, err)
+}
+
+fn mpm(from: &str, to: &str) -> (String, SceneError) {
+    let text = with(include_str!("../../../scenes/mpm_footing.toml"), from, to);
+    let err = match MpmScene::parse(&text, None) {
+        Err(e) => e,
+        Ok(scene) => MpmModel::from_scene(&scene).err().expect("refused"),
+    };
+    (text, err)
+}
+
+fn line_of(text: &str, needle: &str) -> Option<usize> {
+    text.lines()
+        .position(|l| l.starts_with(needle))
+        .map(|l| l + 1)
+}
+
+fn assert_names(err: &SceneError, field: &str, text: &str, line: &str, says: &[&str]) {
+    let msg = err.to_string();
+    assert_eq!(err.field, field, "{msg}");
+    assert_eq!(err.line, line_of(text, line), "{msg}");
+    for s in says {
+        assert!(msg.contains(s), "`{s}` not in: {msg}");
+    }
+}
+
+#[test]
+fn an_array_longer_than_its_field_is_refused() {
+    let (text, err) = fem("cells = [32, 14]", "cells = [32, 14, 3]");
+    assert_names(
+        &err,
+        "mesh.rectangle.cells",
+        &text,
+        "cells",
+        &["3 values given, 2 expected"],
+    );
+    let (text, err) = fem(
+        "velocity = [0.0, -1.0e-3]",
+        "velocity = [0.0, -1.0e-3, 5.0]",
+    );
+    assert_names(
+        &err,
+        "boundary[3].velocity",
+        &text,
+        "velocity",
+        &["3 values given"],
+    );
+    let (text, err) = mpm(
+        "region = [[-0.25, 0.0], [0.25, 0.1875]]",
+        "region = [[-0.25, 0.0, 1.0], [0.25, 0.1875]]",
+    );
+    assert_names(
+        &err,
+        "prescribed[0].region",
+        &text,
+        "region",
+        &["3 values given"],
+    );
+}
+
+#[test]
+fn a_time_step_far_from_the_wave_time_is_refused() {
+    for h in ["1e30", "1e-300"] {
+        let (text, err) = fem("step = 1.0e-2", &format!("step = {h}"));
+        assert_names(
+            &err,
+            "time.step",
+            &text,
+            "step =",
+            &["elastic wave time", "use h from"],
+        );
+    }
+}
+
+#[test]
+fn a_boundary_moving_more_than_the_body_in_a_step_is_refused() {
+    // 1e-3 m/s × 2000 s = 2 m per step against a body 1 m deep; the wave time allows it.
+    let (text, err) = fem("step = 1.0e-2", "step = 2.0e3");
+    assert_names(
+        &err,
+        "time.step",
+        &text,
+        "step =",
+        &["boundary[3].velocity", "use h ≤ 1.000e3 s"],
+    );
+    // MPM: a box may move at most one cell (0.0625 m) per step.
+    let (text, err) = mpm("step = 1.0e-2", "step = 1.0e2");
+    assert_names(
+        &err,
+        "time.step",
+        &text,
+        "step =",
+        &["one grid cell", "use h ≤ 6.250e1 s"],
+    );
+}
+
+#[test]
+fn stresses_out_of_proportion_with_e_are_refused() {
+    let cases = [
+        (
+            "young_modulus = 1.0e9",
+            "young_modulus = 1e300",
+            "(traction",
+        ),
+        (
+            "young_modulus = 1.0e9",
+            "young_modulus = 1e-300",
+            "(traction",
+        ),
+        ("density = 2.0e3", "density = 1e300", "(material.density)"),
+    ];
+    for (from, to, cause) in cases {
+        let (text, err) = fem(from, to);
+        assert_names(
+            &err,
+            "material.young_modulus",
+            &text,
+            "young_modulus",
+            &[cause, "their ratio"],
+        );
+    }
+    let (text, err) = fem("cohesion = 2.0e3", "cohesion = 1e300");
+    assert_names(
+        &err,
+        "material.cohesion",
+        &text,
+        "cohesion",
+        &["at most 1e6"],
+    );
+}
+
+#[test]
+fn steps_and_halvings_are_capped() {
+    let (text, err) = fem("steps = 300", "steps = 1000000000");
+    assert_names(&err, "time.steps", &text, "steps", &["100000000"]);
+    let (text, err) = fem("[time]", "[solver]\nmax_step_halvings = 1000\n\n[time]");
+    assert_names(
+        &err,
+        "solver.max_step_halvings",
+        &text,
+        "max_step_halvings",
+        &["use 0 to 16"],
+    );
+    let (text, err) = mpm("[time]", "[solver]\nmax_step_halvings = 17\n\n[time]");
+    assert_names(
+        &err,
+        "solver.max_step_halvings",
+        &text,
+        "max_step_halvings",
+        &["use 0 to 16"],
+    );
+}
+
+#[test]
+fn an_mpm_body_smaller_than_a_particle_spacing_is_refused() {
+    let (text, err) = mpm("spacing = 0.0625", "spacing = 1e300");
+    assert_names(
+        &err,
+        "body[0].rectangle",
+        &text,
+        "rectangle",
+        &["less than one particle spacing"],
+    );
+    let (text, err) = mpm(
+        "rectangle = [[-1.0, -1.0], [1.0, 0.0]]",
+        "rectangle = [[-1.0, -1.0], [1.0, -0.99]]",
+    );
+    assert_names(
+        &err,
+        "body[0].rectangle",
+        &text,
+        "rectangle",
+        &["use grid.spacing ≤ 2.000e-2 m"],
+    );
+}
