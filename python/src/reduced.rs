@@ -139,7 +139,10 @@ pub fn solve_reduced<'py>(
         model,
     };
     if problem.q.len() != n {
-        return Err(bad(format!("q has length {}, W is {n}×{n}", problem.q.len())));
+        return Err(bad(format!(
+            "q has length {}, W is {n}×{n}",
+            problem.q.len()
+        )));
     }
     let rho = if global_rho {
         Rho::GlobalDiagonal { factor: rho_factor }

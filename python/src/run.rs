@@ -90,7 +90,12 @@ fn read_history(path: &Path) -> Result<(Vec<String>, Vec<f64>, usize), String> {
     for (i, line) in lines.enumerate() {
         let row: Vec<&str> = line.split(',').collect();
         if row.len() != header.len() {
-            return Err(format!("{}: row {} has {} columns", path.display(), i + 1, row.len()));
+            return Err(format!(
+                "{}: row {} has {} columns",
+                path.display(),
+                i + 1,
+                row.len()
+            ));
         }
         for v in row {
             values.push(
@@ -154,7 +159,11 @@ pub fn run<'py>(
             let not_converged = summary
                 .as_ref()
                 .is_ok_and(|s| s.contains("\"not_converged\""));
-            let class = if not_converged { "NotConverged" } else { "RunError" };
+            let class = if not_converged {
+                "NotConverged"
+            } else {
+                "RunError"
+            };
             return Err(raise(py, class, (e.to_string(), d)));
         }
         Err(e) => return Err(raise(py, "RunError", (e.to_string(), d))),

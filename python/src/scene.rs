@@ -52,7 +52,9 @@ impl Scene {
                 path,
             }),
             Err(e) => {
-                let value = lookup(&source, &e.field).map(|v| to_python(py, &v)).transpose()?;
+                let value = lookup(&source, &e.field)
+                    .map(|v| to_python(py, &v))
+                    .transpose()?;
                 Err(scene_error(py, &e, value))
             }
         }
@@ -102,7 +104,9 @@ impl Scene {
     #[pyo3(signature = (d, path=None))]
     fn from_dict(py: Python<'_>, d: &Bound<'_, PyDict>, path: Option<PathBuf>) -> PyResult<Self> {
         let toml::Value::Table(table) = from_python(d.as_any())? else {
-            return Err(PyTypeError::new_err("a scene dict must map names to values"));
+            return Err(PyTypeError::new_err(
+                "a scene dict must map names to values",
+            ));
         };
         let text = toml::to_string(&table)
             .map_err(|e| PyTypeError::new_err(format!("not a TOML document: {e}")))?;
@@ -135,8 +139,8 @@ impl Scene {
             new = toml::Value::Float(*i as f64);
         }
         put(&mut table, &path, new).map_err(|why| bad_path(py, field, value, &why))?;
-        let text = toml::to_string(&table)
-            .map_err(|e| bad_path(py, field, value, &e.to_string()))?;
+        let text =
+            toml::to_string(&table).map_err(|e| bad_path(py, field, value, &e.to_string()))?;
         let at = self.path.clone();
         let checked = py.detach({
             let text = text.clone();
@@ -149,15 +153,18 @@ impl Scene {
                 path: self.path.clone(),
             }),
             Err(mut e) => {
-                // The schema's errors name "toml" and a line of the rewritten text.
+                // Lines are of the rewritten text, not of the file: dropped. The schema's
+                // errors name "toml": the field set is the one at fault.
+                e.line = None;
                 if e.field == "toml" {
                     e.field = field.to_string();
-                    e.line = None;
                 }
                 let value = if e.field == field {
                     Some(value.clone().unbind())
                 } else {
-                    lookup(&text, &e.field).map(|v| to_python(py, &v)).transpose()?
+                    lookup(&text, &e.field)
+                        .map(|v| to_python(py, &v))
+                        .transpose()?
                 };
                 Err(scene_error(py, &e, value))
             }

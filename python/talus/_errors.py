@@ -61,3 +61,8 @@ class RunError(TalusError):
     def __init__(self, message: str, report: Any = None) -> None:
         super().__init__(message)
         self.report = report
+
+
+# Shown as talus.SceneError etc. in tracebacks: the public names.
+for _cls in (TalusError, SceneError, SiconosError, InvalidProblem, NotConverged, RunError):
+    _cls.__module__ = "talus"

@@ -54,6 +54,7 @@ def test_invalid_value_raises_scene_error_naming_the_field(field, value, reason)
     assert e.value == value
     assert reason in e.reason, e.reason
     assert field in str(e)
+    assert e.line is None  # a line of the rewritten text would mislead
 
 
 def test_load_error_names_the_field_and_line(tmp_path):
