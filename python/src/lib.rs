@@ -1,0 +1,18 @@
+//! `talus._talus`: the native half of the `talus` Python package. It calls the library
+//! crates (scene parser, run loop, SSN solver) with no numerics of its own; the Python
+//! half (`talus/`) shapes arrays and exceptions.
+use pyo3::prelude::*;
+
+mod errors;
+mod reduced;
+mod run;
+mod scene;
+
+#[pymodule]
+fn _talus(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(reduced::read_siconos, m)?)?;
+    m.add_function(wrap_pyfunction!(reduced::solve_reduced, m)?)?;
+    m.add_function(wrap_pyfunction!(run::run, m)?)?;
+    m.add_class::<scene::Scene>()?;
+    Ok(())
+}

@@ -1,0 +1,219 @@
+//! `talus.run`: the CLI's `run_scene` / `run_mpm_scene` in-process, the GIL released
+//! while it steps. `history.csv` and `summary.json` are the run loop's own outputs
+//! (`crates/talus/src/run_loop.rs`); without `out` they go to a temporary folder that is
+//! read back and removed, so the arrays hold the values of the CLI's file.
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use numpy::ndarray::Array2;
+use numpy::IntoPyArray;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use talus::mpm_run::run_mpm_scene;
+use talus::run::{run_scene, RunError, RunOptions};
+use talus::scene::SceneFile;
+use talus::simulation::Model;
+
+use crate::errors::{raise, scene_error};
+use crate::scene::Scene;
+
+/// What a finished run leaves besides its files: the final state's arrays, flat with
+/// their row lengths.
+enum Final {
+    Fem {
+        nodes: Vec<[f64; 2]>,
+        cells: Vec<Vec<usize>>,
+        displacement: Vec<[f64; 2]>,
+        stress: Vec<f64>,
+        plastic_strain: Vec<f64>,
+        gauss_element: Vec<usize>,
+    },
+    Mpm {
+        position: Vec<[f64; 2]>,
+        velocity: Vec<[f64; 2]>,
+        stress: Vec<[f64; 4]>,
+        plastic_strain: Vec<f64>,
+    },
+}
+
+/// A folder of its own for a run without `out`.
+fn scratch() -> PathBuf {
+    static COUNT: AtomicUsize = AtomicUsize::new(0);
+    let n = COUNT.fetch_add(1, Ordering::Relaxed);
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_nanos())
+        .unwrap_or(0);
+    std::env::temp_dir().join(format!("talus-py-{}-{n}-{nanos}", std::process::id()))
+}
+
+fn step(file: &SceneFile, options: &RunOptions) -> Result<Final, RunError> {
+    match file {
+        SceneFile::Fem(scene) => {
+            let summary = run_scene(scene, options)?;
+            // The mesh of the run: the model is rebuilt from the same scene.
+            let model = Model::from_scene(scene)?;
+            let state = summary.final_state;
+            Ok(Final::Fem {
+                nodes: model.mesh.nodes,
+                cells: model.mesh.triangles,
+                displacement: state.displacement,
+                stress: state.sigma,
+                plastic_strain: state.plastic_strain,
+                gauss_element: model.assembly.gauss_element,
+            })
+        }
+        SceneFile::Mpm(scene) => {
+            let p = run_mpm_scene(scene, options)?.particles;
+            Ok(Final::Mpm {
+                position: p.position,
+                velocity: p.velocity,
+                stress: p.stress,
+                plastic_strain: p.plastic_strain,
+            })
+        }
+    }
+}
+
+/// `history.csv` as its header and its rows of numbers.
+fn read_history(path: &Path) -> Result<(Vec<String>, Vec<f64>, usize), String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut lines = text.lines();
+    let header: Vec<String> = lines
+        .next()
+        .ok_or_else(|| format!("{}: empty", path.display()))?
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let mut values = Vec::new();
+    let mut rows = 0;
+    for (i, line) in lines.enumerate() {
+        let row: Vec<&str> = line.split(',').collect();
+        if row.len() != header.len() {
+            return Err(format!(
+                "{}: row {} has {} columns",
+                path.display(),
+                i + 1,
+                row.len()
+            ));
+        }
+        for v in row {
+            values.push(
+                v.parse::<f64>()
+                    .map_err(|e| format!("{}: row {}: {v:?}: {e}", path.display(), i + 1))?,
+            );
+        }
+        rows += 1;
+    }
+    Ok((header, values, rows))
+}
+
+fn flat2(v: Vec<[f64; 2]>) -> Array2<f64> {
+    let n = v.len();
+    Array2::from_shape_vec((n, 2), v.into_iter().flatten().collect()).expect("n×2 values")
+}
+
+/// Runs `scene`; returns a dict with `history` (column → array), `summary_json` (the
+/// text of `summary.json`) and the final state. Files are kept only when `out` is given.
+#[pyfunction]
+#[pyo3(signature = (scene, out=None, progress=false))]
+pub fn run<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    out: Option<PathBuf>,
+    progress: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let file = SceneFile::parse(&scene.source, scene.path.clone())
+        .map_err(|e| scene_error(py, &e, None))?;
+    let keep = out.is_some();
+    let dir = out.unwrap_or_else(scratch);
+    let options = RunOptions {
+        out_dir: dir.clone(),
+        progress,
+        write_fields: keep,
+    };
+    let stepped = py.detach(move || step(&file, &options));
+    let history = read_history(&dir.join("history.csv"));
+    let summary = std::fs::read_to_string(dir.join("summary.json"));
+    if !keep {
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    let d = PyDict::new(py);
+    if let Ok(summary) = &summary {
+        d.set_item("summary_json", summary)?;
+    }
+    if let Ok((header, values, rows)) = &history {
+        let columns = PyDict::new(py);
+        let n = header.len();
+        for (j, name) in header.iter().enumerate() {
+            let column: Vec<f64> = (0..*rows).map(|i| values[i * n + j]).collect();
+            columns.set_item(name, column.into_pyarray(py))?;
+        }
+        d.set_item("history", columns)?;
+    }
+    let state = match stepped {
+        Ok(state) => state,
+        Err(RunError::Scene(e)) => return Err(scene_error(py, &e, None)),
+        Err(e @ (RunError::Step { .. } | RunError::MpmStep { .. })) => {
+            // summary.json says whether the step did not converge or failed otherwise.
+            let not_converged = summary
+                .as_ref()
+                .is_ok_and(|s| s.contains("\"not_converged\""));
+            let class = if not_converged {
+                "NotConverged"
+            } else {
+                "RunError"
+            };
+            return Err(raise(py, class, (e.to_string(), d)));
+        }
+        Err(e) => return Err(raise(py, "RunError", (e.to_string(), d))),
+    };
+    if let Err(e) = history {
+        return Err(raise(py, "RunError", (e, d)));
+    }
+    let fields = PyDict::new(py);
+    match state {
+        Final::Fem {
+            nodes,
+            cells,
+            displacement,
+            stress,
+            plastic_strain,
+            gauss_element,
+        } => {
+            d.set_item("kind", "fem")?;
+            let per_cell = cells.first().map_or(0, Vec::len);
+            let n_cells = cells.len();
+            let flat: Vec<i64> = cells.into_iter().flatten().map(|i| i as i64).collect();
+            let cells = Array2::from_shape_vec((n_cells, per_cell), flat)
+                .map_err(|e| raise(py, "RunError", (e.to_string(), PyDict::new(py))))?;
+            let n_points = plastic_strain.len();
+            let stress = Array2::from_shape_vec((n_points, 4), stress)
+                .map_err(|e| raise(py, "RunError", (e.to_string(), PyDict::new(py))))?;
+            let element: Vec<i64> = gauss_element.into_iter().map(|e| e as i64).collect();
+            fields.set_item("nodes", flat2(nodes).into_pyarray(py))?;
+            fields.set_item("cells", cells.into_pyarray(py))?;
+            fields.set_item("displacement", flat2(displacement).into_pyarray(py))?;
+            fields.set_item("stress", stress.into_pyarray(py))?;
+            fields.set_item("plastic_strain", plastic_strain.into_pyarray(py))?;
+            fields.set_item("gauss_element", element.into_pyarray(py))?;
+        }
+        Final::Mpm {
+            position,
+            velocity,
+            stress,
+            plastic_strain,
+        } => {
+            d.set_item("kind", "mpm")?;
+            let n = stress.len();
+            let stress = Array2::from_shape_vec((n, 4), stress.into_iter().flatten().collect())
+                .map_err(|e| raise(py, "RunError", (e.to_string(), PyDict::new(py))))?;
+            fields.set_item("positions", flat2(position).into_pyarray(py))?;
+            fields.set_item("velocity", flat2(velocity).into_pyarray(py))?;
+            fields.set_item("stress", stress.into_pyarray(py))?;
+            fields.set_item("plastic_strain", plastic_strain.into_pyarray(py))?;
+        }
+    }
+    d.set_item("state", fields)?;
+    Ok(d)
+}

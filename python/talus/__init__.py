@@ -1,0 +1,197 @@
+"""Talus: implicit elasto-plasticity of geomaterials by semi-smooth Newton, from Python.
+
+The native module calls the Talus library crates: the scene parser of ``talus run``, its
+run loop, and the SSN solver of ``talus reduced``. Nothing is computed here; this module
+shapes arrays and exceptions.
+"""
+from __future__ import annotations
+
+import json
+import os
+from typing import Any, Dict, Optional, Tuple, Union
+
+import numpy as np
+
+from . import _talus
+from ._errors import (
+    InvalidProblem,
+    NotConverged,
+    RunError,
+    SceneError,
+    SiconosError,
+    TalusError,
+)
+from ._talus import Scene
+
+__all__ = [
+    "Scene",
+    "Result",
+    "run",
+    "read_siconos",
+    "solve_reduced",
+    "TalusError",
+    "SceneError",
+    "SiconosError",
+    "InvalidProblem",
+    "NotConverged",
+    "RunError",
+]
+
+
+class Result:
+    """What ``talus.run`` returns.
+
+    ``history``: one float64 array per ``history.csv`` column, in the file's order, with
+    the file's values (row 0 is the initial state). ``summary``: the content of
+    ``summary.json``. ``state``: the final state's arrays (see ``talus.run``).
+    ``kind``: ``"fem"`` or ``"mpm"``."""
+
+    def __init__(self, raw: Dict[str, Any]) -> None:
+        self.kind: str = raw["kind"]
+        self.history: Dict[str, np.ndarray] = dict(raw["history"])
+        self.summary: Dict[str, Any] = json.loads(raw["summary_json"])
+        self.state: Dict[str, np.ndarray] = dict(raw["state"])
+
+    def to_pandas(self) -> Any:
+        """The history as a pandas DataFrame (pandas must be installed)."""
+        import pandas as pd
+
+        return pd.DataFrame(self.history)
+
+    def __repr__(self) -> str:
+        steps = len(next(iter(self.history.values()))) - 1 if self.history else 0
+        return f"<talus.Result {self.kind}, {steps} steps, status {self.summary.get('status')!r}>"
+
+
+def _partial(raw: Dict[str, Any]) -> Dict[str, Any]:
+    """What a failed run had written: history arrays and summary dict."""
+    out: Dict[str, Any] = {}
+    if "history" in raw:
+        out["history"] = dict(raw["history"])
+    if "summary_json" in raw:
+        out["summary"] = json.loads(raw["summary_json"])
+    return out
+
+
+def run(
+    scene: Scene,
+    out: Optional[Union[str, "os.PathLike[str]"]] = None,
+    progress: bool = False,
+) -> Result:
+    """Runs a FEM or MPM scene to its end, as ``talus run`` does, with the GIL released.
+
+    ``out``: a folder for the CLI's files (history.csv, summary.json, VTU, PNG plots);
+    without it nothing is kept. ``progress``: a progress bar on a terminal.
+
+    FEM ``state``: ``nodes`` (n_nodes, 2), ``cells`` (n_cells, 3 or 6, int64, Gmsh node
+    order), ``displacement`` (n_nodes, 2), ``stress`` (n_points, 4, Mandel
+    σxx, σyy, σzz, √2 σxy), ``plastic_strain`` (n_points,), ``gauss_element`` (n_points,)
+    the cell of each Gauss point. MPM ``state``: ``positions``, ``velocity`` (n, 2),
+    ``stress`` (n, 4), ``plastic_strain`` (n,).
+
+    Raises ``SceneError`` for a scene the model builder rejects, ``NotConverged`` when a
+    step does not converge after its halvings (``.report`` has the partial history and
+    summary), ``RunError`` otherwise."""
+    path = None if out is None else os.fspath(out)
+    try:
+        raw = _talus.run(scene, path, progress)
+    except (NotConverged, RunError) as e:
+        if isinstance(e.report, dict):
+            e.report = _partial(e.report)
+        raise
+    return Result(raw)
+
+
+Cones = Dict[str, Any]
+
+
+def read_siconos(path: Union[str, "os.PathLike[str]"]) -> Tuple[Any, np.ndarray, Cones]:
+    """Reads a Siconos plasticity problem (the format of ``talus reduced``).
+
+    Returns ``(W, q, cones)``: ``W`` a NumPy (n, n) array for a dense file or a
+    ``scipy.sparse.coo_matrix`` with the file's triplets in the file's order (duplicates
+    kept, summed by the solver) for a sparse one; ``q`` (n,); ``cones`` a dict with
+    ``model`` ``"drucker_prager"`` and per-cone ``eta`` and ``theta``, or ``"von_mises"``
+    and ``sigma_y``."""
+    raw = _talus.read_siconos(os.fspath(path))
+    n = raw["n"]
+    if "dense" in raw:
+        W: Any = raw["dense"]
+    else:
+        try:
+            from scipy.sparse import coo_matrix
+        except ImportError as e:
+            raise ImportError(
+                "this Siconos file stores W sparse: install scipy (pip install scipy)"
+            ) from e
+        W = coo_matrix((raw["values"], (raw["rows"], raw["cols"])), shape=(n, n))
+    if raw["model"] == "drucker_prager":
+        cones: Cones = {"model": "drucker_prager", "eta": raw["eta"], "theta": raw["theta"]}
+    else:
+        cones = {"model": "von_mises", "sigma_y": raw["sigma_y"]}
+    return W, raw["q"], cones
+
+
+def _f64(a: Any, name: str) -> np.ndarray:
+    try:
+        return np.ascontiguousarray(np.asarray(a, dtype=np.float64).ravel())
+    except (TypeError, ValueError) as e:
+        raise InvalidProblem(f"{name}: not an array of numbers: {e}") from e
+
+
+def solve_reduced(
+    W: Any,
+    q: Any,
+    cones: Cones,
+    tol: float = 1e-12,
+    rho_factor: float = 10.0,
+    global_rho: bool = False,
+    max_iterations: int = 100,
+) -> Tuple[np.ndarray, Dict[str, Any]]:
+    """Solves one reduced problem ``z = Wσ + q``, ``σᵢ = P_K(σᵢ − ρ y(zᵢ))`` per cone of
+    dimension 3, with the solver and settings of ``talus reduced``.
+
+    ``W``: a NumPy (n, n) array or any SciPy sparse matrix (its COO triplets are used,
+    duplicates summed). ``cones``: as ``read_siconos`` returns it. ``tol``: stop when
+    ‖F‖∞ ≤ tol·max(1, ‖σ‖∞). ``rho_factor``/``global_rho``: ρ = factor / max diag W, per
+    cone unless global. Returns ``(σ, report)``; ``report`` has the keys of
+    ``talus reduced --json`` (status, iterations, residual, relative_residual, …).
+
+    Raises ``NotConverged`` (``.report``, ``.solution``) when the status is not
+    ``converged`` (the CLI's exit codes 2 and 3), ``InvalidProblem`` for arrays or cones
+    that do not fit."""
+    q = _f64(q, "q")
+    n = q.shape[0]
+    dense = rows = cols = values = None
+    if hasattr(W, "tocoo") and not isinstance(W, np.ndarray):
+        coo = W.tocoo()
+        if coo.shape != (n, n):
+            raise InvalidProblem(f"W is {coo.shape[0]}×{coo.shape[1]}, q has length {n}")
+        rows = np.ascontiguousarray(coo.row, dtype=np.int64)
+        cols = np.ascontiguousarray(coo.col, dtype=np.int64)
+        values = _f64(coo.data, "W")
+    else:
+        dense = np.ascontiguousarray(np.asarray(W, dtype=np.float64))
+        if dense.shape != (n, n):
+            raise InvalidProblem(f"W has shape {dense.shape}, q has length {n}")
+    model = cones.get("model", "drucker_prager")
+    eta = theta = sigma_y = None
+    if model == "drucker_prager":
+        eta = _f64(cones["eta"], "cones['eta']")
+        theta = _f64(cones.get("theta", np.zeros_like(eta)), "cones['theta']")
+    elif model == "von_mises":
+        sigma_y = _f64(cones["sigma_y"], "cones['sigma_y']")
+    else:
+        raise InvalidProblem(f"cones['model'] = {model!r}: 'drucker_prager' or 'von_mises'")
+    sigma, report, converged = _talus.solve_reduced(
+        n, q, model, dense, rows, cols, values, eta, theta, sigma_y,
+        float(tol), float(rho_factor), bool(global_rho), int(max_iterations),
+    )
+    if not converged:
+        raise NotConverged(
+            f"reduced solve: {report['status']} after {report['iterations']} iterations, "
+            f"relative residual {report['relative_residual']:.3e} > tol {tol:.1e}",
+            report,
+            sigma,
+        )
+    return sigma, report
