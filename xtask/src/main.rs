@@ -1,18 +1,21 @@
-//! Project chores: `cargo xtask verify` (verification suites) and `cargo xtask bench`.
+//! Project chores: `cargo xtask test` (every test: crates, verification, Python),
+//! `cargo xtask verify` (verification suites) and `cargo xtask bench`.
 //! Few dependencies on purpose: it drives the release `talus` binary and `cargo bench`.
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
 mod bench;
+mod test;
 mod verify;
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
+        Some("test") => test::run(&workspace_root(), !args.iter().any(|a| a == "--no-python")),
         Some("verify") => verify::run(&workspace_root(), args.iter().any(|a| a == "--quick")),
         Some("bench") => bench::run(&workspace_root()),
         _ => {
-            eprintln!("usage: cargo xtask <verify [--quick]|bench>");
+            eprintln!("usage: cargo xtask <test [--no-python]|verify [--quick]|bench>");
             return ExitCode::from(2);
         }
     };

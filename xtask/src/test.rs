@@ -1,0 +1,67 @@
+//! `cargo xtask test`: every test of the repository, in the order a failure is cheapest to
+//! read: the crates' tests (release), the verification suite, then the Python package's
+//! tests in a virtual environment under `target/python-venv` (`python/README.md`).
+use std::path::Path;
+use std::process::Command;
+
+/// `Ok(false)` when a stage fails; later stages still run, so one run shows every failure.
+pub(crate) fn run(root: &Path, python: bool) -> Result<bool, String> {
+    let mut ok = stage(
+        root,
+        "crates",
+        "cargo",
+        &["test", "--release", "--workspace"],
+    )?;
+    ok &= crate::verify::run(root, false)?;
+    if python {
+        ok &= python_tests(root)?;
+    } else {
+        eprintln!("xtask test: Python tests skipped (--no-python)");
+    }
+    Ok(ok)
+}
+
+fn python_tests(root: &Path) -> Result<bool, String> {
+    let venv = root.join("target").join("python-venv");
+    let bin = venv.join("bin");
+    if !bin.join("python").exists() {
+        let made = stage(root, "python venv", "python3", &["-m", "venv", path(&venv)?])
+            .map_err(|e| format!("{e} (the Python tests need python3 ≥ 3.9 with venv; `cargo xtask test --no-python` skips them)"))?;
+        if !made {
+            return Ok(false);
+        }
+    }
+    let python = bin.join("python");
+    let python = path(&python)?;
+    // In-tree build: maturin reuses the workspace's release artefacts.
+    Ok(stage(
+        root,
+        "python install",
+        python,
+        &["-m", "pip", "install", "--quiet", "./python[test]"],
+    )? && stage(
+        root,
+        "python tests",
+        python,
+        &["-m", "pytest", "-q", "python/tests"],
+    )?)
+}
+
+fn path(p: &Path) -> Result<&str, String> {
+    p.to_str()
+        .ok_or_else(|| format!("path {} is not UTF-8", p.display()))
+}
+
+/// Runs one stage with its output shown; `Ok(false)` if it fails.
+fn stage(root: &Path, name: &str, program: &str, args: &[&str]) -> Result<bool, String> {
+    eprintln!("xtask test: {name}: {program} {}", args.join(" "));
+    let status = Command::new(program)
+        .args(args)
+        .current_dir(root)
+        .status()
+        .map_err(|e| format!("{name}: cannot run {program}: {e}"))?;
+    if !status.success() {
+        eprintln!("xtask test: {name} failed ({status})");
+    }
+    Ok(status.success())
+}
