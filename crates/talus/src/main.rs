@@ -157,10 +157,11 @@ fn run_fem(scene: &Scene, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::
     let worst = iterations.iter().max().copied().unwrap_or(0);
     let last = summary.records.last();
     println!(
-        "{} steps in {:.2} s; Newton iterations per step at most {worst}; final reaction {:.4e} N/m at {:.4e} m; outputs in {}",
+        "{} steps in {:.2} s; Newton iterations per step at most {worst}; final reaction {:.4e} {} at {:.4e} m; outputs in {}",
         summary.records.len(),
         summary.seconds,
         last.map(|r| r.reaction_force()).unwrap_or(0.0),
+        scene.spec.analysis.geometry.force_unit(),
         summary.displacements.last().copied().unwrap_or(0.0),
         out.display()
     );

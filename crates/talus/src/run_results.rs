@@ -21,13 +21,14 @@ impl FemResults {
             scene.spec.boundary.iter().map(|b| b.name.clone()).collect();
         let groups = ReactionGroups::of_model(model, &names);
         let monitors = NodeMonitors::new(scene, model)?;
-        let results = Results::new(
+        let mut results = Results::new(
             base,
             &groups.names,
             &monitors.names,
             scene.spec.output.reaction.clone(),
         )
         .map_err(|e| scene.error(&e.field, e.message))?;
+        results.set_force_unit(scene.spec.analysis.geometry.force_unit());
         Ok(Self {
             groups,
             monitors,

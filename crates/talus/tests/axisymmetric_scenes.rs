@@ -96,3 +96,29 @@ fn circular_footing_reports_the_whole_footing_load() {
         last = r.reaction_force();
     }
 }
+
+/// The summary and the last line give the whole-circumference force in N (not N/m), and
+/// its value is the `reaction_force` of history.csv's last row.
+#[test]
+fn axisymmetric_summary_reports_forces_in_newtons() {
+    let text = scene_text("circular_footing.toml").replacen("steps = 300", "steps = 3", 1);
+    let scene = Scene::parse(&text, None).unwrap();
+    let out = std::env::temp_dir().join("talus-axisym-summary-unit");
+    let _ = std::fs::remove_dir_all(&out);
+    let options = talus::run::RunOptions {
+        out_dir: out.clone(),
+        progress: false,
+        write_fields: false,
+    };
+    let run = talus::run::run_scene(&scene, &options).unwrap();
+    let summary = talus::output::Summary::read(&out.join("summary.json")).unwrap();
+    assert_eq!(summary.force_unit, "N");
+    let reaction = summary.reaction.as_ref().unwrap();
+    let last = run.records.last().unwrap().reaction_force();
+    assert_eq!(reaction.force, last);
+    let sentence = summary.sentence();
+    assert!(
+        sentence.contains(" N at ") && !sentence.contains("N/m"),
+        "{sentence}"
+    );
+}

@@ -22,6 +22,7 @@ pub struct Results {
     curve: Vec<(f64, f64)>,
     steps: usize,
     time: f64,
+    force_unit: &'static str,
 }
 
 /// A name that cannot head columns: the scene field that gave it and why.
@@ -78,7 +79,14 @@ impl Results {
             curve: Vec::new(),
             steps: 0,
             time: 0.0,
+            force_unit: "N/m",
         })
+    }
+
+    /// The unit the summary gives the forces in (`N/m` unless set: axisymmetric runs
+    /// report whole-circumference forces in `N`).
+    pub fn set_force_unit(&mut self, unit: &'static str) {
+        self.force_unit = unit;
     }
 
     /// `,NAME_fx,NAME_fy,...,NAME_ux,...`: what follows the base header.
@@ -195,6 +203,7 @@ impl Results {
             monitors,
             reaction,
             limit,
+            force_unit: self.force_unit.to_string(),
             factor_of_safety: None,
             collapse: None,
         }

@@ -125,12 +125,20 @@ pub struct Summary {
     pub monitors: BTreeMap<String, Option<MonitorValues>>,
     pub reaction: Option<ReportedReaction>,
     pub limit: Option<Limit>,
+    /// The unit of every force above: `N/m` (plane strain, per metre of thickness) or `N`
+    /// (axisymmetric, the whole circumference).
+    #[serde(default = "per_metre")]
+    pub force_unit: String,
     /// Only for a `[stability]` run.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub factor_of_safety: Option<FactorOfSafety>,
     /// Only when `status` is `collapsed`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub collapse: Option<CollapseTime>,
+}
+
+fn per_metre() -> String {
+    "N/m".to_string()
 }
 
 impl Summary {
@@ -168,14 +176,15 @@ impl Summary {
                 c.step, c.time
             );
         }
+        let unit = &self.force_unit;
         if let Some(r) = &self.reaction {
             s += &format!(
-                "; `{}` pushes with {:.4e} N/m at {:.4e} m settlement",
+                "; `{}` pushes with {:.4e} {unit} at {:.4e} m settlement",
                 r.boundary, r.force, r.settlement
             );
             s += &match &self.limit {
                 Some(l) => format!(
-                    "; limit load {:.4e} N/m, plateau from {:.4e} m (step {})",
+                    "; limit load {:.4e} {unit}, plateau from {:.4e} m (step {})",
                     l.force, l.settlement, l.step
                 ),
                 None => "; no plateau of the force (no limit load)".to_string(),
@@ -183,7 +192,7 @@ impl Summary {
         }
         for (name, b) in &self.boundaries {
             s += &format!(
-                "; {name}: final ({:.4e}, {:.4e}) N/m, peak ({:.4e}, {:.4e}) N/m",
+                "; {name}: final ({:.4e}, {:.4e}) {unit}, peak ({:.4e}, {:.4e}) {unit}",
                 b.last[0], b.last[1], b.peak[0], b.peak[1]
             );
         }

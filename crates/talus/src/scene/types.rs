@@ -234,6 +234,15 @@ impl Serialize for GeometryKind {
 }
 
 impl GeometryKind {
+    /// The unit of the reported forces: per metre of thickness, or for the whole
+    /// circumference.
+    pub fn force_unit(self) -> &'static str {
+        match self {
+            GeometryKind::PlaneStrain => "N/m",
+            GeometryKind::Axisymmetric => "N",
+        }
+    }
+
     pub fn fem(self) -> talus_fem::Geometry {
         match self {
             GeometryKind::PlaneStrain => talus_fem::Geometry::PlaneStrain,

@@ -146,6 +146,7 @@ fn empty_summary(status: RunStatus, steps: usize, requested: usize, time: f64) -
         monitors: Default::default(),
         reaction: None,
         limit: None,
+        force_unit: "N/m".to_string(),
         factor_of_safety: None,
         collapse: None,
     }
