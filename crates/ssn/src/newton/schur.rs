@@ -25,7 +25,7 @@ pub(crate) struct SchurSystem<const D: usize> {
     /// Points sharing their dofs (`schur_pattern::point_groups`).
     group_ptr: Vec<usize>,
     /// Start of group g's entries in `contributions` (masses first).
-    point_ptr: Vec<usize>,
+    group_entries: Vec<usize>,
     contributions: Vec<f64>,
     csc_values: Vec<f64>,
     factorization: SchurFactor,
@@ -72,11 +72,11 @@ impl<const D: usize> SchurSystem<D> {
             next[p] += 1;
         }
         let n_groups = group_ptr.len().saturating_sub(1);
-        let mut point_ptr = Vec::with_capacity(n_groups + 1);
-        point_ptr.push(n_v);
+        let mut group_entries = Vec::with_capacity(n_groups + 1);
+        group_entries.push(n_v);
         for g in 0..n_groups {
             let m = blocks.point(group_ptr[g]).0.len();
-            point_ptr.push(point_ptr[g] + block_len(m, symmetric));
+            group_entries.push(group_entries[g] + block_len(m, symmetric));
         }
         let nnz = row_idx.len();
         let factorization = SchurFactor::analyse(symbolic.as_ref(), symmetric)?;
@@ -85,9 +85,9 @@ impl<const D: usize> SchurSystem<D> {
             symbolic,
             gather_ptr,
             gather,
-            contributions: vec![0.0; point_ptr[n_groups]],
+            contributions: vec![0.0; group_entries[n_groups]],
             group_ptr,
-            point_ptr,
+            group_entries,
             csc_values: vec![0.0; nnz],
             factorization,
             local_c: vec![SMatrix::zeros(); n_points],
@@ -152,10 +152,10 @@ impl<const D: usize> SchurSystem<D> {
         let n_v = structured.lumped_mass.len();
         let (masses, mut rest) = self.contributions.split_at_mut(n_v);
         masses.copy_from_slice(&structured.lumped_mass);
-        let mut per_point = Vec::with_capacity(self.point_ptr.len() - 1);
-        for w in self.point_ptr.windows(2) {
+        let mut per_group = Vec::with_capacity(self.group_entries.len() - 1);
+        for w in self.group_entries.windows(2) {
             let (this, tail) = rest.split_at_mut(w[1] - w[0]);
-            per_point.push(this);
+            per_group.push(this);
             rest = tail;
         }
         let group_ptr = &self.group_ptr;
@@ -185,15 +185,15 @@ impl<const D: usize> SchurSystem<D> {
             }
         };
         if parallel {
-            per_point
+            per_group
                 .par_iter_mut()
                 .enumerate()
                 .with_min_len(256)
                 .for_each(fill);
         } else {
-            per_point.iter_mut().enumerate().for_each(fill);
+            per_group.iter_mut().enumerate().for_each(fill);
         }
-        drop(per_point);
+        drop(per_group);
         let (contributions, gather, gather_ptr) =
             (&self.contributions, &self.gather, &self.gather_ptr);
         let sum = |(p, out): (usize, &mut f64)| {

@@ -63,28 +63,28 @@ pub(crate) fn schur_pattern<const D: usize>(
     let group_dofs = |g: usize| blocks.point(group_ptr[g]).0;
     let n_dofs: usize = (0..n_groups).map(|g| group_dofs(g).len()).sum();
     // Groups touching each velocity column, ascending (a counting sort of the dofs).
-    let mut point_ptr = vec![0usize; n_v + 1];
+    let mut group_ptr_of_column = vec![0usize; n_v + 1];
     for g in 0..n_groups {
         for &j in group_dofs(g) {
             if j >= n_v {
                 return Err(format!("velocity column {j} out of {n_v}"));
             }
-            point_ptr[j + 1] += 1;
+            group_ptr_of_column[j + 1] += 1;
         }
     }
     for j in 0..n_v {
-        point_ptr[j + 1] += point_ptr[j];
+        group_ptr_of_column[j + 1] += group_ptr_of_column[j];
     }
-    let mut fill = point_ptr.clone();
-    let mut points = vec![0usize; n_dofs];
+    let mut fill = group_ptr_of_column.clone();
+    let mut groups = vec![0usize; n_dofs];
     for g in 0..n_groups {
         for &j in group_dofs(g) {
-            points[fill[j]] = g;
+            groups[fill[j]] = g;
             fill[j] += 1;
         }
     }
 
-    // Rows of each column: the diagonal and every dof of every point in the column.
+    // Rows of each column: the diagonal and every dof of every group in the column.
     let mut mark = vec![usize::MAX; n_v];
     let mut col_ptr = Vec::with_capacity(n_v + 1);
     col_ptr.push(0);
@@ -93,7 +93,7 @@ pub(crate) fn schur_pattern<const D: usize>(
         let start = row_idx.len();
         mark[j] = j;
         row_idx.push(j);
-        for &i in &points[point_ptr[j]..point_ptr[j + 1]] {
+        for &i in &groups[group_ptr_of_column[j]..group_ptr_of_column[j + 1]] {
             for &r in group_dofs(i) {
                 if (!symmetric || r >= j) && mark[r] != j {
                     mark[r] = j;
@@ -123,7 +123,7 @@ pub(crate) fn schur_pattern<const D: usize>(
             at[r] = k;
         }
         positions[j] = at[j];
-        for &i in &points[point_ptr[j]..point_ptr[j + 1]] {
+        for &i in &groups[group_ptr_of_column[j]..group_ptr_of_column[j + 1]] {
             let dofs = group_dofs(i);
             let m = dofs.len();
             let b = dofs
