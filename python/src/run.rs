@@ -16,6 +16,7 @@ use talus::simulation::Model;
 
 use crate::errors::{raise, scene_error};
 use crate::scene::Scene;
+use crate::watch::Watch;
 
 /// What a finished run leaves besides its files: the final state's arrays, flat with
 /// their row lengths.
@@ -37,7 +38,7 @@ enum Final {
 }
 
 /// A folder of its own for a run without `out`.
-fn scratch() -> PathBuf {
+pub(crate) fn scratch() -> PathBuf {
     static COUNT: AtomicUsize = AtomicUsize::new(0);
     let n = COUNT.fetch_add(1, Ordering::Relaxed);
     let nanos = std::time::SystemTime::now()
@@ -115,22 +116,24 @@ fn flat2(v: Vec<[f64; 2]>) -> Array2<f64> {
 
 /// Runs `scene`; returns a dict with `history` (column → array), `summary_json` (the
 /// text of `summary.json`) and the final state. Files are kept only when `out` is given.
+/// `callback(progress: dict)` is called after every step; `False` stops the run.
 #[pyfunction]
-#[pyo3(signature = (scene, out=None, progress=false))]
+#[pyo3(signature = (scene, out=None, callback=None))]
 pub fn run<'py>(
     py: Python<'py>,
     scene: &Scene,
     out: Option<PathBuf>,
-    progress: bool,
+    callback: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let file = SceneFile::parse(&scene.source, scene.path.clone())
         .map_err(|e| scene_error(py, &e, None))?;
     let keep = out.is_some();
     let dir = out.unwrap_or_else(scratch);
+    let watch = Watch::new(callback);
     let options = RunOptions {
-        out_dir: dir.clone(),
-        progress,
         write_fields: keep,
+        observer: Some(watch.observer()),
+        ..RunOptions::new(dir.clone())
     };
     let stepped = py.detach(move || step(&file, &options));
     let history = read_history(&dir.join("history.csv"));
@@ -151,8 +154,10 @@ pub fn run<'py>(
         }
         d.set_item("history", columns)?;
     }
+    watch.raise_stop(py, &d)?;
     let state = match stepped {
         Ok(state) => state,
+        Err(e @ RunError::Collapsed(_)) => return Err(raise(py, "Collapsed", (e.to_string(), d))),
         Err(RunError::Scene(e)) => return Err(scene_error(py, &e, None)),
         Err(e @ (RunError::Step { .. } | RunError::MpmStep { .. })) => {
             // summary.json says whether the step did not converge or failed otherwise.

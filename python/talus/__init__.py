@@ -6,14 +6,19 @@ shapes arrays and exceptions.
 """
 from __future__ import annotations
 
+import csv
+import io
 import json
 import os
-from typing import Any, Dict, Optional, Tuple, Union
+import sys
+from typing import Any, Callable, Dict, Optional, Tuple, Union
 
 import numpy as np
 
 from . import _talus
 from ._errors import (
+    Collapsed,
+    Interrupted,
     InvalidProblem,
     NotConverged,
     RunError,
@@ -27,6 +32,8 @@ __all__ = [
     "Scene",
     "Result",
     "run",
+    "factor_of_safety",
+    "FactorOfSafety",
     "read_siconos",
     "solve_reduced",
     "TalusError",
@@ -35,6 +42,8 @@ __all__ = [
     "InvalidProblem",
     "NotConverged",
     "RunError",
+    "Collapsed",
+    "Interrupted",
 ]
 
 
@@ -73,15 +82,46 @@ def _partial(raw: Dict[str, Any]) -> Dict[str, Any]:
     return out
 
 
+Progress = Dict[str, Any]
+
+
+class _ProgressLine:
+    """``progress=True``: one line on stderr, rewritten after every step (a terminal and
+    Jupyter alike)."""
+
+    def __init__(self) -> None:
+        self.shown = False
+
+    def __call__(self, p: Progress) -> None:
+        text = (
+            f"step {p['step']}/{p['steps']}  t = {p['time']:.6g} s  "
+            f"{p['newton_iterations']} Newton iterations  {p['message']}"
+        )
+        # On a terminal, clear what a longer line left; elsewhere pad a little.
+        sys.stderr.write("\r" + text + ("\x1b[K" if sys.stderr.isatty() else "  "))
+        sys.stderr.flush()
+        self.shown = True
+
+    def close(self) -> None:
+        if self.shown:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+
+
 def run(
     scene: Scene,
     out: Optional[Union[str, "os.PathLike[str]"]] = None,
-    progress: bool = False,
+    progress: Union[bool, Callable[[Progress], Optional[bool]]] = True,
 ) -> Result:
     """Runs a FEM or MPM scene to its end, as ``talus run`` does, with the GIL released.
 
     ``out``: a folder for the CLI's files (history.csv, summary.json, VTU, PNG plots);
-    without it nothing is kept. ``progress``: a progress bar on a terminal.
+    without it nothing is kept. ``progress``: ``True`` rewrites one line on stderr after
+    each step; ``False`` is silent; a callable is called after each step with a dict
+    ``step``, ``steps``, ``time`` (s), ``newton_iterations``, ``substeps``,
+    ``relative_residual`` and ``message``, and returning ``False`` stops the run
+    (``Interrupted``). Ctrl-C stops it after the step in progress: the files are written
+    (``summary.json`` status ``interrupted``), then ``KeyboardInterrupt`` is raised.
 
     FEM ``state``: ``nodes`` (n_nodes, 2), ``cells`` (n_cells, 3 or 6, int64, Gmsh node
     order), ``displacement`` (n_nodes, 2), ``stress`` (n_points, 4, Mandel
@@ -90,16 +130,113 @@ def run(
     ``stress`` (n, 4), ``plastic_strain`` (n,).
 
     Raises ``SceneError`` for a scene the model builder rejects, ``NotConverged`` when a
-    step does not converge after its halvings (``.report`` has the partial history and
-    summary), ``RunError`` otherwise."""
+    step does not converge after its halvings, ``Collapsed`` when the load passes the
+    body's capacity, ``Interrupted`` when the callback stops the run (each with
+    ``.report``: the partial ``history`` and ``summary``), ``RunError`` otherwise."""
+    if _has(scene, "stability"):
+        raise SceneError(
+            "stability", None, "a factor-of-safety scene: call talus.factor_of_safety(scene)",
+            None, scene.path,
+        )
     path = None if out is None else os.fspath(out)
+    line = _ProgressLine() if progress is True else None
+    callback = line if line is not None else (progress if callable(progress) else None)
     try:
-        raw = _talus.run(scene, path, progress)
+        raw = _talus.run(scene, path, callback)
     except (NotConverged, RunError) as e:
         if isinstance(e.report, dict):
             e.report = _partial(e.report)
         raise
+    finally:
+        if line is not None:
+            line.close()
     return Result(raw)
+
+
+class FactorOfSafety:
+    """What ``talus.factor_of_safety`` returns.
+
+    ``factor``: the middle of the final bracket (``None`` if none was reached within
+    ``max_trials``); ``bracket``: ``(lo, hi)``, the largest factor found stable and the
+    smallest found failing (``None`` where no trial said so); ``method`` and ``criterion``
+    in words; ``trials``: the ``history.csv`` columns, one row per trial, row 0 the loading
+    (``outcome`` an array of str, the other columns float64, NaN where the file is blank);
+    ``summary``: the content of ``summary.json``."""
+
+    def __init__(self, raw: Dict[str, Any]) -> None:
+        self.summary: Dict[str, Any] = json.loads(raw["summary_json"])
+        fos = self.summary["factor_of_safety"]
+        self.factor: Optional[float] = fos["value"]
+        self.bracket: Tuple[Optional[float], Optional[float]] = tuple(fos["bracket"])
+        self.method: str = fos["method"]
+        self.criterion: str = fos["criterion"]
+        self.trials: Dict[str, np.ndarray] = _trials(raw["history_csv"])
+
+    def __repr__(self) -> str:
+        lo, hi = self.bracket
+        return f"<talus.FactorOfSafety {self.method}: F = {self.factor} in [{lo}, {hi}], {len(self.trials['trial']) - 1} trials>"
+
+
+def _trials(text: str) -> Dict[str, np.ndarray]:
+    rows = list(csv.reader(io.StringIO(text)))
+    header, rows = rows[0], rows[1:]
+    columns: Dict[str, np.ndarray] = {}
+    for j, name in enumerate(header):
+        values = [r[j] for r in rows]
+        if name == "outcome":
+            columns[name] = np.array(values, dtype=str)
+        else:
+            columns[name] = np.array([float(v) if v else np.nan for v in values])
+    return columns
+
+
+def factor_of_safety(
+    scene: Scene,
+    method: Optional[str] = None,
+    out: Optional[Union[str, "os.PathLike[str]"]] = None,
+    progress: Union[bool, Callable[[Progress], Optional[bool]]] = True,
+) -> FactorOfSafety:
+    """The factor of safety of a FEM scene, as ``talus run`` computes it for a scene with
+    ``[stability]`` (docs/stability.md): the loading to equilibrium, then trials that
+    bisect on the factor until the bracket is within the tolerance.
+
+    ``method``: ``"strength_reduction"`` (c and tan φ divided by F) or
+    ``"gravity_increase"`` (gravity multiplied by F); it sets ``stability.method``, and a
+    scene without ``[stability]`` gets that section with its defaults
+    (``"strength_reduction"`` when ``method`` is ``None``). ``out``, ``progress``: as in
+    ``run``, with one progress call per trial (``step`` counts trials, ``message`` gives
+    the factor and its outcome).
+
+    Raises ``SceneError``, ``NotConverged`` (the loading did not reach equilibrium),
+    ``Interrupted`` or ``RunError``."""
+    if method is not None or not _has(scene, "stability"):
+        scene = scene.set("stability.method", method or "strength_reduction")
+    path = None if out is None else os.fspath(out)
+    line = _ProgressLine() if progress is True else None
+    callback = line if line is not None else (progress if callable(progress) else None)
+    try:
+        raw = _talus.factor_of_safety(scene, path, callback)
+    except (NotConverged, RunError) as e:
+        if isinstance(e.report, dict):
+            report = dict(e.report)
+            if "summary_json" in report:
+                report["summary"] = json.loads(report.pop("summary_json"))
+            if "history_csv" in report:
+                report["trials"] = _trials(report.pop("history_csv"))
+            e.report = report
+        raise
+    finally:
+        if line is not None:
+            line.close()
+    return FactorOfSafety(raw)
+
+
+def _has(scene: Scene, field: str) -> bool:
+    try:
+        scene.get(field)
+    except KeyError:
+        return False
+    return True
 
 
 Cones = Dict[str, Any]

@@ -1,11 +1,13 @@
 """Talus: implicit elasto-plasticity of geomaterials by semi-smooth Newton, from Python."""
 import os
-from typing import Any, Dict, Literal, Optional, Tuple, Union
+from typing import Any, Callable, Dict, Literal, Optional, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
 
 from ._errors import (
+    Collapsed as Collapsed,
+    Interrupted as Interrupted,
     InvalidProblem as InvalidProblem,
     NotConverged as NotConverged,
     RunError as RunError,
@@ -61,10 +63,45 @@ class Result:
     def to_pandas(self) -> Any:
         """The history as a pandas DataFrame (needs pandas)."""
 
-def run(scene: Scene, out: Optional[_Path] = None, progress: bool = False) -> Result:
+Progress = Dict[str, Any]
+"""After each step: ``step``, ``steps``, ``time`` (s), ``newton_iterations``, ``substeps``,
+``relative_residual``, ``message``."""
+
+def run(
+    scene: Scene,
+    out: Optional[_Path] = None,
+    progress: Union[bool, Callable[[Progress], Optional[bool]]] = True,
+) -> Result:
     """Runs a FEM or MPM scene to its end as ``talus run`` does, the GIL released.
-    Files are written to ``out`` when given. Raises ``SceneError``, ``NotConverged``
-    (``.report``: partial ``history`` and ``summary``) or ``RunError``."""
+    Files are written to ``out`` when given. ``progress``: a line on stderr (``True``),
+    nothing (``False``), or a callable told of each step (``False`` stops the run). Ctrl-C
+    stops after the step in progress, writes the files and raises ``KeyboardInterrupt``.
+    Raises ``SceneError``, ``NotConverged``, ``Collapsed``, ``Interrupted`` (``.report``:
+    partial ``history`` and ``summary``) or ``RunError``."""
+
+class FactorOfSafety:
+    """What ``factor_of_safety`` returns."""
+
+    factor: Optional[float]
+    """The middle of the final bracket; ``None`` when none was reached."""
+    bracket: Tuple[Optional[float], Optional[float]]
+    """The largest factor found stable, the smallest found failing."""
+    method: str
+    criterion: str
+    trials: Dict[str, np.ndarray]
+    """``history.csv``'s columns, one row per trial (row 0: the loading)."""
+    summary: Dict[str, Any]
+
+def factor_of_safety(
+    scene: Scene,
+    method: Optional[Literal["strength_reduction", "gravity_increase"]] = None,
+    out: Optional[_Path] = None,
+    progress: Union[bool, Callable[[Progress], Optional[bool]]] = True,
+) -> FactorOfSafety:
+    """The factor of safety of a FEM scene (docs/stability.md); ``method`` sets
+    ``stability.method`` (a scene without ``[stability]`` gets it, default
+    ``"strength_reduction"``). One progress call per trial. Raises ``SceneError``,
+    ``NotConverged``, ``Interrupted`` or ``RunError``."""
 
 def read_siconos(path: _Path) -> Tuple[Any, npt.NDArray[np.float64], Cones]:
     """``(W, q, cones)`` of a Siconos plasticity file: ``W`` a NumPy (n, n) array or a

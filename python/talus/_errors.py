@@ -63,6 +63,27 @@ class RunError(TalusError):
         self.report = report
 
 
+class Collapsed(RunError):
+    """A load past the body's capacity: the run stopped at the step where the collapse
+    criterion held (``summary["collapse"]`` has the step and time, ``docs/scenes.md``,
+    'Collapse'); ``report`` holds the history and summary up to there."""
+
+
+class Interrupted(RunError):
+    """The progress callback returned ``False``: the run stopped after the step in
+    progress and wrote its files (status ``interrupted``); ``report`` holds them. Ctrl-C
+    raises ``KeyboardInterrupt`` the same way, once the files are written."""
+
+
 # Shown as talus.SceneError etc. in tracebacks: the public names.
-for _cls in (TalusError, SceneError, SiconosError, InvalidProblem, NotConverged, RunError):
+for _cls in (
+    TalusError,
+    SceneError,
+    SiconosError,
+    InvalidProblem,
+    NotConverged,
+    RunError,
+    Collapsed,
+    Interrupted,
+):
     _cls.__module__ = "talus"

@@ -2,7 +2,7 @@
 import numpy as np
 
 import talus
-from conftest import FOOTING, assert_same_bits, read_csv, run_cli
+from conftest import FOOTING, REPO, assert_same_bits, read_csv, run_cli
 
 
 def test_paper_footing_history_equals_cli(cli, tmp_path):
@@ -49,3 +49,21 @@ def test_arrays_have_documented_shapes_and_dtypes():
     np.testing.assert_allclose(s["displacement"][footing, 1], -1e-3 * steps * 1e-2, rtol=1e-12)
     # history.csv keeps 11 significant digits (`{:.10e}`); summary.json all of them.
     assert result.history["footing_displacement"][-1] == float(f"{result.summary['reaction']['settlement']:.10e}")
+
+
+def test_mpm_column_history_equals_cli(cli, tmp_path):
+    # The a = 2 granular column (scenes/column_a2.toml, after Lube et al. 2005), its first
+    # 5 steps: an MPM run goes through the same run loop as the CLI's.
+    scene = talus.Scene.load(REPO / "scenes" / "column_a2.toml").set("time.steps", 5)
+    path = tmp_path / "column.toml"
+    path.write_text(scene.to_toml())
+    expected = run_cli(cli, path, tmp_path / "cli")
+    result = talus.run(scene, progress=False)
+    assert result.kind == "mpm"
+    assert result.summary["status"] == "finished"
+    assert_same_bits(result.history, expected)
+    # 10 × 20 cells of 0.01 m with 2 × 2 particles each (the scene's body and spacing).
+    n = 4 * 10 * 20
+    s = result.state
+    assert s["positions"].shape == (n, 2) and s["velocity"].shape == (n, 2)
+    assert s["stress"].shape == (n, 4) and s["plastic_strain"].shape == (n,)

@@ -10,11 +10,27 @@ mod verify;
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let result = match args.first().map(String::as_str) {
-        Some("test") => test::run(&workspace_root(), !args.iter().any(|a| a == "--no-python")),
-        Some("verify") => verify::run(&workspace_root(), args.iter().any(|a| a == "--quick")),
-        Some("bench") => bench::run(&workspace_root()),
-        _ => {
+    let (task, flags) = match args.split_first() {
+        Some((task, flags)) => (task.as_str(), flags),
+        None => ("", &[][..]),
+    };
+    // Each task's flags; anything else (`--help` included) prints the usage.
+    let known: &[&str] = match task {
+        "test" => &["--no-python"],
+        "verify" => &["--quick"],
+        "bench" => &[],
+        _ => &[],
+    };
+    let unknown = flags.iter().find(|f| !known.contains(&f.as_str()));
+    let has = |flag: &str| flags.iter().any(|f| f == flag);
+    let result = match (task, unknown) {
+        ("test", None) => test::run(&workspace_root(), !has("--no-python")),
+        ("verify", None) => verify::run(&workspace_root(), has("--quick")),
+        ("bench", None) => bench::run(&workspace_root()),
+        (_, unknown) => {
+            if let Some(flag) = unknown {
+                eprintln!("xtask {task}: unknown argument {flag:?}");
+            }
             eprintln!("usage: cargo xtask <test [--no-python]|verify [--quick]|bench>");
             return ExitCode::from(2);
         }

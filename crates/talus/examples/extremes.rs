@@ -434,11 +434,7 @@ pub fn run_case(case: &Case, out_dir: &Path) -> Measured {
     // The scene as run, to reproduce a case with `talus run DIR/scene.toml`.
     let _ = std::fs::create_dir_all(out_dir)
         .and_then(|_| std::fs::write(out_dir.join("scene.toml"), case.scene_text()));
-    let options = RunOptions {
-        out_dir: out_dir.to_path_buf(),
-        progress: false,
-        write_fields: false,
-    };
+    let options = RunOptions::new(out_dir.to_path_buf());
     let result =
         std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_scene(&scene, &options)));
     m.seconds = start.elapsed().as_secs_f64();

@@ -205,11 +205,7 @@ fn run(config: &Config, out: &Path) -> Outcome {
         *cells = config.cells;
         *order = if config.p2 { Order::P2 } else { Order::P1 };
     }
-    let options = RunOptions {
-        out_dir: out.to_path_buf(),
-        progress: false,
-        write_fields: false,
-    };
+    let options = RunOptions::new(out.to_path_buf());
     let (start, cpu0) = (Instant::now(), cpu_seconds());
     let summary = run_scene(&scene, &options).unwrap_or_else(|e| panic!("{config:?}: {e}"));
     let seconds = start.elapsed().as_secs_f64();

@@ -140,9 +140,9 @@ fn run_fem(scene: &Scene, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::
     let summary = run_scene(
         scene,
         &RunOptions {
-            out_dir: out.clone(),
             progress: true,
             write_fields: true,
+            ..RunOptions::new(out.clone())
         },
     );
     let summary = match ended(summary, &out) {
@@ -172,9 +172,9 @@ fn run_fem(scene: &Scene, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::
 /// A `[stability]` scene: the factor of safety (`docs/stability.md`).
 fn run_stability(scene: &Scene, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
     let options = RunOptions {
-        out_dir: out.clone(),
         progress: true,
         write_fields: true,
+        ..RunOptions::new(out.clone())
     };
     let run = match ended(talus::stability::run(scene, &options), &out) {
         Ok(run) => run,
@@ -195,9 +195,9 @@ fn run_mpm(scene: &MpmScene, out: PathBuf) -> Result<ExitCode, Box<dyn std::erro
     let summary = run_mpm_scene(
         scene,
         &RunOptions {
-            out_dir: out.clone(),
             progress: true,
             write_fields: true,
+            ..RunOptions::new(out.clone())
         },
     );
     let summary = match ended(summary, &out) {

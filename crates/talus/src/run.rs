@@ -1,5 +1,6 @@
 //! `talus run`: a scene stepped to its end, with history, ParaView files and PNG plots.
 use std::io::IsTerminal;
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -55,12 +56,49 @@ pub struct RunSummary {
     pub final_state: State,
 }
 
+/// How a run is carried out. New fields come with defaults: build it with
+/// `RunOptions { write_fields: true, ..RunOptions::new(out) }`.
+#[derive(Clone)]
 pub struct RunOptions {
     pub out_dir: PathBuf,
     /// Draw a progress bar on a terminal (tracing logs otherwise).
     pub progress: bool,
     /// Write VTU files and PNG plots (history.csv is always written).
     pub write_fields: bool,
+    /// Told of every step; a `Break` stops the run as a SIGINT would (status
+    /// `interrupted`). The Python package's progress callback and Ctrl-C.
+    pub observer: Option<Observer>,
+}
+
+/// See [`RunOptions::observer`].
+pub type Observer = std::sync::Arc<dyn Fn(&StepProgress) -> ControlFlow<()> + Send + Sync>;
+
+/// What an [`Observer`] is told after each step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepProgress {
+    /// The step just completed (1-based) and the run's number of steps.
+    pub step: usize,
+    pub steps: usize,
+    /// Time at the end of the step (s).
+    pub time: f64,
+    pub newton_iterations: usize,
+    pub substeps: usize,
+    /// The last solve's residual over its scale (`history.csv`'s `relative_residual`).
+    pub relative_residual: f64,
+    /// The method's own short status (the progress bar's message).
+    pub message: String,
+}
+
+impl RunOptions {
+    /// Files under `out_dir`, no progress bar, no VTU or plots, no observer.
+    pub fn new(out_dir: impl Into<PathBuf>) -> Self {
+        Self {
+            out_dir: out_dir.into(),
+            progress: false,
+            write_fields: false,
+            observer: None,
+        }
+    }
 }
 
 pub(crate) fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
@@ -140,9 +178,8 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunE
         state,
         time.steps,
         time.step,
-        &options.out_dir,
         &mut outputs,
-        options.progress,
+        options,
     )?;
     if let Some(step) = stepped.interrupted {
         let time = stepped.state.time;

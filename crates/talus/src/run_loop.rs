@@ -5,7 +5,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::output::{CollapseTime, Results, RunStatus};
-use crate::run::{io_err, progress_bar, RunError};
+use crate::run::{io_err, progress_bar, RunError, RunOptions, StepProgress};
 use crate::simulation::engine::{
     Collapse, CollapseWatch, Discretization, StepError, StepReport, Stepper,
 };
@@ -74,16 +74,17 @@ impl std::fmt::Display for Collapsed {
 }
 
 /// Steps `state` `steps` times by `h`, writing `out/history.csv`, what `outputs` asks, and
-/// `out/summary.json` at the end, finished or failed.
+/// `out/summary.json` at the end, finished or failed. SIGINT/SIGTERM or the observer's
+/// `Break` stop it after the step in progress.
 pub fn run_steps<D: Discretization, O: RunOutputs<D>>(
     stepper: &mut Stepper<D>,
     mut state: D::State,
     steps: usize,
     h: f64,
-    out: &Path,
     outputs: &mut O,
-    progress: bool,
+    options: &RunOptions,
 ) -> Result<Stepped<D>, RunError> {
+    let out: &Path = &options.out_dir;
     std::fs::create_dir_all(out).map_err(io_err(out))?;
     check_writable(out)?;
     let summary_path = out.join("summary.json");
@@ -92,7 +93,7 @@ pub fn run_steps<D: Discretization, O: RunOutputs<D>>(
     let row = outputs.row(0, &state, None);
     history.row::<D::Stats>(0, stepper.discretization().time(&state), None, &row)?;
     outputs.after_step(0, &state)?;
-    let bar = progress_bar(steps, progress);
+    let bar = progress_bar(steps, options.progress);
     let mut reports = Vec::new();
     let mut failure = None;
     let mut collapse = None;
@@ -140,6 +141,18 @@ pub fn run_steps<D: Discretization, O: RunOutputs<D>>(
             bar.inc(1);
         }
         outputs.after_step(step, &state)?;
+        let stop = options.observer.as_ref().is_some_and(|observe| {
+            let progress = StepProgress {
+                step,
+                steps,
+                time: report.time,
+                newton_iterations: report.newton_iterations,
+                substeps: report.substeps,
+                relative_residual: report.relative_residual,
+                message: outputs.message(&report, &state),
+            };
+            observe(&progress).is_break()
+        });
         reports.push(report);
         let motion = stepper.discretization().motion(&state);
         if let Some(why) = motion.and_then(|m| watch.observe(&m)) {
@@ -148,6 +161,10 @@ pub fn run_steps<D: Discretization, O: RunOutputs<D>>(
                 time: stepper.discretization().time(&state),
                 why,
             });
+            break;
+        }
+        if stop {
+            interrupted = Some(step);
             break;
         }
     }

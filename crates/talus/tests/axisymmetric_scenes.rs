@@ -105,11 +105,7 @@ fn axisymmetric_summary_reports_forces_in_newtons() {
     let scene = Scene::parse(&text, None).unwrap();
     let out = std::env::temp_dir().join("talus-axisym-summary-unit");
     let _ = std::fs::remove_dir_all(&out);
-    let options = talus::run::RunOptions {
-        out_dir: out.clone(),
-        progress: false,
-        write_fields: false,
-    };
+    let options = talus::run::RunOptions::new(out.clone());
     let run = talus::run::run_scene(&scene, &options).unwrap();
     let summary = talus::output::Summary::read(&out.join("summary.json")).unwrap();
     assert_eq!(summary.force_unit, "N");

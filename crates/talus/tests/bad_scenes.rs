@@ -95,15 +95,7 @@ fn run_reports_a_non_convergent_step_and_keeps_the_history() {
     );
     let scene = Scene::parse(&text, None).unwrap();
     let out = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("non_convergent");
-    let err = run_scene(
-        &scene,
-        &RunOptions {
-            out_dir: out.clone(),
-            progress: false,
-            write_fields: false,
-        },
-    )
-    .expect_err("the run must stop");
+    let err = run_scene(&scene, &RunOptions::new(out.clone())).expect_err("the run must stop");
     let msg = err.to_string();
     assert!(
         msg.contains("step 1") && msg.contains("did not converge"),

@@ -426,15 +426,7 @@ fn shipped_cavity_scene_loads_its_wall_and_runs() {
         assert!((r - p * a).abs() <= 1e-12 * p * a, "{resultant:?}");
     }
     let out = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("cavity_pressure");
-    let summary = run_scene(
-        &scene,
-        &RunOptions {
-            out_dir: out,
-            progress: false,
-            write_fields: false,
-        },
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
+    let summary = run_scene(&scene, &RunOptions::new(out)).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(summary.records.len(), scene.spec.time.steps);
     // step 26 is the first after t = 1 s, where the pressure is held
     assert_eq!(summary.records[25].predictors[0], Predictor::Elastic);

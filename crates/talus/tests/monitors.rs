@@ -54,9 +54,8 @@ fn out_dir(name: &str) -> PathBuf {
 
 fn options(out: &std::path::Path) -> RunOptions {
     RunOptions {
-        out_dir: out.to_path_buf(),
-        progress: false,
         write_fields: true,
+        ..RunOptions::new(out.to_path_buf())
     }
 }
 

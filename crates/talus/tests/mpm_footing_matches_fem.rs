@@ -14,11 +14,7 @@ use talus::simulation::Stepper;
 fn mpm_footing_follows_the_fem_footing_within_ten_percent() {
     let fem = run_scene(
         &builtin_footing(),
-        &RunOptions {
-            out_dir: Path::new(env!("CARGO_TARGET_TMPDIR")).join("fem_footing_for_mpm"),
-            progress: false,
-            write_fields: false,
-        },
+        &RunOptions::new(Path::new(env!("CARGO_TARGET_TMPDIR")).join("fem_footing_for_mpm")),
     )
     .expect("FEM footing converges");
     let fem_force: Vec<f64> = fem.records.iter().map(|r| r.reaction_force()).collect();

@@ -211,15 +211,7 @@ fn a_failing_step_is_named_and_the_history_is_kept() {
     );
     let scene = MpmScene::parse(&text, None).unwrap();
     let out = out_dir("failing_step");
-    let err = run_mpm_scene(
-        &scene,
-        &RunOptions {
-            out_dir: out.clone(),
-            progress: false,
-            write_fields: false,
-        },
-    )
-    .expect_err("the run must stop");
+    let err = run_mpm_scene(&scene, &RunOptions::new(out.clone())).expect_err("the run must stop");
     let msg = err.to_string();
     assert!(
         msg.contains("step 1 ") && msg.contains("did not converge"),

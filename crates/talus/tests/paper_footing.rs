@@ -8,15 +8,8 @@ use talus::scene::builtin_footing;
 fn paper_footing_converges_in_at_most_six_iterations_and_plateaus() {
     let scene = builtin_footing();
     let out = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("paper_footing");
-    let summary = run_scene(
-        &scene,
-        &RunOptions {
-            out_dir: out,
-            progress: false,
-            write_fields: false,
-        },
-    )
-    .expect("every step converges (a failed step is an error)");
+    let summary = run_scene(&scene, &RunOptions::new(out))
+        .expect("every step converges (a failed step is an error)");
     assert_eq!(summary.records.len(), 300);
     let worst = summary
         .records

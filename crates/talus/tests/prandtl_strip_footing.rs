@@ -130,15 +130,8 @@ fn check(name: &str, scene: Scene, phi_deg: f64, published_nc: f64) {
         .join("prandtl_strip_footing")
         .join(name);
     let start = Instant::now();
-    let summary = run_scene(
-        &scene,
-        &RunOptions {
-            out_dir,
-            progress: false,
-            write_fields: false,
-        },
-    )
-    .unwrap_or_else(|e| panic!("{name}: {e}"));
+    let summary =
+        run_scene(&scene, &RunOptions::new(out_dir)).unwrap_or_else(|e| panic!("{name}: {e}"));
     let seconds = start.elapsed().as_secs_f64();
 
     // F = 2 × the half model's reaction; the limit load is the force at the end.

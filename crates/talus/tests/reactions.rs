@@ -84,15 +84,7 @@ fn check(order: &[&str], name: &str) {
     let text = block(order);
     let scene = Scene::parse(&text, None).unwrap();
     let out = out_dir(name);
-    run_scene(
-        &scene,
-        &RunOptions {
-            out_dir: out.clone(),
-            progress: false,
-            write_fields: false,
-        },
-    )
-    .expect("elastic block runs");
+    run_scene(&scene, &RunOptions::new(out.clone())).expect("elastic block runs");
     let row = last_row(&out);
     let load = PRESSURE * WIDTH;
     let sum_x = row["base_fx"] + row["symmetry_fx"];
@@ -222,15 +214,7 @@ plots = false
 "#;
     let scene = talus::scene::MpmScene::parse(text, None).unwrap();
     let out = out_dir("mpm_corner");
-    talus::mpm_run::run_mpm_scene(
-        &scene,
-        &RunOptions {
-            out_dir: out.clone(),
-            progress: false,
-            write_fields: false,
-        },
-    )
-    .unwrap();
+    talus::mpm_run::run_mpm_scene(&scene, &RunOptions::new(out.clone())).unwrap();
     let row = last_row(&out);
     println!(
         "floor ({:.4e}, {:.4e}), side ({:.4e}, {:.4e})",

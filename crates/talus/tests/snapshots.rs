@@ -111,15 +111,7 @@ fn run_case(name: &str, text: &str, probe: (&'static str, [f64; 2])) -> Snapshot
     let out = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
         .join("snapshots")
         .join(name);
-    let summary = run_scene(
-        &scene,
-        &RunOptions {
-            out_dir: out,
-            progress: false,
-            write_fields: false,
-        },
-    )
-    .expect("every step converges");
+    let summary = run_scene(&scene, &RunOptions::new(out)).expect("every step converges");
     assert_eq!(summary.records.len(), scene.spec.time.steps);
     let history = summary
         .records

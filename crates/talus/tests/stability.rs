@@ -95,11 +95,7 @@ fn error_of(text: &str) -> String {
         Err(e) => return e.to_string(),
     };
     let out = std::env::temp_dir().join("talus-stability-errors");
-    let options = talus::run::RunOptions {
-        out_dir: out,
-        progress: false,
-        write_fields: false,
-    };
+    let options = talus::run::RunOptions::new(out);
     match talus::stability::Analysis::new(&scene) {
         Err(e) => e.to_string(),
         Ok(None) => "no [stability]".into(),

@@ -23,14 +23,7 @@ fn footing_text() -> String {
 fn run(text: &str, name: &str) -> (serde_json::Value, Vec<(f64, f64)>) {
     let scene = Scene::parse(text, None).unwrap();
     let out = out_dir(name);
-    let _ = run_scene(
-        &scene,
-        &RunOptions {
-            out_dir: out.clone(),
-            progress: false,
-            write_fields: false,
-        },
-    );
+    let _ = run_scene(&scene, &RunOptions::new(out.clone()));
     let summary =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     let history = std::fs::read_to_string(out.join("history.csv")).unwrap();

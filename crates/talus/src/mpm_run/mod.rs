@@ -133,15 +133,7 @@ pub fn run_mpm_scene(scene: &MpmScene, options: &RunOptions) -> Result<MpmRunSum
         time: 0.0,
         particles: model.particles.clone(),
     };
-    let stepped = run_steps(
-        &mut stepper,
-        state,
-        steps,
-        h,
-        &options.out_dir,
-        &mut outputs,
-        options.progress,
-    )?;
+    let stepped = run_steps(&mut stepper, state, steps, h, &mut outputs, options)?;
     if let Some(step) = stepped.interrupted {
         let time = stepped.state.time;
         return Err(RunError::Interrupted { step, time });

@@ -6,7 +6,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use crate::output::{self, FactorOfSafety, FieldSnapshot, MeshView, RunStatus, Summary};
-use crate::run::{io_err, RunError, RunOptions};
+use crate::run::{io_err, RunError, RunOptions, StepProgress};
 use crate::scene::{Scene, StabilityMethod};
 use crate::simulation::Model;
 
@@ -65,6 +65,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<StabilityRun, RunError
     let mut bracket = Bracket::new(tolerance, s.first_guess, s.bracket);
     let mut trials: Vec<Trial> = Vec::new();
     let mut done = None;
+    let mut interrupted = false;
     while trials.len() < max_trials {
         let f = match bracket.next_trial() {
             Next::Try(f) => f,
@@ -86,7 +87,25 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<StabilityRun, RunError
         );
         line(trial_row(trials.len() + 1, &trial, &analysis))?;
         bracket.record(f, trial.verdict.outcome());
+        let stop = crate::interrupt::requested()
+            || options.observer.as_ref().is_some_and(|observe| {
+                // One call per trial: `step` counts trials (`docs/stability.md`).
+                observe(&StepProgress {
+                    step: trials.len() + 1,
+                    steps: max_trials,
+                    time: equilibrium.state.time,
+                    newton_iterations: trial.newton_iterations,
+                    substeps: trial.steps(),
+                    relative_residual: 0.0,
+                    message: format!("F = {f:.4}: {}", trial.verdict.name()),
+                })
+                .is_break()
+            });
         trials.push(trial);
+        if stop {
+            interrupted = true;
+            break;
+        }
     }
     if done.is_none() {
         if let Next::Done { lo, hi } = bracket.next_trial() {
@@ -112,13 +131,18 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<StabilityRun, RunError
     if let (true, Some(t)) = (options.write_fields, mechanism) {
         write_mechanism(scene, &analysis.model, t, equilibrium.state.time, out)?;
     }
+    let status = if interrupted {
+        RunStatus::Interrupted
+    } else {
+        RunStatus::Finished
+    };
     let mut summary = empty_summary(
-        RunStatus::Finished,
+        status,
         equilibrium.steps,
         steps_requested,
         equilibrium.state.time,
     );
-    if !factor_of_safety.within_tolerance {
+    if !factor_of_safety.within_tolerance && !interrupted {
         summary.error = Some(format!(
             "no bracket within the tolerance after {} trials (max_trials = {max_trials})",
             trials.len()
@@ -127,6 +151,12 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<StabilityRun, RunError
     summary.factor_of_safety = Some(factor_of_safety.clone());
     summary.write(&summary_path)?;
     tracing::info!("{}", summary.sentence());
+    if interrupted {
+        return Err(RunError::Interrupted {
+            step: trials.len(),
+            time: equilibrium.state.time,
+        });
+    }
     Ok(StabilityRun {
         factor_of_safety,
         equilibrium,

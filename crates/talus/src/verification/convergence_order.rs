@@ -39,15 +39,7 @@ pub fn newton_convergence_order(figures: Option<&std::path::Path>) -> Vec<CaseRe
     let mut scene = builtin_footing();
     scene.spec.time.steps = 60;
     let out_dir = std::env::temp_dir().join("talus-convergence-order");
-    let summary = run_scene(
-        &scene,
-        &RunOptions {
-            out_dir,
-            progress: false,
-            write_fields: false,
-        },
-    )
-    .ok();
+    let summary = run_scene(&scene, &RunOptions::new(out_dir)).ok();
     let records = summary.map(|s| s.records).unwrap_or_default();
     let histories: Vec<Vec<f64>> = records
         .iter()

@@ -55,15 +55,7 @@ pub fn prandtl(phi_deg: f64, order: &str, cells: [usize; 2]) -> Option<PrandtlRu
         "talus-prandtl-{phi_deg}-{order}-{}x{}",
         cells[0], cells[1]
     ));
-    let summary = run_scene(
-        &scene,
-        &RunOptions {
-            out_dir: out,
-            progress: false,
-            write_fields: false,
-        },
-    )
-    .ok()?;
+    let summary = run_scene(&scene, &RunOptions::new(out)).ok()?;
     let b = 1.0;
     let c = scene.spec.material.cohesion;
     let force = 2.0 * summary.records.last()?.reaction_force();

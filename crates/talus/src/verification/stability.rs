@@ -32,10 +32,9 @@ pub fn case_dir(name: &str) -> PathBuf {
 
 fn options(name: &str) -> RunOptions {
     RunOptions {
-        out_dir: case_dir(name),
-        progress: false,
         // The slope's files (history, summary, mechanism) are checked by its test.
         write_fields: name == "slope",
+        ..RunOptions::new(case_dir(name))
     }
 }
 

@@ -1,0 +1,116 @@
+"""talus.run's progress callback, its stop, Ctrl-C, and a collapse: each ends with the CLI's
+files written and the cause raised (python/README.md, 'Progress and interruption')."""
+import os
+import signal
+import threading
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+
+import talus
+from conftest import FOOTING, read_csv
+
+STEPS = 6
+
+
+def footing(steps=STEPS):
+    return talus.Scene.load(FOOTING).set("time.steps", steps)
+
+
+def test_callback_sees_every_step_as_history_records_it():
+    seen = []
+    result = talus.run(footing(), progress=seen.append)
+    assert [p["step"] for p in seen] == list(range(1, STEPS + 1))
+    assert all(p["steps"] == STEPS for p in seen)
+    h = result.history
+    # The callback's numbers are the ones history.csv writes (time with 11 digits).
+    np.testing.assert_array_equal([p["newton_iterations"] for p in seen], h["newton_iterations"][1:])
+    np.testing.assert_array_equal([p["substeps"] for p in seen], h["substeps"][1:])
+    np.testing.assert_array_equal([float(f"{p['time']:.10e}") for p in seen], h["time"][1:])
+    assert all(isinstance(p["message"], str) for p in seen)
+
+
+def test_progress_true_writes_one_line_per_step_to_stderr(capfd):
+    talus.run(footing(3), progress=True)
+    err = capfd.readouterr().err
+    assert [line.split("  ")[0] for line in err.strip().split("\r") if line] == [
+        "step 1/3",
+        "step 2/3",
+        "step 3/3",
+    ]
+    assert err.endswith("\n")
+    talus.run(footing(3), progress=False)
+    assert capfd.readouterr().err == ""
+
+
+def test_callback_returning_false_stops_after_that_step(tmp_path):
+    def stop_at_2(p):
+        return p["step"] < 2
+
+    with pytest.raises(talus.Interrupted) as caught:
+        talus.run(footing(), out=tmp_path, progress=stop_at_2)
+    report = caught.value.report
+    assert report["summary"]["status"] == "interrupted"
+    np.testing.assert_array_equal(report["history"]["step"], [0, 1, 2])
+    assert read_csv(tmp_path / "history.csv")["step"].tolist() == [0, 1, 2]
+
+
+def test_callback_exception_propagates_after_the_files_are_written(tmp_path):
+    class Boom(Exception):
+        pass
+
+    def boom(p):
+        raise Boom(p["step"])
+
+    with pytest.raises(Boom):
+        talus.run(footing(), out=tmp_path, progress=boom)
+    assert read_csv(tmp_path / "history.csv")["step"].tolist() == [0, 1]
+
+
+def test_ctrl_c_during_a_step_raises_keyboard_interrupt_with_valid_outputs(tmp_path):
+    # SIGINT arrives while Rust steps with the GIL released: Python's handler only records
+    # it; the run sees it between steps, writes its files and raises KeyboardInterrupt.
+    first = threading.Event()
+
+    def after_step(p):
+        if p["step"] == 1:
+            first.set()
+
+    def interrupt():
+        first.wait(60)
+        os.kill(os.getpid(), signal.SIGINT)
+
+    killer = threading.Thread(target=interrupt)
+    killer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            talus.run(footing(300), out=tmp_path, progress=after_step)
+    finally:
+        killer.join()
+    steps = read_csv(tmp_path / "history.csv")["step"]
+    assert 1 <= steps[-1] < 300
+    summary = talus._partial({"summary_json": (tmp_path / "summary.json").read_text()})
+    assert summary["summary"]["status"] == "interrupted"
+    # ParaView's index lists only VTU files that exist and parse.
+    datasets = ET.parse(tmp_path / "solution.pvd").getroot().iter("DataSet")
+    files = [d.get("file") for d in datasets]
+    assert files
+    for f in files:
+        ET.parse(tmp_path / f)
+
+
+def test_footing_under_2_mpa_raises_collapsed():
+    # Five times the capacity of the velocity-driven footing (its plateau 1.95e5 N/m over
+    # b = 0.5 m: 390 kPa; docs/scenes.md, 'Collapse'), as a pressure on the footing.
+    d = footing(40).to_dict()
+    d["boundary"] = [b for b in d["boundary"] if b.get("name") != "footing"]
+    d["pressure"] = [
+        {"edges": {"box": [[-0.25, -1e-9], [0.25, 1e-9]]}, "value": 2.0e6}
+    ]
+    d["output"].pop("reaction", None)
+    with pytest.raises(talus.Collapsed) as caught:
+        talus.run(talus.Scene.from_dict(d), progress=False)
+    summary = caught.value.report["summary"]
+    assert summary["status"] == "collapsed"
+    assert 1 <= summary["collapse"]["step"] < 40
