@@ -86,21 +86,27 @@ Progress = Dict[str, Any]
 
 
 class _ProgressLine:
-    """``progress=True``: one line on stderr, rewritten after every step (a terminal and
-    Jupyter alike)."""
+    """``progress=True``: on a terminal or in Jupyter, one line on stderr rewritten after
+    every step; elsewhere (a log file, CI) a line at every tenth of the run."""
 
     def __init__(self) -> None:
+        self.interactive = sys.stderr.isatty() or "ipykernel" in sys.modules
         self.shown = False
+        self.tenth = -1
 
     def __call__(self, p: Progress) -> None:
-        text = (
-            f"step {p['step']}/{p['steps']}  t = {p['time']:.6g} s  "
-            f"{p['newton_iterations']} Newton iterations  {p['message']}"
-        )
-        # On a terminal, clear what a longer line left; elsewhere pad a little.
-        sys.stderr.write("\r" + text + ("\x1b[K" if sys.stderr.isatty() else "  "))
+        text = f"step {p['step']}/{p['steps']}  t = {p['time']:.6g} s  {p['message']}"
+        if self.interactive:
+            # "\x1b[K" clears what a longer line left.
+            sys.stderr.write("\r" + text + "\x1b[K")
+            self.shown = True
+        else:
+            tenth = 10 * p["step"] // max(p["steps"], 1)
+            if tenth == self.tenth:
+                return
+            self.tenth = tenth
+            sys.stderr.write(text + "\n")
         sys.stderr.flush()
-        self.shown = True
 
     def close(self) -> None:
         if self.shown:
