@@ -67,3 +67,12 @@ def test_mpm_column_history_equals_cli(cli, tmp_path):
     s = result.state
     assert s["positions"].shape == (n, 2) and s["velocity"].shape == (n, 2)
     assert s["stress"].shape == (n, 4) and s["plastic_strain"].shape == (n,)
+
+
+def test_to_pandas_is_the_history():
+    result = talus.run(talus.Scene.load(FOOTING).set("time.steps", 3), progress=False)
+    frame = result.to_pandas()
+    assert list(frame.columns) == list(result.history)
+    assert len(frame) == 4
+    for name, values in result.history.items():
+        assert frame[name].to_numpy().tobytes() == values.tobytes(), name
