@@ -76,7 +76,11 @@ pub fn material_stresses(
 ) -> Vec<(String, f64)> {
     let mut s = vec![("material.cohesion".to_string(), m.cohesion.abs())];
     if let (Some(g), Some(rho)) = (gravity, m.density) {
-        s.push(("material.density".into(), rho * g[0].hypot(g[1]) * depth));
+        // Named as the user reads it: the weight of the body's height, from the density.
+        s.push((
+            format!("ρ |g| H from material.density, H = {depth:.4e} m"),
+            rho * g[0].hypot(g[1]) * depth,
+        ));
     }
     if let Some(i) = initial {
         if let Some(q) = i.surcharge {
@@ -116,7 +120,7 @@ pub fn check(
         scene.error(
             "material.young_modulus",
             format!(
-                "{e:e} Pa against {sigma:e} Pa ({field}): their ratio {:.3e} must be {} \
+                "{e:e} Pa against {sigma:.4e} Pa ({field}): their ratio {:.3e} must be {} \
                  {:e}, i.e. E {} {:.3e} Pa",
                 sigma / e,
                 if low { "at least" } else { "at most" },
