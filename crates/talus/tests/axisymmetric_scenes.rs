@@ -118,3 +118,31 @@ fn axisymmetric_summary_reports_forces_in_newtons() {
         "{sentence}"
     );
 }
+
+/// A radial velocity prescribed on axis nodes is refused, naming the boundary's velocity;
+/// the same velocity on a boundary off the axis (r = 1 m) is a legitimate radial push.
+#[test]
+fn radial_velocity_on_the_axis_is_refused() {
+    let base = scene_text("circular_footing.toml");
+    let footing = "fix = \"y\"                # smooth: u_r free under the footing\nvelocity = [0.0, -1.0e-3]";
+    assert!(base.contains(footing), "circular_footing.toml changed");
+    let text = base.replacen(footing, "fix = \"xy\"\nvelocity = [1.0e-4, -1.0e-3]", 1);
+    let scene = Scene::parse(&text, None).unwrap();
+    let err = Model::from_scene(&scene).err().expect("refused");
+    assert_eq!(err.field, "boundary[2].velocity", "{err}");
+    assert!(
+        err.to_string().contains("on the axis r = 0 radially"),
+        "{err}"
+    );
+    assert_eq!(
+        err.line,
+        Some(line_of(&text, "velocity = [1.0e-4")),
+        "{err}"
+    );
+
+    let right = "nodes = \"right\"          # r = 1 m\nfix = \"x\"";
+    assert!(base.contains(right), "circular_footing.toml changed");
+    let text = base.replacen(right, &format!("{right}\nvelocity = [1.0e-4, 0.0]"), 1);
+    let scene = Scene::parse(&text, None).unwrap();
+    assert!(Model::from_scene(&scene).is_ok());
+}

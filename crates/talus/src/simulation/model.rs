@@ -78,7 +78,7 @@ impl Model {
         let axis = geometry.axis_nodes(&mesh);
         let mut constraints = Vec::new();
         if !axis.is_empty() {
-            constraints.push((axis, Constraint::FixX));
+            constraints.push((axis.clone(), Constraint::FixX));
         }
         let axis_constraints = constraints.len();
         let mut boundary_ramps = Vec::new();
@@ -91,6 +91,20 @@ impl Model {
             };
             if !b.velocity.iter().all(|v| v.is_finite()) {
                 return Err(scene.error(&format!("boundary[{k}].velocity"), "must be finite"));
+            }
+            // The axis r = 0 cannot move radially (docs/axisymmetry.md): a radial velocity
+            // there would tear the body open along its axis.
+            let radial = matches!(b.fix, Fix::X | Fix::Xy) && b.velocity[0] != 0.0;
+            if let Some(&n) = nodes.iter().find(|n| radial && axis.contains(n)) {
+                return Err(scene.error(
+                    &format!("boundary[{k}].velocity"),
+                    format!(
+                        "[{:e}, {:e}] m/s moves node {n} on the axis r = 0 radially; the \
+                         axis has no radial velocity: use velocity = [0, {:e}] or leave the \
+                         axis out of the set",
+                        b.velocity[0], b.velocity[1], b.velocity[1]
+                    ),
+                ));
             }
             boundary_ramps.push(check::ramp(scene, &format!("boundary[{k}].ramp"), &b.ramp)?);
             constraints.push((nodes, c));
