@@ -70,7 +70,7 @@ Exit codes:
   2    usage (unknown option or subcommand)
   3    a step did not converge (or failed); `talus reduced`: Newton did not converge
   4    collapsed: the body accelerated without bound under its loads
-  5    an output file (or checkpoint) could not be written or read
+  5    an output file could not be written, or a checkpoint read
   6    `talus reduced`: stopped at the round-off floor above the tolerance
   7    `talus verify`: a case failed
   130  interrupted (SIGINT/SIGTERM); the outputs written so far are complete";

@@ -175,8 +175,7 @@ fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
     v
 }
 
-/// Everything but the timings and the plots (PNG) is the same, byte for byte; returns the
-/// number of f64 values compared in the final checkpoint.
+/// Everything but the timings and the plots (PNG) is the same, byte for byte.
 fn assert_same_run(reference: &Path, resumed: &Path, steps: usize) {
     let (a, b) = (history(reference), history(resumed));
     assert_eq!(a.len(), steps + 2, "rows of {}", reference.display());
