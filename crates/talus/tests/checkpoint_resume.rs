@@ -41,15 +41,18 @@ fn footing() -> PathBuf {
     )
 }
 
-/// The column collapse a = 2, 60 steps, VTUs and snapshots every 10.
+/// The column collapse a = 2, 40 steps, VTUs and snapshots every 10; at most 10 Newton
+/// iterations, so that steps 1 to 13 are halved and the stepper remembers it (the
+/// halving memory, `StepSettings::halving_memory`) across the checkpoint of step 10.
 fn column() -> PathBuf {
     scene(
         "column_a2.toml",
-        "column60.toml",
+        "column40.toml",
         &[
-            ("steps = 1072", "steps = 60"),
+            ("steps = 1072", "steps = 40"),
             ("vtu_every = 108", "vtu_every = 10"),
             ("snapshot_every = 108", "snapshot_every = 20"),
+            ("[mpm]", "[solver]\nmax_iterations = 10\n\n[mpm]"),
         ],
     )
 }
@@ -110,9 +113,21 @@ fn checkpoint_step(out: &Path) -> Option<usize> {
         .ok()
 }
 
+fn history_rows(out: &Path) -> usize {
+    std::fs::read_to_string(out.join("history.csv")).map_or(0, |t| t.lines().count())
+}
+
 /// A run with a checkpoint every `every` steps, sent `signal` once its checkpoint reaches
-/// `at` (polled every 2 ms); returns its exit and the checkpoint's step then.
-fn stopped_run(scene: &Path, out: &Path, every: usize, at: usize, signal: &str) -> (Output, usize) {
+/// `at` and `history.csv` has `rows_after` rows past it (polled every 2 ms); returns its
+/// exit and the checkpoint's step then.
+fn stopped_run(
+    scene: &Path,
+    out: &Path,
+    every: usize,
+    at: usize,
+    rows_after: usize,
+    signal: &str,
+) -> (Output, usize) {
     let child: Child = talus(&[
         "run",
         &scene.display().to_string(),
@@ -124,7 +139,7 @@ fn stopped_run(scene: &Path, out: &Path, every: usize, at: usize, signal: &str) 
     .spawn()
     .unwrap();
     let start = Instant::now();
-    while checkpoint_step(out).is_none_or(|s| s < at) {
+    while checkpoint_step(out).is_none_or(|s| s < at || history_rows(out) < s + 2 + rows_after) {
         assert!(start.elapsed() < Duration::from_secs(120), "no checkpoint");
         std::thread::sleep(Duration::from_millis(2));
     }
@@ -225,7 +240,8 @@ fn footing_reference() -> &'static Path {
 fn fem_footing_killed_half_way_then_resumed_matches_the_uninterrupted_run() {
     let reference = footing_reference();
     let out = out_dir("footing_killed");
-    let (killed, step) = stopped_run(&footing(), &out, 10, 20, "KILL");
+    // Killed with a row past the checkpoint: resume cuts it.
+    let (killed, step) = stopped_run(&footing(), &out, 10, 20, 1, "KILL");
     assert_eq!(
         killed.status.code(),
         None,
@@ -246,7 +262,7 @@ fn fem_footing_killed_half_way_then_resumed_matches_the_uninterrupted_run() {
 fn fem_footing_interrupted_then_resumed_matches_the_uninterrupted_run() {
     let reference = footing_reference();
     let out = out_dir("footing_sigint");
-    let (stopped, step) = stopped_run(&footing(), &out, 10, 10, "INT");
+    let (stopped, step) = stopped_run(&footing(), &out, 10, 10, 0, "INT");
     assert_eq!(
         stopped.status.code(),
         Some(130),
@@ -269,16 +285,26 @@ fn fem_footing_interrupted_then_resumed_matches_the_uninterrupted_run() {
 fn mpm_column_killed_half_way_then_resumed_matches_the_uninterrupted_run() {
     let scene = column();
     let reference = out_dir("column_reference");
-    assert_ok(&run(&scene, &reference, Some(10)));
+    assert_ok(&run(&scene, &reference, Some(5)));
     let out = out_dir("column_killed");
-    let (killed, step) = stopped_run(&scene, &out, 10, 30, "KILL");
+    let (killed, step) = stopped_run(&scene, &out, 5, 10, 1, "KILL");
     assert_eq!(killed.status.code(), None);
     assert!(
-        (30..60).contains(&step),
+        (10..40).contains(&step),
         "killed at the checkpoint of step {step}"
     );
+    let bytes = std::fs::read(out.join("checkpoint/last.checkpoint")).unwrap();
+    let at = bytes.iter().position(|&b| b == b'\n').unwrap();
+    let saved: serde_json::Value = serde_json::from_slice(&bytes[at + 1..]).unwrap();
+    if step <= 13 {
+        assert!(
+            saved["stepper"]["memory_level"].as_u64() > Some(0),
+            "the set-up must carry a halving over the checkpoint: {}",
+            saved["stepper"]
+        );
+    }
     assert_ok(&resume(&out));
-    assert_same_run(&reference, &out, 60);
+    assert_same_run(&reference, &out, 40);
     assert!(files(&reference.join("snapshots")) == files(&out.join("snapshots")));
 }
 
