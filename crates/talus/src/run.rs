@@ -219,6 +219,35 @@ fn run_scene_from(
         curve: Vec::new(),
         histories: Vec::new(),
     };
+    if let Some(c) = &resumed {
+        // Sizes of another model would index out of bounds: refused before any step.
+        let sizes = |s: &State| {
+            [
+                s.sigma.len(),
+                s.plastic_strain.len(),
+                s.velocity_free.len(),
+                s.velocity_prescribed.len(),
+                s.displacement.len(),
+            ]
+        };
+        let rate = c
+            .stepper
+            .stress_rate
+            .as_ref()
+            .map_or(state.sigma.len(), Vec::len);
+        if sizes(&c.state) != sizes(&state) || rate != state.sigma.len() {
+            return Err(CheckpointError::Corrupt {
+                path: checkpoint::path(&options.out_dir),
+                why: format!(
+                    "its state has sizes {:?} (stress, plastic strain, free and prescribed \
+                     velocities, nodes) and a stress rate of {rate}, the scene's model {:?}",
+                    sizes(&c.state),
+                    sizes(&state)
+                ),
+            }
+            .into());
+        }
+    }
     let time = scene.spec.time;
     let plan = checkpoint_plan(
         scene.path.as_deref(),

@@ -347,6 +347,25 @@ fn a_changed_scene_or_a_damaged_checkpoint_is_refused_with_exit_1() {
     std::fs::write(&checkpoint, b"not a checkpoint").unwrap();
     assert_refused(&resume(&out), "is corrupt (no header line)");
 
+    // A well-formed checkpoint of another model (one stress point fewer): its sizes are
+    // refused before any step indexes with them.
+    let at = good.iter().position(|&b| b == b'\n').unwrap();
+    let mut other: serde_json::Value = serde_json::from_slice(&good[at + 1..]).unwrap();
+    let sigma = other["state"]["sigma"].as_array_mut().unwrap();
+    sigma.truncate(sigma.len() - 4);
+    let payload = serde_json::to_vec(&other).unwrap();
+    let fnv = payload.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    let mut forged = format!(
+        "talus-checkpoint format=1 step=4 bytes={} fnv1a64={fnv:016x}\n",
+        payload.len()
+    )
+    .into_bytes();
+    forged.extend(payload);
+    std::fs::write(&checkpoint, forged).unwrap();
+    assert_refused(&resume(&out), "its state has sizes");
+
     // A history.csv that does not reach the checkpoint's step.
     std::fs::write(&checkpoint, &good).unwrap();
     let rows = std::fs::read_to_string(out.join("history.csv")).unwrap();

@@ -155,6 +155,31 @@ fn run_mpm_scene_from(
         time: 0.0,
         particles: model.particles.clone(),
     };
+    if let Some(c) = &resumed {
+        // Sizes of another set of particles would index out of bounds: refused first.
+        let p = &c.state.particles;
+        let n = model.particles.len();
+        let sizes = [
+            p.position.len(),
+            p.velocity.len(),
+            p.mass.len(),
+            p.volume.len(),
+            p.stress.len(),
+            p.plastic_strain.len(),
+            p.external_force.len(),
+        ];
+        let rate = c.stepper.stress_rate.as_ref().map_or(4 * n, Vec::len);
+        if sizes.iter().any(|&k| k != n) || rate != 4 * n {
+            return Err(CheckpointError::Corrupt {
+                path: checkpoint::path(&options.out_dir),
+                why: format!(
+                    "its particle arrays have sizes {sizes:?} and a stress rate of {rate}, \
+                     the scene {n} particles"
+                ),
+            }
+            .into());
+        }
+    }
     let plan = checkpoint_plan(
         scene.path.as_deref(),
         &scene.source,
