@@ -25,7 +25,11 @@ fn scene(name: &str, file: &str, replacements: &[(&str, &str)]) -> PathBuf {
     }
     std::fs::create_dir_all(root()).unwrap();
     let out = root().join(file);
-    std::fs::write(&out, text).unwrap();
+    // Renamed into place: the tests run at once, and a run reading the scene while
+    // another test rewrites it must see the whole text.
+    let tmp = root().join(format!("{file}.{:?}", std::thread::current().id()));
+    std::fs::write(&tmp, text).unwrap();
+    std::fs::rename(&tmp, &out).unwrap();
     out
 }
 
@@ -128,7 +132,7 @@ fn stopped_run(
     rows_after: usize,
     signal: &str,
 ) -> (Output, usize) {
-    let child: Child = talus(&[
+    let mut child: Child = talus(&[
         "run",
         &scene.display().to_string(),
         "--out",
@@ -141,6 +145,13 @@ fn stopped_run(
     let start = Instant::now();
     while checkpoint_step(out).is_none_or(|s| s < at || history_rows(out) < s + 2 + rows_after) {
         assert!(start.elapsed() < Duration::from_secs(120), "no checkpoint");
+        if child.try_wait().unwrap().is_some() {
+            let o = child.wait_with_output().unwrap();
+            panic!(
+                "the run ended before its checkpoint of step {at}: {}",
+                String::from_utf8_lossy(&o.stderr)
+            );
+        }
         std::thread::sleep(Duration::from_millis(2));
     }
     let status = Command::new("kill")
@@ -151,6 +162,11 @@ fn stopped_run(
     assert!(status.success());
     let output = child.wait_with_output().unwrap();
     let step = checkpoint_step(out).unwrap();
+    eprintln!(
+        "{}: SIG{signal} with the checkpoint of step {step} and {} rows in history.csv",
+        scene.display(),
+        history_rows(out)
+    );
     (output, step)
 }
 
