@@ -48,6 +48,9 @@ impl Exit {
             RunError::Step { .. } | RunError::MpmStep { .. } => Exit::NotConverged,
             RunError::Collapsed(_) => Exit::Collapsed,
             RunError::Interrupted { .. } => Exit::Interrupted,
+            RunError::Checkpoint(c) if c.is_io() => Exit::Io,
+            // Missing, corrupt, another scene's, or outputs that do not reach it.
+            RunError::Checkpoint(_) => Exit::InvalidInput,
         }
     }
 }
@@ -62,11 +65,12 @@ impl From<Exit> for ExitCode {
 pub const TABLE: &str = "\
 Exit codes:
   0    success
-  1    invalid input (scene, mesh or problem file; a model too large without --allow-large)
+  1    invalid input (scene, mesh or problem file; a model too large without --allow-large;
+       `talus resume`: no checkpoint, a corrupt one, or a scene changed since)
   2    usage (unknown option or subcommand)
   3    a step did not converge (or failed); `talus reduced`: Newton did not converge
   4    collapsed: the body accelerated without bound under its loads
-  5    an output file could not be written
+  5    an output file could not be written, or a checkpoint read
   6    `talus reduced`: stopped at the round-off floor above the tolerance
   7    `talus verify`: a case failed
   130  interrupted (SIGINT/SIGTERM); the outputs written so far are complete";

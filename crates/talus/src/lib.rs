@@ -1,3 +1,4 @@
+pub mod checkpoint;
 pub mod exit;
 pub mod interrupt;
 pub mod mpm_run;

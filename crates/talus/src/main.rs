@@ -5,9 +5,10 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
+use talus::checkpoint::Checkpoint;
 use talus::exit::Exit;
-use talus::mpm_run::run_mpm_scene;
-use talus::run::{run_scene, RunOptions};
+use talus::mpm_run::{resume_mpm_scene, run_mpm_scene};
+use talus::run::{resume_scene, run_scene, RunOptions};
 use talus::scene::{builtin_footing, MpmScene, Scene, SceneFile};
 use talus::size::SizeEstimate;
 
@@ -39,6 +40,17 @@ enum Command {
         /// stress points exceed 1e11 (docs/scenes.md, 'Size').
         #[arg(long)]
         allow_large: bool,
+        /// Write the full state to OUT/checkpoint/ every N steps and when interrupted, for
+        /// `talus resume OUT` (docs/scenes.md, 'Checkpoints and resume').
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+        checkpoint_every: Option<u64>,
+    },
+    /// Continue a killed or interrupted run from its last checkpoint: history.csv and the
+    /// VTUs are cut back to it, and the run goes on as if never stopped. Refused when the
+    /// scene file changed since.
+    Resume {
+        /// The output folder of a run started with `--checkpoint-every`.
+        out: PathBuf,
     },
     /// Run the verification cases (closed forms, published values, independent solves).
     Verify {
@@ -83,7 +95,14 @@ fn main() -> ExitCode {
             scene,
             out,
             allow_large,
-        } => run(scene, out, allow_large),
+            checkpoint_every,
+        } => run(
+            scene,
+            out,
+            allow_large,
+            checkpoint_every.unwrap_or(0) as usize,
+        ),
+        Command::Resume { out } => resume(out),
         Command::Verify {
             json,
             quick,
@@ -103,6 +122,7 @@ fn run(
     scene: Option<PathBuf>,
     out: PathBuf,
     allow_large: bool,
+    checkpoint_every: usize,
 ) -> Result<ExitCode, Box<dyn std::error::Error>> {
     let scene = match scene {
         Some(path) => SceneFile::from_path(&path)?,
@@ -127,24 +147,77 @@ fn run(
         }
         tracing::warn!("{e} (--allow-large: running anyway)");
     }
+    let options = RunOptions {
+        progress: true,
+        write_fields: true,
+        checkpoint_every,
+        ..RunOptions::new(out.clone())
+    };
     match scene {
-        SceneFile::Fem(scene) => run_fem(&scene, out),
-        SceneFile::Mpm(scene) => run_mpm(&scene, out),
+        SceneFile::Fem(scene) => run_fem(&scene, &options, None),
+        SceneFile::Mpm(scene) => run_mpm(&scene, &options, None),
     }
 }
 
-fn run_fem(scene: &Scene, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
+/// `talus resume OUT`: the checkpoint read, its scene checked and parsed, the run continued.
+fn resume(out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    let refused = |e: talus::checkpoint::CheckpointError| {
+        eprintln!("error: {e}");
+        let e = talus::run::RunError::Checkpoint(e);
+        Ok(Exit::of_run_error(&e).into())
+    };
+    let checkpoint = match talus::checkpoint::read(&out) {
+        Ok(c) => c,
+        Err(e) => return refused(e),
+    };
+    let source = match checkpoint.current_scene() {
+        Ok(s) => s,
+        Err(e) => return refused(e),
+    };
+    let scene = SceneFile::parse(&source, checkpoint.scene.path.clone())?;
+    eprintln!(
+        "resuming {} from its checkpoint of step {} of {}",
+        checkpoint
+            .scene
+            .path
+            .as_ref()
+            .map_or("the built-in footing".to_string(), |p| p
+                .display()
+                .to_string()),
+        checkpoint.step,
+        checkpoint.steps
+    );
+    let options = RunOptions {
+        progress: true,
+        write_fields: true,
+        ..RunOptions::new(out.clone())
+    };
+    match scene {
+        SceneFile::Fem(scene) => run_fem(&scene, &options, Some(checkpoint)),
+        SceneFile::Mpm(scene) => run_mpm(&scene, &options, Some(checkpoint)),
+    }
+}
+
+fn run_fem(
+    scene: &Scene,
+    options: &RunOptions,
+    resumed: Option<Checkpoint<serde_json::Value>>,
+) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    let out = options.out_dir.clone();
     if scene.spec.stability.is_some() {
+        if options.checkpoint_every > 0 || resumed.is_some() {
+            eprintln!(
+                "error: a [stability] scene's trials are not checkpointed: run it without \
+                 --checkpoint-every"
+            );
+            return Ok(Exit::InvalidInput.into());
+        }
         return run_stability(scene, out);
     }
-    let summary = run_scene(
-        scene,
-        &RunOptions {
-            progress: true,
-            write_fields: true,
-            ..RunOptions::new(out.clone())
-        },
-    );
+    let summary = match resumed {
+        Some(c) => resume_scene(scene, c, options),
+        None => run_scene(scene, options),
+    };
     let summary = match ended(summary, &out) {
         Ok(summary) => summary,
         Err(code) => return Ok(code.into()),
@@ -191,15 +264,16 @@ fn run_stability(scene: &Scene, out: PathBuf) -> Result<ExitCode, Box<dyn std::e
     Ok(ExitCode::SUCCESS)
 }
 
-fn run_mpm(scene: &MpmScene, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
-    let summary = run_mpm_scene(
-        scene,
-        &RunOptions {
-            progress: true,
-            write_fields: true,
-            ..RunOptions::new(out.clone())
-        },
-    );
+fn run_mpm(
+    scene: &MpmScene,
+    options: &RunOptions,
+    resumed: Option<Checkpoint<serde_json::Value>>,
+) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    let out = options.out_dir.clone();
+    let summary = match resumed {
+        Some(c) => resume_mpm_scene(scene, c, options),
+        None => run_mpm_scene(scene, options),
+    };
     let summary = match ended(summary, &out) {
         Ok(summary) => summary,
         Err(code) => return Ok(code.into()),

@@ -6,9 +6,10 @@ use std::time::Instant;
 
 use talus_ssn::Settings;
 
-use crate::output::Results;
+use crate::checkpoint::{self, Checkpoint, CheckpointError, Plan, SceneRecord};
 use crate::output::{self, FieldSnapshot, MeshView, OutputError};
-use crate::run_loop::{run_steps, RunOutputs, HISTORY_COLUMNS};
+use crate::output::{Results, ResultsProgress};
+use crate::run_loop::{run_steps, Begin, RunOutputs, HISTORY_COLUMNS};
 use crate::run_results::FemResults;
 use crate::scene::{Scene, SceneError};
 use crate::simulation::engine::Method;
@@ -44,6 +45,9 @@ pub enum RunError {
         time: f64,
         source: crate::simulation::StepError<talus_mpm::MpmError>,
     },
+    /// A checkpoint could not be written, or not resumed.
+    #[error(transparent)]
+    Checkpoint(#[from] CheckpointError),
 }
 
 /// What a finished run measured.
@@ -68,6 +72,9 @@ pub struct RunOptions {
     /// Told of every step; a `Break` stops the run as a SIGINT would (status
     /// `interrupted`). The Python package's progress callback and Ctrl-C.
     pub observer: Option<Observer>,
+    /// Write a checkpoint every this many steps, and at an interruption (0: never);
+    /// `talus resume` continues from the last one (`crate::checkpoint`).
+    pub checkpoint_every: usize,
 }
 
 /// See [`RunOptions::observer`].
@@ -97,6 +104,7 @@ impl RunOptions {
             progress: false,
             write_fields: false,
             observer: None,
+            checkpoint_every: 0,
         }
     }
 }
@@ -128,6 +136,44 @@ pub fn solver_settings(scene: &Scene) -> Settings {
 }
 
 pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunError> {
+    run_scene_from(scene, options, None)
+}
+
+/// Continues `scene` from `checkpoint` (read from `options.out_dir`, its scene checked by
+/// [`Checkpoint::current_scene`]), checkpointing as often as the run it continues.
+pub fn resume_scene(
+    scene: &Scene,
+    checkpoint: Checkpoint<serde_json::Value>,
+    options: &RunOptions,
+) -> Result<RunSummary, RunError> {
+    let checkpoint = checkpoint.with_state::<State>(&options.out_dir)?;
+    run_scene_from(scene, options, Some(checkpoint))
+}
+
+/// How often `scene` checkpoints: `options.checkpoint_every`, or the resumed run's.
+pub(crate) fn checkpoint_plan<S>(
+    path: Option<&Path>,
+    source: &str,
+    options: &RunOptions,
+    resumed: Option<&Checkpoint<S>>,
+) -> Option<Plan> {
+    match resumed {
+        Some(c) => Some(Plan {
+            every: c.every,
+            scene: c.scene.clone(),
+        }),
+        None => (options.checkpoint_every > 0).then(|| Plan {
+            every: options.checkpoint_every,
+            scene: SceneRecord::new(path, source),
+        }),
+    }
+}
+
+fn run_scene_from(
+    scene: &Scene,
+    options: &RunOptions,
+    resumed: Option<Checkpoint<State>>,
+) -> Result<RunSummary, RunError> {
     if scene.spec.stability.is_some() {
         return Err(scene
             .error(
@@ -171,15 +217,56 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunE
             .collect(),
         pvd: Vec::new(),
         curve: Vec::new(),
+        histories: Vec::new(),
     };
+    if let Some(c) = &resumed {
+        // Sizes of another model would index out of bounds: refused before any step.
+        let sizes = |s: &State| {
+            [
+                s.sigma.len(),
+                s.plastic_strain.len(),
+                s.velocity_free.len(),
+                s.velocity_prescribed.len(),
+                s.displacement.len(),
+            ]
+        };
+        let rate = c
+            .stepper
+            .stress_rate
+            .as_ref()
+            .map_or(state.sigma.len(), Vec::len);
+        if sizes(&c.state) != sizes(&state) || rate != state.sigma.len() {
+            return Err(CheckpointError::Corrupt {
+                path: checkpoint::path(&options.out_dir),
+                why: format!(
+                    "its state has sizes {:?} (stress, plastic strain, free and prescribed \
+                     velocities, nodes) and a stress rate of {rate}, the scene's model {:?}",
+                    sizes(&c.state),
+                    sizes(&state)
+                ),
+            }
+            .into());
+        }
+    }
     let time = scene.spec.time;
+    let plan = checkpoint_plan(
+        scene.path.as_deref(),
+        &scene.source,
+        options,
+        resumed.as_ref(),
+    );
+    let begin = match resumed {
+        Some(c) => Begin::Resumed(Box::new(c)),
+        None => Begin::Fresh(state),
+    };
     let stepped = run_steps(
         &mut stepper,
-        state,
+        begin,
         time.steps,
         time.step,
         &mut outputs,
         options,
+        plan.as_ref(),
     )?;
     if let Some(step) = stepped.interrupted {
         let time = stepped.state.time;
@@ -216,6 +303,18 @@ struct FemOutputs<'a> {
     pvd: Vec<(f64, String)>,
     /// (settlement, reaction) after every step, from step 0.
     curve: Vec<(f64, f64)>,
+    /// `(step, ‖F‖∞ / max(1, ‖σ‖∞) per iteration)` of every solve, for the Newton plot.
+    histories: Vec<(usize, Vec<f64>)>,
+}
+
+/// What [`FemOutputs`] saves in a checkpoint.
+#[derive(serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FemProgress {
+    results: ResultsProgress,
+    pvd: Vec<(f64, String)>,
+    curve: Vec<(f64, f64)>,
+    histories: Vec<(usize, Vec<f64>)>,
 }
 
 impl RunOutputs<&Model> for FemOutputs<'_> {
@@ -240,6 +339,14 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
         };
         // + 0.0: a settlement of −0 (no motion yet) is written as 0.
         let displacement = displacement + 0.0;
+        if let Some(r) = report {
+            self.histories.extend(
+                r.residual_histories
+                    .iter()
+                    .filter(|h| !h.is_empty())
+                    .map(|h| (step, h.clone())),
+            );
+        }
         let (reaction, rest) = match report {
             Some(r) => (
                 r.reaction_force(),
@@ -272,21 +379,21 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
         )
     }
 
-    fn finish(&mut self, state: &State, reports: &[StepRecord]) -> Result<(), RunError> {
+    fn finish(&mut self, state: &State, step: usize) -> Result<(), RunError> {
         if !self.write_fields {
             return Ok(());
         }
         // A run that stopped early (collapse, failure, interruption) ends with its last
         // state too; `write_vtu` keeps solution.pvd current.
         if self.pvd.last().map(|(t, _)| *t) != Some(state.time) {
-            self.write_vtu(reports.len(), state)?;
+            self.write_vtu(step, state)?;
         }
-        if self.scene.spec.output.plots && !reports.is_empty() {
+        if self.scene.spec.output.plots && step > 0 {
             write_plots(
                 self.scene,
                 self.model,
                 state,
-                reports,
+                &self.histories,
                 &self.curve,
                 self.out,
             )?;
@@ -296,6 +403,39 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
 
     fn results(&self) -> &Results {
         &self.results.results
+    }
+
+    fn save(&self) -> serde_json::Value {
+        serde_json::json!(FemProgress {
+            results: self.results.results.progress(),
+            pvd: self.pvd.clone(),
+            curve: self.curve.clone(),
+            histories: self.histories.clone(),
+        })
+    }
+
+    fn restore(&mut self, saved: serde_json::Value, _: usize) -> Result<(), RunError> {
+        let path = checkpoint::path(self.out);
+        let corrupt = |why: String| CheckpointError::Corrupt {
+            path: path.clone(),
+            why: format!("its FEM outputs: {why}"),
+        };
+        let p: FemProgress = serde_json::from_value(saved).map_err(|e| corrupt(e.to_string()))?;
+        self.results.results.restore(p.results).map_err(corrupt)?;
+        self.pvd = p.pvd;
+        self.curve = p.curve;
+        self.histories = p.histories;
+        // The VTUs of later steps, and the one an interruption wrote of its last state.
+        let listed = |n: usize| {
+            self.pvd
+                .iter()
+                .any(|(_, f)| *f == format!("vtu/step_{n:05}.vtu"))
+        };
+        checkpoint::drop_numbered_files(&self.out.join("vtu"), "step_", ".vtu", listed)?;
+        if self.write_fields && !self.pvd.is_empty() {
+            output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
+        }
+        Ok(())
     }
 }
 
@@ -367,7 +507,7 @@ fn write_plots(
     scene: &Scene,
     model: &Model,
     state: &State,
-    records: &[StepRecord],
+    histories: &[(usize, Vec<f64>)],
     curve: &[(f64, f64)],
     out: &Path,
 ) -> Result<(), RunError> {
@@ -379,16 +519,10 @@ fn write_plots(
     if !model.reaction_dofs.is_empty() {
         output::plot_force_displacement(&out.join("force_displacement.png"), curve, &title)?;
     }
-    let histories: Vec<(usize, Vec<f64>)> = records
-        .iter()
-        .enumerate()
-        .flat_map(|(i, r)| r.residual_histories.iter().map(move |h| (i + 1, h.clone())))
-        .filter(|(_, h)| !h.is_empty())
-        .collect();
     if !histories.is_empty() {
         output::plot_newton_residuals(
             &out.join("newton_residuals.png"),
-            &histories,
+            histories,
             scene.spec.solver.tolerance,
         )?;
     }

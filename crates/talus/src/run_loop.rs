@@ -4,6 +4,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+use crate::checkpoint::{self, Checkpoint, Plan};
 use crate::output::{CollapseTime, Results, RunStatus};
 use crate::run::{io_err, progress_bar, RunError, RunOptions, StepProgress};
 use crate::simulation::engine::{
@@ -31,14 +32,24 @@ pub trait RunOutputs<D: Discretization> {
     fn after_step(&mut self, step: usize, state: &D::State) -> Result<(), RunError>;
     /// A short status for the progress bar.
     fn message(&self, report: &StepReport<D::Stats>, state: &D::State) -> String;
-    /// The end-of-run files (collections, plots), finished or not.
-    fn finish(
-        &mut self,
-        state: &D::State,
-        reports: &[StepReport<D::Stats>],
-    ) -> Result<(), RunError>;
+    /// The end-of-run files (collections, plots), finished or not, after `step`.
+    fn finish(&mut self, state: &D::State, step: usize) -> Result<(), RunError>;
     /// The reactions, monitors and reported curve recorded so far.
     fn results(&self) -> &Results;
+    /// What the outputs recorded so far (curves, collection, counters), for a checkpoint.
+    fn save(&self) -> serde_json::Value;
+    /// Continues from what [`RunOutputs::save`] returned after `step`: also removes the
+    /// files of later steps and rewrites the collections as they were then.
+    fn restore(&mut self, saved: serde_json::Value, step: usize) -> Result<(), RunError>;
+}
+
+/// Where [`run_steps`] starts.
+pub enum Begin<S> {
+    /// Step 0 from this state: `history.csv` and the step-0 fields written afresh, any
+    /// older checkpoint in the folder removed.
+    Fresh(S),
+    /// After a checkpoint's step, the folder's outputs cut back to it (`talus resume`).
+    Resumed(Box<Checkpoint<S>>),
 }
 
 /// What the run loop returns: every step's report, the last state, and the step that
@@ -73,36 +84,96 @@ impl std::fmt::Display for Collapsed {
     }
 }
 
-/// Steps `state` `steps` times by `h`, writing `out/history.csv`, what `outputs` asks, and
+/// Steps from `begin` to step `steps` by `h`, writing `out/history.csv`, what `outputs`
+/// asks, a checkpoint every `plan.every` steps (and at an interruption), and
 /// `out/summary.json` at the end, finished or failed. SIGINT/SIGTERM or the observer's
 /// `Break` stop it after the step in progress.
-pub fn run_steps<D: Discretization, O: RunOutputs<D>>(
+pub fn run_steps<D, O>(
     stepper: &mut Stepper<D>,
-    mut state: D::State,
+    begin: Begin<D::State>,
     steps: usize,
     h: f64,
     outputs: &mut O,
     options: &RunOptions,
-) -> Result<Stepped<D>, RunError> {
+    plan: Option<&Plan>,
+) -> Result<Stepped<D>, RunError>
+where
+    D: Discretization,
+    D::State: serde::Serialize,
+    O: RunOutputs<D>,
+{
     let out: &Path = &options.out_dir;
     std::fs::create_dir_all(out).map_err(io_err(out))?;
     check_writable(out)?;
     let summary_path = out.join("summary.json");
     let _ = std::fs::remove_file(&summary_path);
-    let mut history = History::create(out.join("history.csv"), &outputs.columns())?;
-    let row = outputs.row(0, &state, None);
-    history.row::<D::Stats>(0, stepper.discretization().time(&state), None, &row)?;
-    outputs.after_step(0, &state)?;
+    let history_path = out.join("history.csv");
+    let mut watch;
+    let (mut state, first) = match begin {
+        Begin::Fresh(state) => {
+            // A checkpoint of an earlier run in this folder would not match the new files.
+            let _ = std::fs::remove_file(checkpoint::path(out));
+            watch = CollapseWatch::new();
+            let mut history = History::create(history_path, &outputs.columns())?;
+            let row = outputs.row(0, &state, None);
+            history.row::<D::Stats>(0, stepper.discretization().time(&state), None, &row)?;
+            outputs.after_step(0, &state)?;
+            if let Some(m) = stepper.discretization().motion(&state) {
+                watch.observe(&m);
+            }
+            (state, 1)
+        }
+        Begin::Resumed(c) => {
+            let c = *c;
+            checkpoint::truncate_history(&history_path, c.step)?;
+            outputs.restore(c.outputs, c.step)?;
+            stepper.restore_memory(c.stepper);
+            watch = c.watch;
+            tracing::info!(step = c.step, "resumed from the checkpoint");
+            (c.state, c.step + 1)
+        }
+    };
+    let mut history = History::append(out.join("history.csv"))?;
     let bar = progress_bar(steps, options.progress);
+    if let Some(bar) = &bar {
+        bar.set_position(first as u64 - 1);
+    }
     let mut reports = Vec::new();
     let mut failure = None;
     let mut collapse = None;
-    let mut watch = CollapseWatch::new();
-    if let Some(m) = stepper.discretization().motion(&state) {
-        watch.observe(&m);
-    }
+    let mut last_checkpoint = None;
+    let save = |step: usize,
+                state: &D::State,
+                stepper: &Stepper<D>,
+                watch: &CollapseWatch,
+                outputs: &O|
+     -> Result<(), RunError> {
+        let Some(plan) = plan else { return Ok(()) };
+        let clock = std::time::Instant::now();
+        checkpoint::write(
+            out,
+            &Checkpoint {
+                talus: checkpoint::WRITER.to_string(),
+                scene: plan.scene.clone(),
+                every: plan.every,
+                step,
+                steps,
+                h,
+                state,
+                stepper: stepper.memory(),
+                watch: watch.clone(),
+                outputs: outputs.save(),
+            },
+        )?;
+        tracing::info!(
+            step,
+            seconds = clock.elapsed().as_secs_f64(),
+            "checkpoint written"
+        );
+        Ok(())
+    };
     let mut interrupted = None;
-    for step in 1..=steps {
+    for step in first..=steps {
         if crate::interrupt::requested() {
             interrupted = Some(step - 1);
             break;
@@ -163,6 +234,10 @@ pub fn run_steps<D: Discretization, O: RunOutputs<D>>(
             });
             break;
         }
+        if plan.is_some_and(|p| step % p.every == 0) {
+            save(step, &state, stepper, &watch, outputs)?;
+            last_checkpoint = Some(step);
+        }
         if stop {
             interrupted = Some(step);
             break;
@@ -171,7 +246,16 @@ pub fn run_steps<D: Discretization, O: RunOutputs<D>>(
     if let Some(bar) = bar {
         bar.finish();
     }
-    outputs.finish(&state, &reports)?;
+    // An interrupted run is resumed from where it stopped, not from its last checkpoint.
+    if let Some(step) = interrupted.filter(|&s| last_checkpoint != Some(s) && s >= first) {
+        save(step, &state, stepper, &watch, outputs)?;
+    }
+    let last_step = match (&failure, interrupted) {
+        (_, Some(step)) => step,
+        (Some((step, _)), None) => step - 1,
+        (None, None) => first - 1 + reports.len(),
+    };
+    outputs.finish(&state, last_step)?;
     let (status, error) = match (&failure, &collapse) {
         _ if interrupted.is_some() => (RunStatus::Interrupted, None),
         (_, Some(c)) => (RunStatus::Collapsed, Some(c.to_string())),
@@ -215,6 +299,18 @@ impl History {
         };
         history.line(format!("{HISTORY_COLUMNS}{columns}"))?;
         Ok(history)
+    }
+
+    /// The rows of later steps go after the existing ones.
+    fn append(path: PathBuf) -> Result<Self, RunError> {
+        let file = std::fs::OpenOptions::new()
+            .append(true)
+            .open(&path)
+            .map_err(io_err(&path))?;
+        Ok(Self {
+            writer: std::io::BufWriter::new(file),
+            path,
+        })
     }
 
     fn row<S>(

@@ -7,10 +7,25 @@ use talus_ssn::{ReducedSystem, SolveError};
 use crate::simulation::engine::{Discretization, Loading, Motion, Problem};
 
 /// The particles and the time they are at.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct MpmState {
     pub time: f64,
+    #[serde(with = "ParticlesDef")]
     pub particles: Particles,
+}
+
+/// [`Particles`] field by field, for checkpoints (`crate::checkpoint`): talus-mpm stays
+/// free of serde.
+#[derive(serde::Serialize, serde::Deserialize)]
+#[serde(remote = "Particles", deny_unknown_fields)]
+struct ParticlesDef {
+    position: Vec<[f64; 2]>,
+    velocity: Vec<[f64; 2]>,
+    mass: Vec<f64>,
+    volume: Vec<f64>,
+    stress: Vec<[f64; 4]>,
+    plastic_strain: Vec<f64>,
+    external_force: Vec<[f64; 2]>,
 }
 
 impl Discretization for Mpm {

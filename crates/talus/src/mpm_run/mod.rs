@@ -14,10 +14,13 @@ use std::time::Instant;
 
 use talus_mpm::{Particles, SubstepStats};
 
+use crate::checkpoint::{self, Checkpoint, CheckpointError};
 use crate::output;
 use crate::output::Results;
+use crate::output::ResultsProgress;
+use crate::run::checkpoint_plan;
 use crate::run::{RunError, RunOptions};
-use crate::run_loop::{run_steps, RunOutputs, HISTORY_COLUMNS};
+use crate::run_loop::{run_steps, Begin, RunOutputs, HISTORY_COLUMNS};
 use crate::scene::MpmScene;
 use crate::simulation::{StepReport, Stepper};
 
@@ -93,6 +96,25 @@ impl MpmRunSummary {
 }
 
 pub fn run_mpm_scene(scene: &MpmScene, options: &RunOptions) -> Result<MpmRunSummary, RunError> {
+    run_mpm_scene_from(scene, options, None)
+}
+
+/// Continues `scene` from `checkpoint` (read from `options.out_dir`, its scene checked by
+/// [`Checkpoint::current_scene`]), checkpointing as often as the run it continues.
+pub fn resume_mpm_scene(
+    scene: &MpmScene,
+    checkpoint: Checkpoint<serde_json::Value>,
+    options: &RunOptions,
+) -> Result<MpmRunSummary, RunError> {
+    let checkpoint = checkpoint.with_state::<MpmState>(&options.out_dir)?;
+    run_mpm_scene_from(scene, options, Some(checkpoint))
+}
+
+fn run_mpm_scene_from(
+    scene: &MpmScene,
+    options: &RunOptions,
+    resumed: Option<Checkpoint<MpmState>>,
+) -> Result<MpmRunSummary, RunError> {
     let start = Instant::now();
     let model = MpmModel::from_scene(scene)?;
     let spec = &scene.spec;
@@ -133,7 +155,50 @@ pub fn run_mpm_scene(scene: &MpmScene, options: &RunOptions) -> Result<MpmRunSum
         time: 0.0,
         particles: model.particles.clone(),
     };
-    let stepped = run_steps(&mut stepper, state, steps, h, &mut outputs, options)?;
+    if let Some(c) = &resumed {
+        // Sizes of another set of particles would index out of bounds: refused first.
+        let p = &c.state.particles;
+        let n = model.particles.len();
+        let sizes = [
+            p.position.len(),
+            p.velocity.len(),
+            p.mass.len(),
+            p.volume.len(),
+            p.stress.len(),
+            p.plastic_strain.len(),
+            p.external_force.len(),
+        ];
+        let rate = c.stepper.stress_rate.as_ref().map_or(4 * n, Vec::len);
+        if sizes.iter().any(|&k| k != n) || rate != 4 * n {
+            return Err(CheckpointError::Corrupt {
+                path: checkpoint::path(&options.out_dir),
+                why: format!(
+                    "its particle arrays have sizes {sizes:?} and a stress rate of {rate}, \
+                     the scene {n} particles"
+                ),
+            }
+            .into());
+        }
+    }
+    let plan = checkpoint_plan(
+        scene.path.as_deref(),
+        &scene.source,
+        options,
+        resumed.as_ref(),
+    );
+    let begin = match resumed {
+        Some(c) => Begin::Resumed(Box::new(c)),
+        None => Begin::Fresh(state),
+    };
+    let stepped = run_steps(
+        &mut stepper,
+        begin,
+        steps,
+        h,
+        &mut outputs,
+        options,
+        plan.as_ref(),
+    )?;
     if let Some(step) = stepped.interrupted {
         let time = stepped.state.time;
         return Err(RunError::Interrupted { step, time });
@@ -169,6 +234,15 @@ struct MpmOutputs<'a> {
     plots: bool,
     title: &'a str,
     /// (settlement, push on the material), both downward positive, from step 0.
+    reaction_curve: Vec<(f64, f64)>,
+}
+
+/// What [`MpmOutputs`] saves in a checkpoint.
+#[derive(serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MpmProgress {
+    results: ResultsProgress,
+    pvd: Vec<(f64, String)>,
     reaction_curve: Vec<(f64, f64)>,
 }
 
@@ -231,12 +305,12 @@ impl RunOutputs<&ProgrammedMpm> for MpmOutputs<'_> {
         )
     }
 
-    fn finish(&mut self, state: &MpmState, reports: &[MpmStepReport]) -> Result<(), RunError> {
+    fn finish(&mut self, state: &MpmState, step: usize) -> Result<(), RunError> {
         if !self.write_fields {
             return Ok(());
         }
         self.fields
-            .finish(self.model, &state.particles, reports.len(), state.time)?;
+            .finish(self.model, &state.particles, step, state.time)?;
         if self.plots && self.reaction_curve.len() > 1 {
             output::plot_force_displacement(
                 &self.out.join("force_displacement.png"),
@@ -249,5 +323,38 @@ impl RunOutputs<&ProgrammedMpm> for MpmOutputs<'_> {
 
     fn results(&self) -> &Results {
         &self.results.results
+    }
+
+    fn save(&self) -> serde_json::Value {
+        serde_json::json!(MpmProgress {
+            results: self.results.results.progress(),
+            pvd: self.fields.pvd.clone(),
+            reaction_curve: self.reaction_curve.clone(),
+        })
+    }
+
+    fn restore(&mut self, saved: serde_json::Value, step: usize) -> Result<(), RunError> {
+        let path = checkpoint::path(self.out);
+        let corrupt = |why: String| CheckpointError::Corrupt {
+            path: path.clone(),
+            why: format!("its MPM outputs: {why}"),
+        };
+        let p: MpmProgress = serde_json::from_value(saved).map_err(|e| corrupt(e.to_string()))?;
+        self.results.results.restore(p.results).map_err(corrupt)?;
+        self.fields.pvd = p.pvd;
+        self.reaction_curve = p.reaction_curve;
+        // The VTUs of later steps, and the one an interruption wrote of its last state.
+        let pvd = &self.fields.pvd;
+        let listed = |n: usize| {
+            pvd.iter()
+                .any(|(_, f)| *f == format!("vtu/step_{n:05}.vtu"))
+        };
+        checkpoint::drop_numbered_files(&self.out.join("vtu"), "step_", ".vtu", listed)?;
+        let earlier = |n: usize| n <= step;
+        checkpoint::drop_numbered_files(&self.out.join("snapshots"), "step_", ".png", earlier)?;
+        if self.write_fields && !self.fields.pvd.is_empty() {
+            output::write_pvd(&self.out.join("solution.pvd"), &self.fields.pvd)?;
+        }
+        Ok(())
     }
 }

@@ -25,6 +25,7 @@ mod spacing;
 mod summary;
 mod vtu;
 
+pub(crate) use atomic::write as write_atomically;
 pub use error::OutputError;
 pub use mesh::MeshView;
 pub use particles_vtu::{write_particle_vtu, ParticleSnapshot};
@@ -33,7 +34,7 @@ pub use plot_curves::{plot_force_displacement, plot_newton_residuals};
 pub use plot_field::plot_field_on_mesh;
 pub use plot_particles::{plot_particles, ParticlePlot};
 pub use pvd::write_pvd;
-pub use results::{BadColumn, Results};
+pub use results::{BadColumn, Results, ResultsProgress};
 pub use summary::{
     BoundaryReaction, CollapseTime, FactorOfSafety, Limit, MonitorValues, ReportedReaction,
     RunStatus, Summary,

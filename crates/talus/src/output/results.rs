@@ -25,6 +25,18 @@ pub struct Results {
     force_unit: &'static str,
 }
 
+/// What [`Results`] recorded so far (its columns come from the scene): saved in a
+/// checkpoint (`crate::checkpoint`).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ResultsProgress {
+    last: Vec<[f64; 2]>,
+    peak: Vec<([f64; 2], usize)>,
+    monitor_values: Vec<Option<[f64; 4]>>,
+    curve: Vec<(f64, f64)>,
+    steps: usize,
+    time: f64,
+}
+
 /// A name that cannot head columns: the scene field that gave it and why.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BadColumn {
@@ -139,6 +151,43 @@ impl Results {
         self.steps = step;
         self.time = time;
         row
+    }
+
+    /// What was recorded so far, for a checkpoint.
+    pub fn progress(&self) -> ResultsProgress {
+        ResultsProgress {
+            last: self.last.clone(),
+            peak: self.peak.clone(),
+            monitor_values: self.monitor_values.clone(),
+            curve: self.curve.clone(),
+            steps: self.steps,
+            time: self.time,
+        }
+    }
+
+    /// Continues from `progress`, saved from results with the same columns; an other
+    /// number of boundaries or monitors is refused (the checkpoint is not this scene's).
+    pub fn restore(&mut self, progress: ResultsProgress) -> Result<(), String> {
+        let (b, m) = (self.boundaries.len(), self.monitors.len());
+        if progress.last.len() != b || progress.peak.len() != b {
+            return Err(format!(
+                "{} named boundaries saved, {b} in the scene",
+                progress.last.len()
+            ));
+        }
+        if progress.monitor_values.len() != m {
+            return Err(format!(
+                "{} monitors saved, {m} in the scene",
+                progress.monitor_values.len()
+            ));
+        }
+        self.last = progress.last;
+        self.peak = progress.peak;
+        self.monitor_values = progress.monitor_values;
+        self.curve = progress.curve;
+        self.steps = progress.steps;
+        self.time = progress.time;
+        Ok(())
     }
 
     /// `(settlement, force)` of the reported boundary at every recorded step.

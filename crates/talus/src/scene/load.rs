@@ -6,10 +6,12 @@ use super::{SceneError, SceneSpec};
 /// A parsed FEM scene.
 pub type Scene = SceneDocument<SceneSpec>;
 
+/// The text of `scenes/footing.toml`, shipped in the binary.
+pub const BUILTIN_FOOTING: &str = include_str!("../../../../scenes/footing.toml");
+
 /// The paper's footing (Fig. 3), shipped in the binary: `scenes/footing.toml`.
 pub fn builtin_footing() -> Scene {
-    Scene::parse(include_str!("../../../../scenes/footing.toml"), None)
-        .expect("the built-in scene is valid")
+    Scene::parse(BUILTIN_FOOTING, None).expect("the built-in scene is valid")
 }
 
 /// The built-in footing on `cells = [nx, ny]` with the paper mesh's vertical grading

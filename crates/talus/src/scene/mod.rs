@@ -18,7 +18,7 @@ mod types;
 
 pub use error::SceneError;
 pub use file::SceneFile;
-pub use load::{builtin_footing, builtin_footing_with_cells, Scene};
+pub use load::{builtin_footing, builtin_footing_with_cells, Scene, BUILTIN_FOOTING};
 pub use monitor::{bad_name, first_duplicate, MonitorSpec, MONITOR_COLUMNS, REACTION_COLUMNS};
 pub use mpm_load::MpmScene;
 pub use mpm_types::*;

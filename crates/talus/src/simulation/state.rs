@@ -1,5 +1,5 @@
 /// The state between steps.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct State {
     pub time: f64,
     /// Mandel stress per Gauss point, flat (Pa).

@@ -66,7 +66,7 @@ impl std::fmt::Display for Collapse {
 }
 
 /// The kinetic energy of the last accepted steps.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CollapseWatch {
     last: Option<f64>,
     /// Accepted steps in a row whose kinetic energy exceeded the one before.

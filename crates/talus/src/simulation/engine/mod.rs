@@ -38,6 +38,14 @@ pub struct Stepper<D: Discretization> {
     clean_steps: usize,
 }
 
+/// The [`Stepper`]'s own state between steps ([`Stepper::memory`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct StepperMemory {
+    pub stress_rate: Option<Vec<f64>>,
+    pub memory_level: usize,
+    pub clean_steps: usize,
+}
+
 /// How a sub-step failed.
 enum SubstepError<E> {
     /// Newton did not converge: worth retrying with a smaller step. The iterations and
@@ -85,6 +93,28 @@ impl<D: Discretization> Stepper<D> {
     /// Halvings the next step starts with (`StepSettings::halving_memory`): 0 = full h.
     pub fn remembered_halvings(&self) -> usize {
         self.memory_level
+    }
+
+    /// What the next step depends on besides the state: the stress rate of the predictor
+    /// and the halving memory (a checkpoint, `crate::checkpoint`).
+    pub fn memory(&self) -> StepperMemory {
+        StepperMemory {
+            stress_rate: self.stress_rate.clone(),
+            memory_level: self.memory_level,
+            clean_steps: self.clean_steps,
+        }
+    }
+
+    /// Restores what [`Stepper::memory`] saved: the next step is then the one the saving
+    /// stepper would have taken. The fixed operators' solvers are rebuilt on first use;
+    /// they keep nothing from one solve to the next that changes its numbers (the numeric
+    /// factorization is redone every Newton iteration, the symbolic analyses depend only on
+    /// the pattern), so a rebuilt solver gives the same bits (`docs/scenes.md`,
+    /// 'Checkpoints and resume').
+    pub fn restore_memory(&mut self, memory: StepperMemory) {
+        self.stress_rate = memory.stress_rate;
+        self.memory_level = memory.memory_level;
+        self.clean_steps = memory.clean_steps;
     }
 
     /// One step of `h` (s). A sub-step whose solve fails is redone as two halves, down to
