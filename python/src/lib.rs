@@ -15,6 +15,7 @@ fn _talus(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(reduced::read_siconos, m)?)?;
     m.add_function(wrap_pyfunction!(reduced::solve_reduced, m)?)?;
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
+    m.add_function(wrap_pyfunction!(run::resume, m)?)?;
     m.add_function(wrap_pyfunction!(stability::factor_of_safety, m)?)?;
     m.add_class::<scene::Scene>()?;
     Ok(())

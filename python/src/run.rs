@@ -9,8 +9,9 @@ use numpy::ndarray::Array2;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use talus::mpm_run::run_mpm_scene;
-use talus::run::{run_scene, RunError, RunOptions};
+use talus::checkpoint::Checkpoint;
+use talus::mpm_run::{resume_mpm_scene, run_mpm_scene};
+use talus::run::{resume_scene, run_scene, RunError, RunOptions};
 use talus::scene::SceneFile;
 use talus::simulation::Model;
 
@@ -48,10 +49,17 @@ pub(crate) fn scratch() -> PathBuf {
     std::env::temp_dir().join(format!("talus-py-{}-{n}-{nanos}", std::process::id()))
 }
 
-fn step(file: &SceneFile, options: &RunOptions) -> Result<Final, RunError> {
+fn step(
+    file: &SceneFile,
+    options: &RunOptions,
+    resumed: Option<Checkpoint<serde_json::Value>>,
+) -> Result<Final, RunError> {
     match file {
         SceneFile::Fem(scene) => {
-            let summary = run_scene(scene, options)?;
+            let summary = match resumed {
+                Some(c) => resume_scene(scene, c, options)?,
+                None => run_scene(scene, options)?,
+            };
             // The mesh of the run: the model is rebuilt from the same scene.
             let model = Model::from_scene(scene)?;
             let state = summary.final_state;
@@ -65,7 +73,11 @@ fn step(file: &SceneFile, options: &RunOptions) -> Result<Final, RunError> {
             })
         }
         SceneFile::Mpm(scene) => {
-            let p = run_mpm_scene(scene, options)?.particles;
+            let p = match resumed {
+                Some(c) => resume_mpm_scene(scene, c, options)?,
+                None => run_mpm_scene(scene, options)?,
+            }
+            .particles;
             Ok(Final::Mpm {
                 position: p.position,
                 velocity: p.velocity,
@@ -116,30 +128,76 @@ fn flat2(v: Vec<[f64; 2]>) -> Array2<f64> {
 
 /// Runs `scene`; returns a dict with `history` (column → array), `summary_json` (the
 /// text of `summary.json`) and the final state. Files are kept only when `out` is given.
-/// `callback(progress: dict)` is called after every step; `False` stops the run.
+/// `callback(progress: dict)` is called after every step; `False` stops the run. With
+/// `checkpoint_every > 0` (and `out`), a checkpoint every that many steps
+/// (`docs/scenes.md`, 'Checkpoints and resume').
 #[pyfunction]
-#[pyo3(signature = (scene, out=None, callback=None))]
+#[pyo3(signature = (scene, out=None, callback=None, checkpoint_every=0))]
 pub fn run<'py>(
     py: Python<'py>,
     scene: &Scene,
     out: Option<PathBuf>,
     callback: Option<Py<PyAny>>,
+    checkpoint_every: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     let file = SceneFile::parse(&scene.source, scene.path.clone())
         .map_err(|e| scene_error(py, &e, None))?;
+    if checkpoint_every > 0 && out.is_none() {
+        let why = "checkpoint_every needs out: the checkpoint is written there".to_string();
+        return Err(raise(py, "RunError", (why, PyDict::new(py))));
+    }
     let keep = out.is_some();
     let dir = out.unwrap_or_else(scratch);
     let watch = Watch::new(callback);
     let options = RunOptions {
         write_fields: keep,
         observer: Some(watch.observer()),
+        checkpoint_every,
         ..RunOptions::new(dir.clone())
     };
-    let stepped = py.detach(move || step(&file, &options));
+    let stepped = py.detach(move || step(&file, &options, None));
+    finish(py, stepped, &dir, keep, &watch)
+}
+
+/// Continues the run whose checkpoint is in `out` (`talus resume OUT`): its scene is
+/// the checkpoint's, checked against the file it came from.
+#[pyfunction]
+#[pyo3(signature = (out, callback=None))]
+pub fn resume<'py>(
+    py: Python<'py>,
+    out: PathBuf,
+    callback: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let refused = |py: Python<'py>, e: String| raise(py, "RunError", (e, PyDict::new(py)));
+    let checkpoint = talus::checkpoint::read(&out).map_err(|e| refused(py, e.to_string()))?;
+    let source = checkpoint
+        .current_scene()
+        .map_err(|e| refused(py, e.to_string()))?;
+    let file = SceneFile::parse(&source, checkpoint.scene.path.clone())
+        .map_err(|e| scene_error(py, &e, None))?;
+    let watch = Watch::new(callback);
+    let options = RunOptions {
+        write_fields: true,
+        observer: Some(watch.observer()),
+        ..RunOptions::new(out.clone())
+    };
+    let stepped = py.detach(move || step(&file, &options, Some(checkpoint)));
+    finish(py, stepped, &out, true, &watch)
+}
+
+/// What a run left: its files read back (and removed unless `keep`), what stopped it
+/// raised, or the result dict.
+fn finish<'py>(
+    py: Python<'py>,
+    stepped: Result<Final, RunError>,
+    dir: &Path,
+    keep: bool,
+    watch: &Watch,
+) -> PyResult<Bound<'py, PyDict>> {
     let history = read_history(&dir.join("history.csv"));
     let summary = std::fs::read_to_string(dir.join("summary.json"));
     if !keep {
-        let _ = std::fs::remove_dir_all(&dir);
+        let _ = std::fs::remove_dir_all(dir);
     }
     let d = PyDict::new(py);
     if let Ok(summary) = &summary {

@@ -32,6 +32,7 @@ __all__ = [
     "Scene",
     "Result",
     "run",
+    "resume",
     "factor_of_safety",
     "FactorOfSafety",
     "read_siconos",
@@ -118,16 +119,20 @@ def run(
     scene: Scene,
     out: Optional[Union[str, "os.PathLike[str]"]] = None,
     progress: Union[bool, Callable[[Progress], Optional[bool]]] = True,
+    checkpoint_every: int = 0,
 ) -> Result:
     """Runs a FEM or MPM scene to its end, as ``talus run`` does, with the GIL released.
 
     ``out``: a folder for the CLI's files (history.csv, summary.json, VTU, PNG plots);
-    without it nothing is kept. ``progress``: ``True`` rewrites one line on stderr after
-    each step; ``False`` is silent; a callable is called after each step with a dict
-    ``step``, ``steps``, ``time`` (s), ``newton_iterations``, ``substeps``,
-    ``relative_residual`` and ``message``, and returning ``False`` stops the run
-    (``Interrupted``). Ctrl-C stops it after the step in progress: the files are written
-    (``summary.json`` status ``interrupted``), then ``KeyboardInterrupt`` is raised.
+    without it nothing is kept. ``progress``: ``True`` reports on stderr (a line rewritten
+    after each step on a terminal or in Jupyter, a line per tenth of the run elsewhere);
+    ``False`` is silent; a callable is called after each step with a dict ``step``,
+    ``steps``, ``time`` (s), ``newton_iterations``, ``substeps``, ``relative_residual`` and
+    ``message``, and returning ``False`` stops the run (``Interrupted``). Ctrl-C stops it
+    after the step in progress: the files are written (``summary.json`` status
+    ``interrupted``), then ``KeyboardInterrupt`` is raised. ``checkpoint_every``: with
+    ``out``, the full state every that many steps and at an interruption, for ``resume``
+    (docs/scenes.md, 'Checkpoints and resume').
 
     FEM ``state``: ``nodes`` (n_nodes, 2), ``cells`` (n_cells, 3 or 6, int64, Gmsh node
     order), ``displacement`` (n_nodes, 2), ``stress`` (n_points, 4, Mandel
@@ -145,18 +150,45 @@ def run(
             None, scene.path,
         )
     path = None if out is None else os.fspath(out)
+    return _stepped(progress, lambda callback: _talus.run(scene, path, callback, checkpoint_every))
+
+
+def resume(
+    out: Union[str, "os.PathLike[str]"],
+    progress: Union[bool, Callable[[Progress], Optional[bool]]] = True,
+) -> Result:
+    """Continues the run whose checkpoint is in ``out`` (``talus run`` or ``talus.run`` with
+    ``checkpoint_every``, killed or interrupted), as ``talus resume OUT`` does: the files
+    are cut back to the checkpoint's step and the run goes on to its end; ``history`` and
+    the final state are bit-identical to a run that was never stopped. A scene edited since
+    the checkpoint, or a missing or corrupt checkpoint, raises ``RunError``. ``progress``:
+    as in ``run``."""
+    path = os.fspath(out)
+    return _stepped(progress, lambda callback: _talus.resume(path, callback))
+
+
+def _stepped(progress: Any, call: Callable[[Any], Dict[str, Any]]) -> Result:
+    return Result(_with_progress(progress, call, _partial))
+
+
+def _with_progress(
+    progress: Any,
+    call: Callable[[Any], Dict[str, Any]],
+    shape: Callable[[Dict[str, Any]], Dict[str, Any]],
+) -> Dict[str, Any]:
+    """``call(callback)`` with the progress reporting asked for; a failed run's ``report``
+    (the files it wrote, as text) is shaped by ``shape``."""
     line = _ProgressLine() if progress is True else None
     callback = line if line is not None else (progress if callable(progress) else None)
     try:
-        raw = _talus.run(scene, path, callback)
+        return call(callback)
     except (NotConverged, RunError) as e:
         if isinstance(e.report, dict):
-            e.report = _partial(e.report)
+            e.report = shape(e.report)
         raise
     finally:
         if line is not None:
             line.close()
-    return Result(raw)
 
 
 class FactorOfSafety:
@@ -218,23 +250,20 @@ def factor_of_safety(
     if method is not None or not _has(scene, "stability"):
         scene = scene.set("stability.method", method or "strength_reduction")
     path = None if out is None else os.fspath(out)
-    line = _ProgressLine() if progress is True else None
-    callback = line if line is not None else (progress if callable(progress) else None)
-    try:
-        raw = _talus.factor_of_safety(scene, path, callback)
-    except (NotConverged, RunError) as e:
-        if isinstance(e.report, dict):
-            report = dict(e.report)
-            if "summary_json" in report:
-                report["summary"] = json.loads(report.pop("summary_json"))
-            if "history_csv" in report:
-                report["trials"] = _trials(report.pop("history_csv"))
-            e.report = report
-        raise
-    finally:
-        if line is not None:
-            line.close()
+    raw = _with_progress(
+        progress, lambda callback: _talus.factor_of_safety(scene, path, callback), _trial_report
+    )
     return FactorOfSafety(raw)
+
+
+def _trial_report(raw: Dict[str, Any]) -> Dict[str, Any]:
+    """What a stopped factor of safety wrote: ``summary`` and ``trials``."""
+    out: Dict[str, Any] = {}
+    if "summary_json" in raw:
+        out["summary"] = json.loads(raw["summary_json"])
+    if "history_csv" in raw:
+        out["trials"] = _trials(raw["history_csv"])
+    return out
 
 
 def _has(scene: Scene, field: str) -> bool:

@@ -71,13 +71,22 @@ def run(
     scene: Scene,
     out: Optional[_Path] = None,
     progress: Union[bool, Callable[[Progress], Optional[bool]]] = True,
+    checkpoint_every: int = 0,
 ) -> Result:
     """Runs a FEM or MPM scene to its end as ``talus run`` does, the GIL released.
     Files are written to ``out`` when given. ``progress``: a line on stderr (``True``),
     nothing (``False``), or a callable told of each step (``False`` stops the run). Ctrl-C
     stops after the step in progress, writes the files and raises ``KeyboardInterrupt``.
-    Raises ``SceneError``, ``NotConverged``, ``Collapsed``, ``Interrupted`` (``.report``:
-    partial ``history`` and ``summary``) or ``RunError``."""
+    ``checkpoint_every`` (needs ``out``): the full state every that many steps, for
+    ``resume``. Raises ``SceneError``, ``NotConverged``, ``Collapsed``, ``Interrupted``
+    (``.report``: partial ``history`` and ``summary``) or ``RunError``."""
+
+def resume(
+    out: _Path,
+    progress: Union[bool, Callable[[Progress], Optional[bool]]] = True,
+) -> Result:
+    """Continues the checkpointed run in ``out`` to its end, bit-identical to a run never
+    stopped. Raises ``RunError`` for an edited scene or a missing or corrupt checkpoint."""
 
 class FactorOfSafety:
     """What ``factor_of_safety`` returns."""

@@ -41,16 +41,25 @@ pub struct SceneRecord {
     pub path: Option<PathBuf>,
     pub source: String,
     pub hash: String,
+    /// The text is not the file's (a scene edited in memory, e.g. by the Python package's
+    /// `Scene.set`): the checkpoint holds the only copy, and `path` only resolves the
+    /// scene's relative paths.
+    #[serde(default)]
+    pub held: bool,
 }
 
 impl SceneRecord {
     pub fn new(path: Option<&Path>, source: &str) -> Self {
         // Absolute, so that `talus resume` finds it from any folder.
         let path = path.map(|p| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf()));
+        let held = path
+            .as_ref()
+            .is_some_and(|p| std::fs::read_to_string(p).ok().as_deref() != Some(source));
         Self {
             path,
             source: source.to_string(),
             hash: hash_text(source),
+            held,
         }
     }
 }
@@ -298,9 +307,12 @@ impl Checkpoint<serde_json::Value> {
     }
 
     /// The scene to resume: the file the checkpoint names, refused when its text is not
-    /// the checkpoint's (the built-in footing: this `talus`'s). Its text is returned.
+    /// the checkpoint's (the built-in footing: this `talus`'s; a held scene: the
+    /// checkpoint's own text). Its text is returned.
     pub fn current_scene(&self) -> Result<String, CheckpointError> {
         let (name, now) = match &self.scene.path {
+            // Its text was checked against its hash when the checkpoint was read.
+            _ if self.scene.held => return Ok(self.scene.source.clone()),
             Some(p) => (
                 p.display().to_string(),
                 std::fs::read_to_string(p).map_err(|source| CheckpointError::Io {
