@@ -237,6 +237,45 @@ fn gmsh_bad_headers_are_errors() {
     assert!(err.to_string().contains("z = 0.25"), "{err}");
 }
 
+/// Found by `fuzz_msh_reader.rs`: an `$EndPhysicalNames` line before `$PhysicalNames`
+/// panicked (a slice from the start of the section to an end before it).
+#[test]
+fn gmsh_physical_names_end_before_start_is_an_error() {
+    let text = p1_file(P1_TRIANGLES).replacen(
+        "$EndMeshFormat\n$PhysicalNames\n",
+        "$EndMeshFormat\n$EndPhysicalNames\n$PhysicalNames\n",
+        1,
+    );
+    // The real end follows; the stray line is then refused by the section parser.
+    assert!(Mesh::from_msh_bytes(text.as_bytes()).is_err());
+    let text = text.replacen("$EndPhysicalNames\n$Entities", "$Entities", 1);
+    let err = Mesh::from_msh_bytes(text.as_bytes())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("no $EndPhysicalNames after it"), "{err}");
+}
+
+/// Found by `fuzz_msh_reader.rs`: a node at x = 1e300 was accepted, and the assembly then
+/// failed with "node 0 has mass inf (does it belong to a triangle?)".
+#[test]
+fn gmsh_huge_or_non_finite_coordinates_are_named() {
+    for (x, shown) in [
+        ("1e300", "1e300"),
+        ("-1e101", "-1e101"),
+        ("inf", "inf"),
+        ("nan", "NaN"),
+    ] {
+        let text = p1_file(P1_TRIANGLES).replace("0.5 0.5 0\n", &format!("{x} 0.5 0\n"));
+        let err = Mesh::from_msh_bytes(text.as_bytes())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains(&format!("node 5 has (x, y) = ({shown}, 5e-1)")) && err.contains("1e100"),
+            "{x}: {err}"
+        );
+    }
+}
+
 /// The same P1 square in binary (little-endian, 8-byte size_t), built here field by field
 /// following the Gmsh 4.1 binary layout; `$PhysicalNames` stays ASCII.
 #[test]
