@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
 mod bench;
+mod fuzz;
 mod test;
 mod verify;
 
@@ -14,6 +15,7 @@ fn main() -> ExitCode {
         Some("test") => test::run(&workspace_root(), !args.iter().any(|a| a == "--no-python")),
         Some("verify") => verify::run(&workspace_root(), args.iter().any(|a| a == "--quick")),
         Some("bench") => bench::run(&workspace_root()),
+        Some("fuzz") => fuzz::run(&workspace_root(), &args[1..]),
         _ => {
             eprintln!("usage: cargo xtask <test [--no-python]|verify [--quick]|bench>");
             return ExitCode::from(2);

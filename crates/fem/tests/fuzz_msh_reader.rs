@@ -2,8 +2,9 @@
 //! shipped scene meshes, small ASCII P1 and P2 squares and a binary one) and generated
 //! rectangles. The reader returns a mesh or an error and never panics; a mesh it returns is
 //! consistent (node counts per triangle, indices in range, finite coordinates, positive
-//! areas, sets in range) and assembles without panicking. `TALUS_FUZZ_CASES` raises the case
-//! count (`cargo xtask fuzz`); `docs/scenes.md`, 'Fuzzing'.
+//! areas, sets in range) and assembles without panicking.
+//! `TALUS_FUZZ_CASES` / `TALUS_FUZZ_SCALE` raise the case count (`cargo xtask fuzz`);
+//! `docs/scenes.md`, 'Fuzzing'.
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use proptest::prelude::*;
@@ -264,7 +265,7 @@ fn mutated_meshes_are_read_or_refused_never_panic() {
     let seeds = seeds();
     fuzz(
         "gmsh .msh (mutated files)",
-        cases(3000),
+        cases(10_000),
         mutated(seeds.len()),
         |(seed, mutations)| read(&apply(&seeds[*seed], mutations)),
     );
@@ -365,7 +366,7 @@ impl Rectangle {
 /// bottom edge.
 #[test]
 fn generated_rectangles_read_back() {
-    fuzz("gmsh .msh (generated)", cases(1000), rectangle(), |r| {
+    fuzz("gmsh .msh (generated)", cases(5_000), rectangle(), |r| {
         let text = r.text();
         let mesh = Mesh::from_msh_bytes(text.as_bytes())
             .map_err(|e| format!("refused a valid mesh: {e}\n{text}"))?;
@@ -415,7 +416,7 @@ fn generated_rectangles_read_back() {
 fn mutated_generated_meshes_never_panic() {
     fuzz(
         "gmsh .msh (generated, mutated)",
-        cases(2000),
+        cases(5_000),
         (
             rectangle(),
             proptest::collection::vec(mutations::mutation(), 1..=mutations::MAX_MUTATIONS),

@@ -1,8 +1,9 @@
 //! Fuzzing of the Siconos `.dat` reader (`talus reduced FILE`): mutated shipped files and
 //! generated problems. The reader returns a problem or an error and never panics; a problem
 //! it returns is consistent (sizes `n = d * n_c`, finite numbers, indices in range) and
-//! turns into a reduced system without panicking. `TALUS_FUZZ_CASES` raises the case
-//! count (`cargo xtask fuzz`); `docs/scenes.md`, 'Fuzzing'.
+//! turns into a reduced system without panicking.
+//! `TALUS_FUZZ_CASES` / `TALUS_FUZZ_SCALE` raise the case count (`cargo xtask fuzz`);
+//! `docs/scenes.md`, 'Fuzzing'.
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use proptest::prelude::*;
@@ -119,7 +120,7 @@ fn mutated_files_are_read_or_refused_never_panic() {
     let seeds = seeds();
     fuzz(
         "siconos .dat (mutated files)",
-        cases(4000),
+        cases(20_000),
         mutated(seeds.len()),
         |(seed, mutations)| read(&apply(&seeds[*seed], mutations)),
     );
@@ -302,7 +303,7 @@ impl Generated {
 /// models) read back exactly, bit for bit (`-0.0` and subnormals included).
 #[test]
 fn generated_problems_read_back_exactly() {
-    fuzz("siconos .dat (generated)", cases(1000), generated(), |g| {
+    fuzz("siconos .dat (generated)", cases(5_000), generated(), |g| {
         let text = g.text();
         let read = SiconosProblem::parse(&text)
             .map_err(|e| format!("refused a valid problem: {e}\n{text}"))?;
@@ -322,7 +323,7 @@ fn generated_problems_read_back_exactly() {
 fn mutated_generated_problems_never_panic() {
     fuzz(
         "siconos .dat (generated, mutated)",
-        cases(2000),
+        cases(10_000),
         (
             generated(),
             proptest::collection::vec(mutations::mutation(), 1..=mutations::MAX_MUTATIONS),

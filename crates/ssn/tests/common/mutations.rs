@@ -5,7 +5,8 @@
 //!
 //! A case is a seed and up to [`MAX_MUTATIONS`] mutations applied in turn. The reader runs
 //! under `catch_unwind`: a panic fails the property with the input that caused it, shrunk.
-//! `TALUS_FUZZ_CASES` sets the number of cases (`cargo xtask fuzz` raises it); each test
+//! `TALUS_FUZZ_CASES` sets the number of cases, `TALUS_FUZZ_SCALE` multiplies the defaults
+//! (`cargo xtask fuzz` raises them); each test
 //! prints one line `fuzz <reader>: <cases> cases (<read> read, <refused> refused), 0 panics,
 //! <seconds> s` that `cargo xtask fuzz` reports.
 #![allow(dead_code)] // each fuzz test uses its own part
@@ -278,13 +279,13 @@ pub fn apply(seed: &[u8], mutations: &[Mutation]) -> Vec<u8> {
     b
 }
 
-/// Cases per property: `TALUS_FUZZ_CASES` or `default` (sized so that the test takes a
-/// few seconds in release; `cargo xtask fuzz` sets the variable).
+/// Cases per property: `TALUS_FUZZ_CASES` if set, else `default` (sized so that each test
+/// file takes a few seconds in release) times `TALUS_FUZZ_SCALE` (1 if unset; `cargo xtask
+/// fuzz` sets 20).
 pub fn cases(default: u32) -> u32 {
-    std::env::var("TALUS_FUZZ_CASES")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(default)
+    let var = |name: &str| std::env::var(name).ok().and_then(|v| v.parse::<u32>().ok());
+    var("TALUS_FUZZ_CASES")
+        .unwrap_or_else(|| default.saturating_mul(var("TALUS_FUZZ_SCALE").unwrap_or(1)))
 }
 
 /// What a reader did with one input.
