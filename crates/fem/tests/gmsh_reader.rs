@@ -237,6 +237,49 @@ fn gmsh_bad_headers_are_errors() {
     assert!(err.to_string().contains("z = 0.25"), "{err}");
 }
 
+/// Found by `fuzz_msh_reader.rs`: P2 triangles whose corners run clockwise passed when
+/// det J was positive at the vertices and Gauss points (the mid-edge nodes bend the element
+/// over itself). Here the coordinates of the square's nodes 3..8 are shifted by one line, as
+/// by a line deleted and another duplicated.
+#[test]
+fn gmsh_p2_triangle_with_clockwise_corners_is_named() {
+    let coordinates = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0 0\n1 0.5 0\n0.5 1 0\n0 0.5 0\n0.5 0.5 0\n";
+    assert!(p2_file().contains(coordinates), "test setup");
+    let lines: Vec<&str> = coordinates.lines().collect();
+    let mut accepted = Vec::new();
+    for dup in 0..9 {
+        for del in 0..9 {
+            let mut l: Vec<&str> = lines.clone();
+            l.insert(dup + 1, lines[dup]);
+            l.remove(if del > dup { del + 1 } else { del });
+            let shifted = l.join("\n") + "\n";
+            let text = p2_file().replace(coordinates, &shifted);
+            if let Ok(mesh) = Mesh::from_msh_bytes(text.as_bytes()) {
+                for t in &mesh.triangles {
+                    let [a, b, c] = [mesh.nodes[t[0]], mesh.nodes[t[1]], mesh.nodes[t[2]]];
+                    let area = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+                    if !(area > 0.0) {
+                        accepted.push((dup, del, area / 2.0));
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        accepted.is_empty(),
+        "(duplicated, deleted, corner area): {accepted:?}"
+    );
+    // Node 2's line deleted, node 9's duplicated: element 3's corners (0,0), (0,1), (0.5,0).
+    let shifted = "0 0 0\n1 1 0\n0 1 0\n0.5 0 0\n1 0.5 0\n0.5 1 0\n0 0.5 0\n0.5 0.5 0\n0.5 0.5 0\n";
+    let err = Mesh::from_msh_bytes(p2_file().replace(coordinates, shifted).as_bytes())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("Gmsh element 3") && err.contains("corners must be counter-clockwise"),
+        "{err}"
+    );
+}
+
 /// Found by `fuzz_msh_reader.rs`: an `$EndPhysicalNames` line before `$PhysicalNames`
 /// panicked (a slice from the start of the section to an end before it).
 #[test]

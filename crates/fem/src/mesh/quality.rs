@@ -68,6 +68,20 @@ impl Mesh {
                     ));
                 }
             }
+            // P2: det J can be positive at every point sampled above while the corners run
+            // clockwise (mid-edge nodes folding the element over itself).
+            let [a, b, c] = [coords[0], coords[1], coords[2]];
+            let twice_area = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+            if !(twice_area > 0.0) {
+                return Err(MeshError::element(
+                    label(e),
+                    format!(
+                        "is inverted or degenerate: its corners {a:?}, {b:?}, {c:?} enclose the \
+                         signed area {:e} (corners must be counter-clockwise)",
+                        twice_area / 2.0
+                    ),
+                ));
+            }
         }
         let npe_edge = self.order.nodes_per_edge();
         for (name, edges) in &self.edge_sets {
