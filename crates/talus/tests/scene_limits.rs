@@ -61,6 +61,24 @@ fn a_zero_cell_count_is_refused_before_allocating() {
     }
 }
 
+/// Found by `fuzz_scene_reader.rs`: a load whose value times its ramp multiplier
+/// overflowed was left out of the stress check (only finite stresses were compared with E),
+/// and the model's loads held -inf.
+#[test]
+fn a_load_overflowing_with_its_ramp_is_refused() {
+    let (text, err) = fem(
+        "value = [0.0, -20.0e3]   # Pa",
+        "value = [0.0, -20.0e3]\nramp = [[0.0, 1e304]]",
+    );
+    assert_names(
+        &err,
+        "traction[0].value",
+        &text,
+        "value = [0.0, -20.0e3]",
+        &["overflows", "largest ramp multiplier"],
+    );
+}
+
 #[test]
 fn an_array_longer_than_its_field_is_refused() {
     let (text, err) = fem("cells = [32, 14]", "cells = [32, 14, 3]");
