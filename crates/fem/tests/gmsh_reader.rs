@@ -275,9 +275,27 @@ fn gmsh_p2_triangle_with_clockwise_corners_is_named() {
         .unwrap_err()
         .to_string();
     assert!(
-        err.contains("Gmsh element 3") && err.contains("corners must be counter-clockwise"),
+        err.contains("Gmsh element 3") && err.contains("counter-clockwise"),
         "{err}"
     );
+}
+
+/// Found by `fuzz_msh_reader.rs`: the centre node of the P1 square moved to
+/// (0.5, 4.9e-324) left element 2 with an area of 2.5e-324 m², positive in det J but below
+/// the round-off of its sides.
+#[test]
+fn gmsh_triangle_with_an_area_below_round_off_is_refused() {
+    let text = p1_file(P1_TRIANGLES).replace("0.5 0.5 0\n", "0.5 4.9e-324 0\n");
+    let err = Mesh::from_msh_bytes(text.as_bytes())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("Gmsh element 2") && err.contains("round-off"),
+        "{err}"
+    );
+    // A thin but honest triangle (height 1e-6 of its base) is kept.
+    let text = p1_file(P1_TRIANGLES).replace("0.5 0.5 0\n", "0.5 1e-6 0\n");
+    assert!(Mesh::from_msh_bytes(text.as_bytes()).is_ok());
 }
 
 /// Found by `fuzz_msh_reader.rs`: an `$EndPhysicalNames` line before `$PhysicalNames`

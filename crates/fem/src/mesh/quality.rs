@@ -69,15 +69,20 @@ impl Mesh {
                 }
             }
             // P2: det J can be positive at every point sampled above while the corners run
-            // clockwise (mid-edge nodes folding the element over itself).
+            // clockwise (mid-edge nodes folding the element over itself). And an area below
+            // the round-off of its own computation (ε times the longest side squared, here
+            // 16 ε) is no area: `4.9e-324` for a coordinate of the unit square gave one.
             let [a, b, c] = [coords[0], coords[1], coords[2]];
             let twice_area = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
-            if !(twice_area > 0.0) {
+            let side2 = |p: [f64; 2], q: [f64; 2]| (q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2);
+            let longest2 = side2(a, b).max(side2(b, c)).max(side2(c, a));
+            if !(twice_area > 16.0 * f64::EPSILON * longest2) {
                 return Err(MeshError::element(
                     label(e),
                     format!(
                         "is inverted or degenerate: its corners {a:?}, {b:?}, {c:?} enclose the \
-                         signed area {:e} (corners must be counter-clockwise)",
+                         signed area {:e}, at most the round-off of its sides (corners must be \
+                         counter-clockwise and not aligned)",
                         twice_area / 2.0
                     ),
                 ));
