@@ -221,7 +221,7 @@ fn consistent(mesh: &Mesh) -> Result<(), String> {
         }
         let [a, b, c] = [mesh.nodes[t[0]], mesh.nodes[t[1]], mesh.nodes[t[2]]];
         let area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]));
-        if !(area > 0.0) {
+        if area.is_nan() || area <= 0.0 {
             return Err(format!("triangle {e} has area {area}"));
         }
     }

@@ -76,7 +76,7 @@ impl Mesh {
             let twice_area = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
             let side2 = |p: [f64; 2], q: [f64; 2]| (q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2);
             let longest2 = side2(a, b).max(side2(b, c)).max(side2(c, a));
-            if !(twice_area > 16.0 * f64::EPSILON * longest2) {
+            if twice_area.is_nan() || twice_area <= 16.0 * f64::EPSILON * longest2 {
                 return Err(MeshError::element(
                     label(e),
                     format!(
