@@ -424,3 +424,30 @@ fn mutated_generated_meshes_never_panic() {
         |(r, m)| read(&apply(r.text().as_bytes(), m)),
     );
 }
+
+/// Every field of the binary square overwritten, at every byte offset, by sizes that would
+/// make a reader allocate without bound (2⁶⁴ − 1, 2⁶², 2⁴⁰, 2³¹) or read a negative
+/// count: refused, never a panic nor an abort.
+#[test]
+fn binary_sizes_overwritten_at_every_offset_never_panic() {
+    let seed = binary_square();
+    let mut cases = 0;
+    for at in 0..seed.len() {
+        for v in [u64::MAX, 1 << 62, 1 << 40, 1 << 31] {
+            for width in [8usize, 4] {
+                if at + width > seed.len() {
+                    continue;
+                }
+                let mut b = seed.clone();
+                b[at..at + width].copy_from_slice(&v.to_le_bytes()[..width]);
+                let outcome = catch_unwind(AssertUnwindSafe(|| read(&b)));
+                match outcome {
+                    Ok(Ok(_)) => cases += 1,
+                    Ok(Err(e)) => panic!("offset {at}, {v:#x} ({width} bytes): {e}"),
+                    Err(_) => panic!("offset {at}, {v:#x} ({width} bytes): the reader panicked"),
+                }
+            }
+        }
+    }
+    println!("fuzz gmsh .msh (binary sizes): {cases} cases, 0 panics");
+}
