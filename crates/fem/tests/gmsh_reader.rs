@@ -298,6 +298,31 @@ fn gmsh_triangle_with_an_area_below_round_off_is_refused() {
     assert!(Mesh::from_msh_bytes(text.as_bytes()).is_ok());
 }
 
+/// Found by `fuzz_msh_reader.rs`: node 1 moved to (0, -0.5) and the mid-edge node 6 to
+/// x = 2147483647 gave a P2 triangle with det J > 0 at its vertices and stiffness points but
+/// not at a mass quadrature point: read, then refused by the assembly ("det J ≤ 0 at mass
+/// quadrature point").
+#[test]
+fn gmsh_p2_triangle_folded_at_a_mass_point_is_refused_by_the_reader() {
+    let text = p2_file()
+        .replace("\n0 0 0\n1 0 0\n", "\n0 -0.5 0\n1 0 0\n")
+        .replace("1 0.5 0\n", "2147483647 0.5 0\n");
+    if let Ok(mesh) = Mesh::from_msh_bytes(text.as_bytes()) {
+        let dofs = DofMap::new(mesh.nodes.len(), &[]).unwrap();
+        panic!(
+            "read; assembly: {:?}",
+            Assembly::new(&mesh, &dofs, 1.0).map(|_| ())
+        );
+    }
+    let err = Mesh::from_msh_bytes(text.as_bytes())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("Gmsh element") && err.contains("inverted or degenerate"),
+        "{err}"
+    );
+}
+
 /// Found by `fuzz_msh_reader.rs`: an `$EndPhysicalNames` line before `$PhysicalNames`
 /// panicked (a slice from the start of the section to an end before it).
 #[test]
