@@ -1,10 +1,12 @@
 //! Project chores: `cargo xtask test` (every test: crates, verification, Python),
-//! `cargo xtask verify` (verification suites) and `cargo xtask bench`.
+//! `cargo xtask verify` (verification suites), `cargo xtask bench` and `cargo xtask fuzz`
+//! (the readers' fuzz tests, longer than in CI).
 //! Few dependencies on purpose: it drives the release `talus` binary and `cargo bench`.
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
 mod bench;
+mod fuzz;
 mod test;
 mod verify;
 
@@ -14,24 +16,29 @@ fn main() -> ExitCode {
         Some((task, flags)) => (task.as_str(), flags),
         None => ("", &[][..]),
     };
-    // Each task's flags; anything else (`--help` included) prints the usage.
+    // Each task's flags; anything else (`--help` included) prints the usage. `fuzz`
+    // checks its own (`--cases N`).
     let known: &[&str] = match task {
         "test" => &["--no-python"],
         "verify" => &["--quick"],
-        "bench" => &[],
         _ => &[],
     };
-    let unknown = flags.iter().find(|f| !known.contains(&f.as_str()));
+    let unknown = flags
+        .iter()
+        .find(|f| task != "fuzz" && !known.contains(&f.as_str()));
     let has = |flag: &str| flags.iter().any(|f| f == flag);
     let result = match (task, unknown) {
         ("test", None) => test::run(&workspace_root(), !has("--no-python")),
         ("verify", None) => verify::run(&workspace_root(), has("--quick")),
         ("bench", None) => bench::run(&workspace_root()),
+        ("fuzz", None) => fuzz::run(&workspace_root(), flags),
         (_, unknown) => {
             if let Some(flag) = unknown {
                 eprintln!("xtask {task}: unknown argument {flag:?}");
             }
-            eprintln!("usage: cargo xtask <test [--no-python]|verify [--quick]|bench>");
+            eprintln!(
+                "usage: cargo xtask <test [--no-python]|verify [--quick]|bench|fuzz [--cases N]>"
+            );
             return ExitCode::from(2);
         }
     };

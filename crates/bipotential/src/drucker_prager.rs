@@ -91,6 +91,16 @@ impl DruckerPrager {
             return Err(invalid("cohesion", p.cohesion, "a value >= 0 (Pa)"));
         }
         let phi = p.friction_angle.to_radians();
+        // The apex of the cone lies at c / tan φ on the axis (`flow_rule`): a tiny φ beside a
+        // cohesion overflows it (φ = 1e-300° with c = 1e8 Pa).
+        if phi > 0.0 && !(p.cohesion / phi.tan()).is_finite() {
+            return Err(invalid(
+                "friction_angle",
+                p.friction_angle,
+                "0 (von Mises) or degrees in (0, 90) with cohesion / tan(friction_angle) \
+                 finite (the apex of the cone)",
+            ));
+        }
         let k_d = p.cone_fit.k_d(phi);
         if !(k_d.is_finite() && k_d > 0.0) {
             return Err(invalid("cone_fit.k_d", k_d, "a finite value > 0"));

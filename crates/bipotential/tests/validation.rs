@@ -164,3 +164,26 @@ fn accepts_the_extremes_of_each_domain() {
         assert!(rule.kappa().is_finite() && rule.kappa() >= 0.0);
     }
 }
+
+/// Found by `crates/talus/tests/fuzz_scene_reader.rs`: φ = 1e-300° passed validation with
+/// c = 1e8 Pa, and `flow_rule` then panicked ("validated Drucker-Prager parameters always
+/// give a valid yield set") on the apex c / tan φ = inf.
+#[test]
+fn a_friction_angle_whose_apex_overflows_is_refused() {
+    let tiny = DruckerPragerParameters {
+        friction_angle: 1e-300,
+        dilatancy_angle: 0.0,
+        cohesion: 1e8,
+        ..base()
+    };
+    rejected(tiny, "friction_angle");
+    let msg = DruckerPrager::try_new(tiny).unwrap_err().to_string();
+    assert!(msg.contains("cohesion / tan(friction_angle)"), "{msg}");
+    // Without cohesion the apex is the origin: valid, and its flow rule is built.
+    let cohesionless = DruckerPrager::try_new(DruckerPragerParameters {
+        cohesion: 0.0,
+        ..tiny
+    })
+    .unwrap();
+    let _ = cohesionless.flow_rule::<4>();
+}

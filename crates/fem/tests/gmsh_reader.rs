@@ -237,6 +237,131 @@ fn gmsh_bad_headers_are_errors() {
     assert!(err.to_string().contains("z = 0.25"), "{err}");
 }
 
+/// Found by `fuzz_msh_reader.rs`: P2 triangles whose corners run clockwise passed when
+/// det J was positive at the vertices and Gauss points (the mid-edge nodes bend the element
+/// over itself). Here the coordinates of the square's nodes 3..8 are shifted by one line, as
+/// by a line deleted and another duplicated.
+#[test]
+fn gmsh_p2_triangle_with_clockwise_corners_is_named() {
+    let coordinates = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0 0\n1 0.5 0\n0.5 1 0\n0 0.5 0\n0.5 0.5 0\n";
+    assert!(p2_file().contains(coordinates), "test setup");
+    let lines: Vec<&str> = coordinates.lines().collect();
+    let mut accepted = Vec::new();
+    for dup in 0..9 {
+        for del in 0..9 {
+            let mut l: Vec<&str> = lines.clone();
+            l.insert(dup + 1, lines[dup]);
+            l.remove(if del > dup { del + 1 } else { del });
+            let shifted = l.join("\n") + "\n";
+            let text = p2_file().replace(coordinates, &shifted);
+            if let Ok(mesh) = Mesh::from_msh_bytes(text.as_bytes()) {
+                for t in &mesh.triangles {
+                    let [a, b, c] = [mesh.nodes[t[0]], mesh.nodes[t[1]], mesh.nodes[t[2]]];
+                    let area = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+                    if area.is_nan() || area <= 0.0 {
+                        accepted.push((dup, del, area / 2.0));
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        accepted.is_empty(),
+        "(duplicated, deleted, corner area): {accepted:?}"
+    );
+    // Node 2's line deleted, node 9's duplicated: element 3's corners (0,0), (0,1), (0.5,0).
+    let shifted = "0 0 0\n1 1 0\n0 1 0\n0.5 0 0\n1 0.5 0\n0.5 1 0\n0 0.5 0\n0.5 0.5 0\n0.5 0.5 0\n";
+    let err = Mesh::from_msh_bytes(p2_file().replace(coordinates, shifted).as_bytes())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("Gmsh element 3") && err.contains("counter-clockwise"),
+        "{err}"
+    );
+}
+
+/// Found by `fuzz_msh_reader.rs`: the centre node of the P1 square moved to
+/// (0.5, 4.9e-324) left element 2 with an area of 2.5e-324 m², positive in det J but below
+/// the round-off of its sides.
+#[test]
+fn gmsh_triangle_with_an_area_below_round_off_is_refused() {
+    let text = p1_file(P1_TRIANGLES).replace("0.5 0.5 0\n", "0.5 4.9e-324 0\n");
+    let err = Mesh::from_msh_bytes(text.as_bytes())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("Gmsh element 2") && err.contains("round-off"),
+        "{err}"
+    );
+    // A thin but honest triangle (height 1e-6 of its base) is kept.
+    let text = p1_file(P1_TRIANGLES).replace("0.5 0.5 0\n", "0.5 1e-6 0\n");
+    assert!(Mesh::from_msh_bytes(text.as_bytes()).is_ok());
+}
+
+/// Found by `fuzz_msh_reader.rs`: node 1 moved to (0, -0.5) and the mid-edge node 6 to
+/// x = 2147483647 gave a P2 triangle with det J > 0 at its vertices and stiffness points but
+/// not at a mass quadrature point: read, then refused by the assembly ("det J ≤ 0 at mass
+/// quadrature point").
+#[test]
+fn gmsh_p2_triangle_folded_at_a_mass_point_is_refused_by_the_reader() {
+    let text = p2_file()
+        .replace("\n0 0 0\n1 0 0\n", "\n0 -0.5 0\n1 0 0\n")
+        .replace("1 0.5 0\n", "2147483647 0.5 0\n");
+    if let Ok(mesh) = Mesh::from_msh_bytes(text.as_bytes()) {
+        let dofs = DofMap::new(mesh.nodes.len(), &[]).unwrap();
+        panic!(
+            "read; assembly: {:?}",
+            Assembly::new(&mesh, &dofs, 1.0).map(|_| ())
+        );
+    }
+    let err = Mesh::from_msh_bytes(text.as_bytes())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("Gmsh element") && err.contains("inverted or degenerate"),
+        "{err}"
+    );
+}
+
+/// Found by `fuzz_msh_reader.rs`: an `$EndPhysicalNames` line before `$PhysicalNames`
+/// panicked (a slice from the start of the section to an end before it).
+#[test]
+fn gmsh_physical_names_end_before_start_is_an_error() {
+    let text = p1_file(P1_TRIANGLES).replacen(
+        "$EndMeshFormat\n$PhysicalNames\n",
+        "$EndMeshFormat\n$EndPhysicalNames\n$PhysicalNames\n",
+        1,
+    );
+    // The real end follows; the stray line is then refused by the section parser.
+    assert!(Mesh::from_msh_bytes(text.as_bytes()).is_err());
+    let text = text.replacen("$EndPhysicalNames\n$Entities", "$Entities", 1);
+    let err = Mesh::from_msh_bytes(text.as_bytes())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("no $EndPhysicalNames after it"), "{err}");
+}
+
+/// Found by `fuzz_msh_reader.rs`: a node at x = 1e300 was accepted, and the assembly then
+/// failed with "node 0 has mass inf (does it belong to a triangle?)".
+#[test]
+fn gmsh_huge_or_non_finite_coordinates_are_named() {
+    for (x, shown) in [
+        ("1e300", "1e300"),
+        ("-1e101", "-1e101"),
+        ("inf", "inf"),
+        ("nan", "NaN"),
+    ] {
+        let text = p1_file(P1_TRIANGLES).replace("0.5 0.5 0\n", &format!("{x} 0.5 0\n"));
+        let err = Mesh::from_msh_bytes(text.as_bytes())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains(&format!("node 5 has (x, y) = ({shown}, 5e-1)")) && err.contains("1e100"),
+            "{x}: {err}"
+        );
+    }
+}
+
 /// The same P1 square in binary (little-endian, 8-byte size_t), built here field by field
 /// following the Gmsh 4.1 binary layout; `$PhysicalNames` stays ASCII.
 #[test]

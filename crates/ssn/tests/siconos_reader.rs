@@ -496,8 +496,13 @@ fn wrong_sizes() {
         7,
         "repeated dense column count 3",
     );
-    // n != d * n_c: two cones declared, 3x3 matrix.
-    bad(&with_line(DENSE_NEW, 2, "2"), 5, "d * n_c = 3 * 2");
+    // n != d * n_c: two cones declared, 3x3 matrix, data for one cone: line 2 is wrong.
+    bad(
+        &with_line(DENSE_NEW, 2, "2"),
+        2,
+        "declares n_c = 2 cones, so n = d * n_c = 3 * 2 = 6, but the matrix (line 5) is 3 by 3 \
+         and the 14 numbers after its header fit n_c = 1 (n = 3)",
+    );
     bad(&with_line(DENSE_NEW, 1, "0"), 1, "cone dimension d >= 2");
     bad(&with_line(DENSE_NEW, 2, "0"), 2, "n_c >= 1");
     // Triplet size line disagreeing with n, and a short q.
@@ -509,6 +514,82 @@ fn wrong_sizes() {
     bad(&t, 9, "triplet: 3-by-3");
     let t = sparse_text("3\n1\n1\n2\n3\n3\n", TRIPLETS, "1 2\n");
     bad(&t, 15, "q[2] of 3");
+}
+
+/// A wrong size line is reported as such, on the line that the numbers after the header
+/// contradict, never as a token out of place further on (the old header read with `n_c`
+/// wrong used to give "line 3: expected model type 1 (Drucker-Prager) or 2 (von Mises),
+/// found `0`").
+#[test]
+fn wrong_size_lines_are_named() {
+    // The old header (no model line), 10 cones declared as 11.
+    let old = text("plasticity_2d_footing_10.dat");
+    bad(
+        &with_line(&old, 2, "11"),
+        2,
+        "declares n_c = 11 cones, so n = d * n_c = 3 * 11 = 33, but the matrix (line 4) is \
+         30 by 30 and the 950 numbers after its header fit n_c = 10 (n = 30)",
+    );
+    // The cone dimension wrong instead (old header): 6 * 10 = 60 for a 30 x 30 matrix.
+    bad(
+        &with_line(&old, 1, "6"),
+        1,
+        "declares the cone dimension d = 6, so n = d * n_c = 6 * 10 = 60, but the matrix \
+         (line 4) is 30 by 30 and the 950 numbers after its header fit d = 3",
+    );
+    // Both matrix size lines wrong (new header): the data fits n = d * n_c = 3.
+    let footing = text("plasticity_2d_footing_1.dat");
+    let t = with_line(&with_line(&footing, 5, "4"), 6, "4");
+    bad(
+        &with_line(&t, 7, "4\t4"),
+        5,
+        "declares a 4-by-4 matrix, but lines 1-2 declare n = d * n_c = 3 * 1 = 3, and the 14 \
+         numbers after the matrix header fit n = 3",
+    );
+    // A sparse file (triplets) with n_c wrong, and one whose data fits no size.
+    let sparse = text("plasticity_2d_example1.dat");
+    bad(
+        &with_line(&sparse, 2, "4"),
+        2,
+        "declares n_c = 4 cones, so n = d * n_c = 3 * 4 = 12, but the matrix (line 5) is 9 by 9 \
+         and the 51 numbers after its header fit n_c = 3 (n = 9)",
+    );
+    let cut = sparse.lines().take(18).collect::<Vec<_>>().join("\n");
+    bad(
+        &with_line(&cut, 2, "4"),
+        5,
+        "declares a 9-by-9 matrix, but lines 1-2 declare n = d * n_c = 3 * 4 = 12; the 36 \
+         numbers after the matrix header fit neither (51 for n = 9, 56 for n = 12)",
+    );
+    // CSC storage, n_c wrong.
+    let csc = "3\n1\n2\n2\n3\n3\n2\n".to_string()
+        + BANNER
+        + "\n3-by-3, nzmax: 1 nnz: 1, 1-norm: 9\n    col 0 : locations 0 to 0\n      0 : 4\n    \
+           col 1 : locations 1 to 0\n    col 2 : locations 1 to 0\n0 0 0\n2\n";
+    bad(
+        &csc.replacen("3\n1\n", "3\n2\n", 1),
+        2,
+        "declares n_c = 2 cones",
+    );
+}
+
+/// A file's parse error names the file, then the line.
+#[test]
+fn parse_errors_name_the_file() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"));
+    let p = dir.join("wrong_n_c.dat");
+    std::fs::write(
+        &p,
+        with_line(&text("plasticity_2d_footing_10.dat"), 2, "11"),
+    )
+    .unwrap();
+    let err = SiconosProblem::from_path(&p).unwrap_err();
+    let msg = err.to_string();
+    assert!(
+        msg.starts_with(&format!("{}: line 2: declares n_c = 11", p.display())),
+        "{msg}"
+    );
+    assert!(matches!(err.in_text(), SiconosError::Size { line: 2, .. }));
 }
 
 #[test]

@@ -33,10 +33,12 @@ pub struct Args {
 
 #[derive(Debug, thiserror::Error)]
 pub enum ReducedError {
+    /// The file could not be read; the error names it.
     #[error(transparent)]
     Read(#[from] talus_ssn::siconos::SiconosError),
-    #[error("{0}")]
-    Solve(SolveError),
+    /// The problem read from `path` cannot be solved (e.g. `d` is not 3).
+    #[error("{}: {error}", path.display())]
+    Solve { path: PathBuf, error: SolveError },
     #[error("cannot write {path}: {source}")]
     Write {
         path: PathBuf,
@@ -56,7 +58,11 @@ impl ReducedError {
 
 pub fn run(args: &Args) -> Result<ExitCode, ReducedError> {
     let problem = SiconosProblem::from_path(&args.file)?;
-    let system = reduced_system_from_siconos::<3>(&problem).map_err(ReducedError::Solve)?;
+    let in_file = |error| ReducedError::Solve {
+        path: args.file.clone(),
+        error,
+    };
+    let system = reduced_system_from_siconos::<3>(&problem).map_err(in_file)?;
     let rho = if args.global_rho {
         Rho::GlobalDiagonal {
             factor: args.rho_factor,
@@ -72,12 +78,12 @@ pub fn run(args: &Args) -> Result<ExitCode, ReducedError> {
         max_iterations: args.max_iterations,
         ..Settings::default()
     };
-    let mut solver = Solver::new(system, settings).map_err(ReducedError::Solve)?;
+    let mut solver = Solver::new(system, settings).map_err(in_file)?;
     let mut sigma = vec![0.0; problem.n()];
     let report = match solver.solve(&mut sigma) {
         Ok(r) => r,
         Err(SolveError::NotConverged(r)) => *r,
-        Err(e) => return Err(ReducedError::Solve(e)),
+        Err(e) => return Err(in_file(e)),
     };
     let sigma_inf = sigma.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     print_report(args, &report, sigma_inf);

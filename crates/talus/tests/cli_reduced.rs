@@ -71,7 +71,53 @@ fn reduced_names_a_bad_file() {
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("line 8"), "{err}");
+    assert!(
+        err.contains(&format!("error: {}: line 8:", path.display())),
+        "{err}"
+    );
+}
+
+/// A wrong size line is named as such, with the file (it used to read "line 3: expected
+/// model type 1 (Drucker-Prager) or 2 (von Mises), found `0`", without the file).
+#[test]
+fn reduced_names_a_wrong_size_line_and_the_file() {
+    let path = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("wrong_n_c.dat");
+    let text = std::fs::read_to_string(FILE).unwrap();
+    let text = text.replacen("3\n10\n", "3\n11\n", 1);
+    std::fs::write(&path, text).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_talus"))
+        .arg("reduced")
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains(&format!(
+            "error: {}: line 2: declares n_c = 11 cones, so n = d * n_c = 3 * 11 = 33",
+            path.display()
+        )),
+        "{err}"
+    );
+}
+
+/// A file the solver cannot take (d = 2) is named too.
+#[test]
+fn reduced_names_the_file_of_an_unsolvable_problem() {
+    let path = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("d2.dat");
+    std::fs::write(&path, "2\n1\n1\n0\n2\n2\n2\t2\n1 0\n0 1\n0 0\n0.5\n0\n").unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_talus"))
+        .arg("reduced")
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains(&format!("error: {}: ", path.display())),
+        "{err}"
+    );
+    assert!(err.contains("cone_dimension"), "{err}");
 }
 
 #[test]

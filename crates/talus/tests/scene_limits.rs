@@ -44,6 +44,41 @@ fn assert_names(err: &SceneError, field: &str, text: &str, line: &str, says: &[&
     }
 }
 
+/// Found by `fuzz_scene_reader.rs`: a zero count beside a huge one has no Gauss point, so
+/// the size estimate passed it, and the x coordinates were then allocated (34 GB: the
+/// process aborted; `u64::MAX` cells: a capacity-overflow panic).
+#[test]
+fn a_zero_cell_count_is_refused_before_allocating() {
+    for cells in ["[4294967295, 0]", "[0, 18446744073709551615]", "[0, 14]"] {
+        let (text, err) = fem("cells = [32, 14]", &format!("cells = {cells}"));
+        assert_names(
+            &err,
+            "mesh.rectangle.cells",
+            &text,
+            "cells",
+            &[cells, "must be ≥ 1 in x and in y"],
+        );
+    }
+}
+
+/// Found by `fuzz_scene_reader.rs`: a load whose value times its ramp multiplier
+/// overflowed was left out of the stress check (only finite stresses were compared with E),
+/// and the model's loads held -inf.
+#[test]
+fn a_load_overflowing_with_its_ramp_is_refused() {
+    let (text, err) = fem(
+        "value = [0.0, -20.0e3]   # Pa",
+        "value = [0.0, -20.0e3]\nramp = [[0.0, 1e304]]",
+    );
+    assert_names(
+        &err,
+        "traction[0].value",
+        &text,
+        "value = [0.0, -20.0e3]",
+        &["overflows", "largest ramp multiplier"],
+    );
+}
+
 #[test]
 fn an_array_longer_than_its_field_is_refused() {
     let (text, err) = fem("cells = [32, 14]", "cells = [32, 14, 3]");

@@ -24,6 +24,10 @@ use crate::error::MeshError;
 
 type Names = HashMap<(i32, i32), String>;
 
+/// Largest coordinate magnitude (m): areas and mass terms (lengths squared, times a density)
+/// stay far from overflow.
+const MAX_COORDINATE: f64 = 1e100;
+
 impl Mesh {
     /// Reads a Gmsh 4.1 file (ASCII or binary); see the module documentation.
     pub fn from_msh(path: &Path) -> Result<Mesh, MeshError> {
@@ -97,9 +101,12 @@ fn physical_names(bytes: &[u8]) -> Result<Names, MeshError> {
     let Some(start) = find_line(head, b"$PhysicalNames") else {
         return Ok(names);
     };
-    let end = find_line(head, b"$EndPhysicalNames")
-        .ok_or_else(|| MeshError::msh("$PhysicalNames has no $EndPhysicalNames"))?;
-    let body = std::str::from_utf8(&head[start + b"$PhysicalNames".len()..end])
+    // The end after the start: an `$EndPhysicalNames` line before `$PhysicalNames` is no end.
+    let body_start = start + b"$PhysicalNames".len();
+    let end = find_line(&head[body_start..], b"$EndPhysicalNames")
+        .map(|e| body_start + e)
+        .ok_or_else(|| MeshError::msh("$PhysicalNames has no $EndPhysicalNames after it"))?;
+    let body = std::str::from_utf8(&head[body_start..end])
         .map_err(|_| MeshError::msh("$PhysicalNames is not valid UTF-8"))?;
     let mut lines = body.lines().map(str::trim).filter(|l| !l.is_empty());
     let count: usize = lines
@@ -295,6 +302,19 @@ fn build(file: &MshFile<u64, i32, f64>, names: &Names) -> Result<Mesh, MeshError
             "node {} has z = {}: a plane-strain mesh must lie in the plane z = 0",
             used.iter().nth(i).copied().unwrap_or(0),
             p[2]
+        )));
+    }
+    if let Some((i, p)) = xyz
+        .iter()
+        .enumerate()
+        .find(|(_, p)| !(p[0].abs() <= MAX_COORDINATE && p[1].abs() <= MAX_COORDINATE))
+    {
+        return Err(MeshError::msh(format!(
+            "node {} has (x, y) = ({:e}, {:e}): coordinates must be finite and within \
+             ±{MAX_COORDINATE:e} m (the element arithmetic squares lengths)",
+            used.iter().nth(i).copied().unwrap_or(0),
+            p[0],
+            p[1]
         )));
     }
     let local = |tag: u64, what: &str, n: u64| {

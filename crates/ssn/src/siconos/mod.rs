@@ -41,6 +41,7 @@
 mod lexer;
 mod matrix;
 mod parser;
+mod sizes;
 
 use std::path::{Path, PathBuf};
 
@@ -95,7 +96,8 @@ pub enum SiconosModel {
 }
 
 /// Why a file could not be read. Every parse error names the 1-based line,
-/// what was expected and what was found.
+/// what was expected and what was found; read from a file ([`SiconosProblem::from_path`]),
+/// it is wrapped in [`SiconosError::File`], which names the file.
 #[derive(Debug, thiserror::Error)]
 pub enum SiconosError {
     /// The file could not be read.
@@ -118,16 +120,40 @@ pub enum SiconosError {
     /// Non-whitespace text after the last model parameter.
     #[error("line {line}: expected end of input after the model parameters, found `{found}`")]
     TrailingData { line: usize, found: String },
+    /// The sizes of the header disagree with each other (`d * n_c` against the matrix
+    /// size lines); `message` says which line the data that follows contradicts.
+    #[error("line {line}: {message}")]
+    Size { line: usize, message: String },
+    /// A parse error in the file `path`.
+    #[error("{}: {error}", path.display())]
+    File {
+        path: PathBuf,
+        error: Box<SiconosError>,
+    },
+}
+
+impl SiconosError {
+    /// The error without the file it was found in.
+    pub fn in_text(&self) -> &SiconosError {
+        match self {
+            SiconosError::File { error, .. } => error,
+            e => e,
+        }
+    }
 }
 
 impl SiconosProblem {
-    /// Reads and parses a `.dat` file.
+    /// Reads and parses a `.dat` file; a parse error names the file
+    /// ([`SiconosError::File`]).
     pub fn from_path(path: &Path) -> Result<Self, SiconosError> {
         let text = std::fs::read_to_string(path).map_err(|source| SiconosError::Io {
             path: path.to_path_buf(),
             source,
         })?;
-        Self::parse(&text)
+        Self::parse(&text).map_err(|e| SiconosError::File {
+            path: path.to_path_buf(),
+            error: Box::new(e),
+        })
     }
 
     /// Parses the text of a `.dat` file (either header variant).

@@ -103,9 +103,9 @@ impl<'a> Parser<'a> {
 
     pub(super) fn problem(mut self) -> Result<SiconosProblem, SiconosError> {
         let header = self.detect_header();
-        let (tok, d) = self.usize("cone dimension d")?;
+        let (d_tok, d) = self.usize("cone dimension d")?;
         if d < 2 {
-            return Err(invalid(tok, "cone dimension d >= 2"));
+            return Err(invalid(d_tok, "cone dimension d >= 2"));
         }
         let (tok, n_cones) = self.usize("number of cones n_c")?;
         if n_cones == 0 {
@@ -114,6 +114,9 @@ impl<'a> Parser<'a> {
         let n = d
             .checked_mul(n_cones)
             .ok_or_else(|| invalid(tok, "n_c such that d * n_c fits in usize"))?;
+        if let Some(e) = self.misdeclared_size((d_tok, d), (tok, n_cones)) {
+            return Err(e);
+        }
 
         // Siconos PlasticityModelType: 1 = Drucker-Prager, 2 = von Mises.
         let von_mises = match header {

@@ -107,7 +107,8 @@ pub fn check(
     let largest = |cohesion: bool| {
         stresses
             .iter()
-            .filter(|(f, v)| v.is_finite() && (cohesion || f != "material.cohesion"))
+            // An infinite stress is an overflow to refuse, not a value to skip.
+            .filter(|(f, v)| !v.is_nan() && (cohesion || f != "material.cohesion"))
             .max_by(|a, b| a.1.total_cmp(&b.1))
             .filter(|(_, v)| *v > 0.0)
     };
@@ -138,6 +139,13 @@ pub fn check(
         }
     }
     if let Some((field, sigma)) = largest(false) {
+        if sigma.is_infinite() {
+            return Err(scene.error(
+                field,
+                "overflows: the stress it imposes (a load times its largest ramp multiplier; \
+                 the density times |gravity| times the body's height) exceeds 1.8e308 Pa",
+            ));
+        }
         if !(sigma / e <= MAX_STRESS_RATIO) {
             return Err(refuse(field, *sigma, MAX_STRESS_RATIO, false));
         }

@@ -491,6 +491,14 @@ fn build_mesh(scene: &Scene) -> Result<Mesh, SceneError> {
             focus,
             ratio,
         } => {
+            // Before any coordinate is allocated: `[4294967295, 0]` has no Gauss point, so
+            // the size estimate lets it through, yet its x coordinates alone take 34 GB.
+            if cells.contains(&0) {
+                return Err(scene.error(
+                    "mesh.rectangle.cells",
+                    format!("{cells:?}: the number of cells must be ≥ 1 in x and in y"),
+                ));
+            }
             let focus = focus.unwrap_or([x[0], y[0]]);
             let xs = talus_fem::graded_coordinates(x[0], x[1], cells[0], focus[0], ratio[0])
                 .map_err(|e| scene.error("mesh.rectangle.x", e.to_string()))?;

@@ -1,0 +1,453 @@
+//! Fuzzing of the Gmsh `.msh` reader (`[mesh.gmsh]` of a scene): mutated meshes (the
+//! shipped scene meshes, small ASCII P1 and P2 squares and a binary one) and generated
+//! rectangles. The reader returns a mesh or an error and never panics; a mesh it returns is
+//! consistent (node counts per triangle, indices in range, finite coordinates, positive
+//! areas, sets in range) and assembles without panicking.
+//! `TALUS_FUZZ_CASES` / `TALUS_FUZZ_SCALE` raise the case count (`cargo xtask fuzz`);
+//! `docs/scenes.md`, 'Fuzzing'.
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+use proptest::prelude::*;
+use talus_fem::{Assembly, DofMap, ElementOrder, Mesh};
+
+#[path = "../../ssn/tests/common/mutations.rs"]
+mod mutations;
+use mutations::{apply, cases, fuzz, mutated, Outcome};
+
+// The small files of `gmsh_reader.rs` (see the drawing there).
+const HEADER: &str = "$MeshFormat
+4.1 0 8
+$EndMeshFormat
+$PhysicalNames
+3
+0 3 \"corner\"
+1 1 \"bottom\"
+2 2 \"domain\"
+$EndPhysicalNames
+$Entities
+4 4 1 0
+1 0 0 0 0
+2 1 0 0 1 3
+3 1 1 0 0
+4 0 1 0 0
+1 0 0 0 1 0 0 1 1 2 1 -2
+2 1 0 0 1 1 0 0 2 2 -3
+3 0 1 0 1 1 0 0 2 3 -4
+4 0 0 0 0 1 0 0 2 4 -1
+1 0 0 0 1 1 0 1 2 4 1 2 3 4
+$EndEntities
+";
+
+fn p1_file(triangles: &str) -> String {
+    format!(
+        "{HEADER}$Nodes
+1 5 1 5
+2 1 0 5
+1
+2
+3
+4
+5
+0 0 0
+1 0 0
+1 1 0
+0 1 0
+0.5 0.5 0
+$EndNodes
+$Elements
+3 6 1 6
+0 2 15 1
+6 2
+1 1 1 1
+1 1 2
+2 1 2 4
+{triangles}$EndElements
+"
+    )
+}
+
+const P1_TRIANGLES: &str = "2 1 2 5
+3 2 3 5
+4 3 4 5
+5 4 1 5
+";
+
+fn p2_file() -> String {
+    format!(
+        "{HEADER}$Nodes
+1 9 1 9
+2 1 0 9
+1
+2
+3
+4
+5
+6
+7
+8
+9
+0 0 0
+1 0 0
+1 1 0
+0 1 0
+0.5 0 0
+1 0.5 0
+0.5 1 0
+0 0.5 0
+0.5 0.5 0
+$EndNodes
+$Elements
+2 3 1 3
+1 1 8 1
+1 1 2 5
+2 1 9 2
+2 1 2 3 5 6 9
+3 1 3 4 9 7 8
+$EndElements
+"
+    )
+}
+
+/// The binary P1 square of `gmsh_reader.rs`.
+fn binary_square() -> Vec<u8> {
+    let mut b: Vec<u8> = Vec::new();
+    let st = |b: &mut Vec<u8>, v: u64| b.extend_from_slice(&v.to_le_bytes());
+    let int = |b: &mut Vec<u8>, v: i32| b.extend_from_slice(&v.to_le_bytes());
+    let dbl = |b: &mut Vec<u8>, v: f64| b.extend_from_slice(&v.to_le_bytes());
+    b.extend_from_slice(b"$MeshFormat\n4.1 1 8\n");
+    int(&mut b, 1);
+    b.extend_from_slice(
+        b"\n$EndMeshFormat\n$PhysicalNames\n1\n1 1 \"bottom\"\n$EndPhysicalNames\n",
+    );
+    b.extend_from_slice(b"$Entities\n");
+    for n in [0u64, 1, 1, 0] {
+        st(&mut b, n);
+    }
+    // curve 1: bbox, one physical tag (1), two bounding points
+    int(&mut b, 1);
+    for v in [0.0, 0.0, 0.0, 1.0, 0.0, 0.0] {
+        dbl(&mut b, v);
+    }
+    st(&mut b, 1);
+    int(&mut b, 1);
+    st(&mut b, 2);
+    int(&mut b, 1);
+    int(&mut b, -2);
+    // surface 1: bbox, no physical tag, one bounding curve
+    int(&mut b, 1);
+    for v in [0.0, 0.0, 0.0, 1.0, 1.0, 0.0] {
+        dbl(&mut b, v);
+    }
+    st(&mut b, 0);
+    st(&mut b, 1);
+    int(&mut b, 1);
+    b.extend_from_slice(b"\n$EndEntities\n$Nodes\n");
+    for v in [1u64, 5, 1, 5] {
+        st(&mut b, v);
+    }
+    int(&mut b, 2);
+    int(&mut b, 1);
+    int(&mut b, 0);
+    st(&mut b, 5);
+    for t in 1..=5u64 {
+        st(&mut b, t);
+    }
+    for p in [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.5]] {
+        dbl(&mut b, p[0]);
+        dbl(&mut b, p[1]);
+        dbl(&mut b, 0.0);
+    }
+    b.extend_from_slice(b"\n$EndNodes\n$Elements\n");
+    for v in [2u64, 5, 1, 5] {
+        st(&mut b, v);
+    }
+    int(&mut b, 1);
+    int(&mut b, 1);
+    int(&mut b, 1); // Lin2
+    st(&mut b, 1);
+    for v in [1u64, 1, 2] {
+        st(&mut b, v);
+    }
+    int(&mut b, 2);
+    int(&mut b, 1);
+    int(&mut b, 2); // Tri3
+    st(&mut b, 4);
+    for tri in [[2u64, 1, 2, 5], [3, 2, 3, 5], [4, 3, 4, 5], [5, 4, 1, 5]] {
+        for v in tri {
+            st(&mut b, v);
+        }
+    }
+    b.extend_from_slice(b"\n$EndElements\n");
+
+    b
+}
+
+fn seeds() -> Vec<Vec<u8>> {
+    let scenes = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/");
+    let mut seeds = vec![
+        p1_file(P1_TRIANGLES).into_bytes(),
+        p2_file().into_bytes(),
+        binary_square(),
+    ];
+    for name in ["slope.msh", "cavity.msh", "lame_cylinder.msh"] {
+        seeds.push(std::fs::read(format!("{scenes}{name}")).expect("shipped mesh"));
+    }
+    seeds
+}
+
+/// Checks what the reader promises of a mesh it returned, then assembles it.
+fn consistent(mesh: &Mesh) -> Result<(), String> {
+    let n = mesh.nodes.len();
+    if let Some(p) = mesh
+        .nodes
+        .iter()
+        .find(|p| !(p[0].is_finite() && p[1].is_finite()))
+    {
+        return Err(format!("node at {p:?}"));
+    }
+    let per = match mesh.order {
+        ElementOrder::P1 => 3,
+        ElementOrder::P2 => 6,
+    };
+    if mesh.triangles.is_empty() {
+        return Err("no triangles".into());
+    }
+    for (e, t) in mesh.triangles.iter().enumerate() {
+        if t.len() != per || t.iter().any(|&i| i >= n) {
+            return Err(format!(
+                "triangle {e} = {t:?} with {n} nodes, {:?}",
+                mesh.order
+            ));
+        }
+        let [a, b, c] = [mesh.nodes[t[0]], mesh.nodes[t[1]], mesh.nodes[t[2]]];
+        let area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]));
+        if area.is_nan() || area <= 0.0 {
+            return Err(format!("triangle {e} has area {area}"));
+        }
+    }
+    for (name, set) in &mesh.node_sets {
+        if set.iter().any(|&i| i >= n) || set.windows(2).any(|w| w[0] >= w[1]) {
+            return Err(format!("node set {name} = {set:?} with {n} nodes"));
+        }
+    }
+    for (name, edges) in &mesh.edge_sets {
+        if let Some(e) = edges.iter().find(|e| {
+            e.nodes.len() != if per == 3 { 2 } else { 3 } || e.nodes.iter().any(|&i| i >= n)
+        }) {
+            return Err(format!("edge set {name} holds {e:?} with {n} nodes"));
+        }
+    }
+    // What a scene does next: number the dofs and assemble B, M and the Gauss points.
+    let assembled = catch_unwind(AssertUnwindSafe(|| {
+        let dofs = DofMap::new(n, &[]).map_err(|e| e.to_string())?;
+        Assembly::new(mesh, &dofs, 1.0)
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    }))
+    .map_err(|_| "the assembly panicked on a mesh the reader accepted".to_string())?;
+    if let Err(e) = assembled {
+        return Err(format!(
+            "the assembly refused a mesh the reader accepted: {e}"
+        ));
+    }
+    Ok(())
+}
+
+fn read(bytes: &[u8]) -> Result<Outcome, String> {
+    match Mesh::from_msh_bytes(bytes) {
+        Ok(mesh) => consistent(&mesh).map(|()| Outcome::Read),
+        Err(e) => Ok(Outcome::Refused(e.to_string())),
+    }
+}
+
+#[test]
+fn mutated_meshes_are_read_or_refused_never_panic() {
+    let seeds = seeds();
+    fuzz(
+        "gmsh .msh (mutated files)",
+        cases(10_000),
+        mutated(seeds.len()),
+        |(seed, mutations)| read(&apply(&seeds[*seed], mutations)),
+    );
+}
+
+// ------------------------------------------------------------------ generated rectangles
+
+/// An `nx` x `ny` rectangle of P1 triangles from (x0, y0), cells `dx` x `dy`, its node
+/// tags `first + stride * k` (stride 1: the contiguous tags mshio renumbers; else sparse
+/// tags it keeps), its bottom edge the physical group "bottom".
+#[derive(Debug, Clone)]
+struct Rectangle {
+    nx: usize,
+    ny: usize,
+    origin: [f64; 2],
+    cell: [f64; 2],
+    first: u64,
+    stride: u64,
+}
+
+fn rectangle() -> impl Strategy<Value = Rectangle> {
+    (
+        1usize..6,
+        1usize..6,
+        [-1e3f64..1e3, -1e3f64..1e3],
+        [1e-3f64..1e3, 1e-3f64..1e3],
+        1u64..1000,
+        1u64..4,
+    )
+        .prop_map(|(nx, ny, origin, cell, first, stride)| Rectangle {
+            nx,
+            ny,
+            origin,
+            cell,
+            first,
+            stride,
+        })
+}
+
+impl Rectangle {
+    fn tag(&self, i: usize, j: usize) -> u64 {
+        self.first + self.stride * (j * (self.nx + 1) + i) as u64
+    }
+
+    fn x(&self, i: usize, j: usize) -> [f64; 2] {
+        [
+            self.origin[0] + i as f64 * self.cell[0],
+            self.origin[1] + j as f64 * self.cell[1],
+        ]
+    }
+
+    fn text(&self) -> String {
+        let (nx, ny) = (self.nx, self.ny);
+        let nodes = (nx + 1) * (ny + 1);
+        let (lo, hi) = (self.tag(0, 0), self.tag(nx, ny));
+        let mut t = String::from(
+            "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n1 1 \"bottom\"\n\
+             $EndPhysicalNames\n$Entities\n0 1 1 0\n",
+        );
+        t += "1 0 0 0 1 0 0 1 1 0\n1 0 0 0 1 1 0 0 1 1\n$EndEntities\n$Nodes\n";
+        t += &format!("1 {nodes} {lo} {hi}\n2 1 0 {nodes}\n");
+        for j in 0..=ny {
+            for i in 0..=nx {
+                t += &format!("{}\n", self.tag(i, j));
+            }
+        }
+        for j in 0..=ny {
+            for i in 0..=nx {
+                let [x, y] = self.x(i, j);
+                t += &format!("{x:e} {y:e} 0\n");
+            }
+        }
+        let tris = 2 * nx * ny;
+        t += &format!("$EndNodes\n$Elements\n2 {} 1 {}\n", nx + tris, nx + tris);
+        t += &format!("1 1 1 {nx}\n");
+        for i in 0..nx {
+            t += &format!("{} {} {}\n", i + 1, self.tag(i, 0), self.tag(i + 1, 0));
+        }
+        t += &format!("2 1 2 {tris}\n");
+        let mut e = nx;
+        for j in 0..ny {
+            for i in 0..nx {
+                let (a, b, c, d) = (
+                    self.tag(i, j),
+                    self.tag(i + 1, j),
+                    self.tag(i + 1, j + 1),
+                    self.tag(i, j + 1),
+                );
+                t += &format!("{} {a} {b} {c}\n{} {a} {c} {d}\n", e + 1, e + 2);
+                e += 2;
+            }
+        }
+        t + "$EndElements\n"
+    }
+}
+
+/// Generated rectangles read back with their nodes (in tag order), triangles, area and
+/// bottom edge.
+#[test]
+fn generated_rectangles_read_back() {
+    fuzz("gmsh .msh (generated)", cases(5_000), rectangle(), |r| {
+        let text = r.text();
+        let mesh = Mesh::from_msh_bytes(text.as_bytes())
+            .map_err(|e| format!("refused a valid mesh: {e}\n{text}"))?;
+        consistent(&mesh)?;
+        let (nx, ny) = (r.nx, r.ny);
+        if mesh.nodes.len() != (nx + 1) * (ny + 1) || mesh.triangles.len() != 2 * nx * ny {
+            return Err(format!(
+                "{} nodes, {} triangles",
+                mesh.nodes.len(),
+                mesh.triangles.len()
+            ));
+        }
+        for j in 0..=ny {
+            for i in 0..=nx {
+                let k = j * (nx + 1) + i;
+                if mesh.nodes[k] != r.x(i, j) {
+                    return Err(format!(
+                        "node {k} at {:?}, want {:?}",
+                        mesh.nodes[k],
+                        r.x(i, j)
+                    ));
+                }
+            }
+        }
+        let area: f64 = mesh
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = [mesh.nodes[t[0]], mesh.nodes[t[1]], mesh.nodes[t[2]]];
+                0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]))
+            })
+            .sum();
+        let want = nx as f64 * r.cell[0] * ny as f64 * r.cell[1];
+        // Coordinates up to 6e3 in magnitude: the area to a few ulps of x * y per triangle.
+        if (area - want).abs() > 1e-9 * want.max(1.0) * (nx * ny) as f64 {
+            return Err(format!("area {area}, want {want}"));
+        }
+        let bottom: Vec<usize> = (0..=nx).collect();
+        if mesh.node_sets.get("bottom") != Some(&bottom) || mesh.edge_sets["bottom"].len() != nx {
+            return Err(format!("bottom set {:?}", mesh.node_sets.get("bottom")));
+        }
+        Ok(Outcome::Read)
+    });
+}
+
+#[test]
+fn mutated_generated_meshes_never_panic() {
+    fuzz(
+        "gmsh .msh (generated, mutated)",
+        cases(5_000),
+        (
+            rectangle(),
+            proptest::collection::vec(mutations::mutation(), 1..=mutations::MAX_MUTATIONS),
+        ),
+        |(r, m)| read(&apply(r.text().as_bytes(), m)),
+    );
+}
+
+/// Every field of the binary square overwritten, at every byte offset, by sizes that would
+/// make a reader allocate without bound (2⁶⁴ − 1, 2⁶², 2⁴⁰, 2³¹) or read a negative
+/// count: refused, never a panic nor an abort.
+#[test]
+fn binary_sizes_overwritten_at_every_offset_never_panic() {
+    let seed = binary_square();
+    let mut cases = 0;
+    for at in 0..seed.len() {
+        for v in [u64::MAX, 1 << 62, 1 << 40, 1 << 31] {
+            for width in [8usize, 4] {
+                if at + width > seed.len() {
+                    continue;
+                }
+                let mut b = seed.clone();
+                b[at..at + width].copy_from_slice(&v.to_le_bytes()[..width]);
+                let outcome = catch_unwind(AssertUnwindSafe(|| read(&b)));
+                match outcome {
+                    Ok(Ok(_)) => cases += 1,
+                    Ok(Err(e)) => panic!("offset {at}, {v:#x} ({width} bytes): {e}"),
+                    Err(_) => panic!("offset {at}, {v:#x} ({width} bytes): the reader panicked"),
+                }
+            }
+        }
+    }
+    println!("fuzz gmsh .msh (binary sizes): {cases} cases, 0 panics");
+}
