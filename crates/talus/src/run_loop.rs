@@ -198,7 +198,10 @@ where
             }
         };
         let row = outputs.row(step, &state, Some(&report));
-        history.row(step, report.time, Some(&report), &row)?;
+        let failed = |e| output_failed(&*outputs, &summary_path, steps, step, e);
+        history
+            .row(step, report.time, Some(&report), &row)
+            .map_err(failed)?;
         tracing::info!(
             step,
             time = report.time,
@@ -211,7 +214,9 @@ where
             bar.set_message(outputs.message(&report, &state));
             bar.inc(1);
         }
-        outputs.after_step(step, &state)?;
+        outputs
+            .after_step(step, &state)
+            .map_err(|e| output_failed(&*outputs, &summary_path, steps, step, e))?;
         let stop = options.observer.as_ref().is_some_and(|observe| {
             let progress = StepProgress {
                 step,
@@ -235,7 +240,8 @@ where
             break;
         }
         if plan.is_some_and(|p| step % p.every == 0) {
-            save(step, &state, stepper, &watch, outputs)?;
+            save(step, &state, stepper, &watch, outputs)
+                .map_err(|e| output_failed(&*outputs, &summary_path, steps, step, e))?;
             last_checkpoint = Some(step);
         }
         if stop {
@@ -282,6 +288,24 @@ where
         collapse,
         interrupted,
     })
+}
+
+/// A file of step `step` could not be written (a full disk, a removed folder): the run
+/// stops, but `summary.json` still says why if it fits (it is small; the failed file's
+/// temporary copy was removed), so that the folder tells the same story as the exit code.
+fn output_failed<D: Discretization, O: RunOutputs<D>>(
+    outputs: &O,
+    summary_path: &Path,
+    steps: usize,
+    step: usize,
+    e: RunError,
+) -> RunError {
+    let why = Some(format!("step {step}: {e}"));
+    let summary = outputs.results().summary(RunStatus::Failed, why, steps);
+    if let Err(w) = summary.write(summary_path) {
+        tracing::warn!(error = %w, "summary.json not written either");
+    }
+    e
 }
 
 /// `history.csv`, flushed after every row so that an interrupted run keeps its rows.

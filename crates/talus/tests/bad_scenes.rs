@@ -84,6 +84,11 @@ friction_angle = 30.0\ncohesion = 1e3\ncone_fit = \"plane_strain\"\ndensity = 10
         msg.contains('2') && (msg.contains("element") || msg.contains("Element")),
         "{msg}"
     );
+    // The .msh file is named, not only the scene's line.
+    assert!(
+        msg.contains(&dir.join("square.msh").display().to_string()),
+        "{msg}"
+    );
 }
 
 #[test]

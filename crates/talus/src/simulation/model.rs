@@ -511,8 +511,12 @@ fn build_mesh(scene: &Scene) -> Result<Mesh, SceneError> {
             Mesh::rectangle(&xs, &ys, order)
                 .map_err(|e| scene.error("mesh.rectangle", e.to_string()))
         }
-        MeshSpec::Gmsh { path } => Mesh::from_msh(&scene.resolve(path))
-            .map_err(|e| scene.error("mesh.gmsh.path", e.to_string())),
+        MeshSpec::Gmsh { path } => {
+            // The .msh file named as well as the scene's line: the error is in it.
+            let file = scene.resolve(path);
+            Mesh::from_msh(&file)
+                .map_err(|e| scene.error("mesh.gmsh.path", format!("{}: {e}", file.display())))
+        }
     }
 }
 
