@@ -13,7 +13,7 @@
 use talus_fem::{Assembly, DofMap, ElementOrder, Mesh, MeshError};
 
 mod common;
-use common::gmsh_square::{p1_file, p2_file, P1_TRIANGLES};
+use common::gmsh_square::{binary_square, p1_file, p2_file, P1_TRIANGLES};
 
 #[test]
 fn gmsh_tri3_square_gives_p1_mesh_with_named_sets() {
@@ -272,79 +272,10 @@ fn gmsh_huge_or_non_finite_coordinates_are_named() {
     }
 }
 
-/// The same P1 square in binary (little-endian, 8-byte size_t), built here field by field
-/// following the Gmsh 4.1 binary layout; `$PhysicalNames` stays ASCII.
+/// The P1 square in binary (`common::gmsh_square::binary_square`) reads as the ASCII one.
 #[test]
 fn gmsh_binary_square_matches_ascii() {
-    let mut b: Vec<u8> = Vec::new();
-    let st = |b: &mut Vec<u8>, v: u64| b.extend_from_slice(&v.to_le_bytes());
-    let int = |b: &mut Vec<u8>, v: i32| b.extend_from_slice(&v.to_le_bytes());
-    let dbl = |b: &mut Vec<u8>, v: f64| b.extend_from_slice(&v.to_le_bytes());
-    b.extend_from_slice(b"$MeshFormat\n4.1 1 8\n");
-    int(&mut b, 1);
-    b.extend_from_slice(
-        b"\n$EndMeshFormat\n$PhysicalNames\n1\n1 1 \"bottom\"\n$EndPhysicalNames\n",
-    );
-    b.extend_from_slice(b"$Entities\n");
-    for n in [0u64, 1, 1, 0] {
-        st(&mut b, n);
-    }
-    // curve 1: bbox, one physical tag (1), two bounding points
-    int(&mut b, 1);
-    for v in [0.0, 0.0, 0.0, 1.0, 0.0, 0.0] {
-        dbl(&mut b, v);
-    }
-    st(&mut b, 1);
-    int(&mut b, 1);
-    st(&mut b, 2);
-    int(&mut b, 1);
-    int(&mut b, -2);
-    // surface 1: bbox, no physical tag, one bounding curve
-    int(&mut b, 1);
-    for v in [0.0, 0.0, 0.0, 1.0, 1.0, 0.0] {
-        dbl(&mut b, v);
-    }
-    st(&mut b, 0);
-    st(&mut b, 1);
-    int(&mut b, 1);
-    b.extend_from_slice(b"\n$EndEntities\n$Nodes\n");
-    for v in [1u64, 5, 1, 5] {
-        st(&mut b, v);
-    }
-    int(&mut b, 2);
-    int(&mut b, 1);
-    int(&mut b, 0);
-    st(&mut b, 5);
-    for t in 1..=5u64 {
-        st(&mut b, t);
-    }
-    for p in [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.5]] {
-        dbl(&mut b, p[0]);
-        dbl(&mut b, p[1]);
-        dbl(&mut b, 0.0);
-    }
-    b.extend_from_slice(b"\n$EndNodes\n$Elements\n");
-    for v in [2u64, 5, 1, 5] {
-        st(&mut b, v);
-    }
-    int(&mut b, 1);
-    int(&mut b, 1);
-    int(&mut b, 1); // Lin2
-    st(&mut b, 1);
-    for v in [1u64, 1, 2] {
-        st(&mut b, v);
-    }
-    int(&mut b, 2);
-    int(&mut b, 1);
-    int(&mut b, 2); // Tri3
-    st(&mut b, 4);
-    for tri in [[2u64, 1, 2, 5], [3, 2, 3, 5], [4, 3, 4, 5], [5, 4, 1, 5]] {
-        for v in tri {
-            st(&mut b, v);
-        }
-    }
-    b.extend_from_slice(b"\n$EndElements\n");
-
+    let b = binary_square();
     let binary = Mesh::from_msh_bytes(&b).unwrap();
     let ascii = Mesh::from_msh_bytes(p1_file(P1_TRIANGLES).as_bytes()).unwrap();
     assert_eq!(binary.nodes, ascii.nodes);

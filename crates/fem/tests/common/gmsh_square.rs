@@ -92,3 +92,78 @@ $EndElements
 "
     )
 }
+
+/// The same P1 square in binary (little-endian, 8-byte size_t), built field by field
+/// following the Gmsh 4.1 binary layout; `$PhysicalNames` stays ASCII.
+pub fn binary_square() -> Vec<u8> {
+    let mut b: Vec<u8> = Vec::new();
+    let st = |b: &mut Vec<u8>, v: u64| b.extend_from_slice(&v.to_le_bytes());
+    let int = |b: &mut Vec<u8>, v: i32| b.extend_from_slice(&v.to_le_bytes());
+    let dbl = |b: &mut Vec<u8>, v: f64| b.extend_from_slice(&v.to_le_bytes());
+    b.extend_from_slice(b"$MeshFormat\n4.1 1 8\n");
+    int(&mut b, 1);
+    b.extend_from_slice(
+        b"\n$EndMeshFormat\n$PhysicalNames\n1\n1 1 \"bottom\"\n$EndPhysicalNames\n",
+    );
+    b.extend_from_slice(b"$Entities\n");
+    for n in [0u64, 1, 1, 0] {
+        st(&mut b, n);
+    }
+    // curve 1: bbox, one physical tag (1), two bounding points
+    int(&mut b, 1);
+    for v in [0.0, 0.0, 0.0, 1.0, 0.0, 0.0] {
+        dbl(&mut b, v);
+    }
+    st(&mut b, 1);
+    int(&mut b, 1);
+    st(&mut b, 2);
+    int(&mut b, 1);
+    int(&mut b, -2);
+    // surface 1: bbox, no physical tag, one bounding curve
+    int(&mut b, 1);
+    for v in [0.0, 0.0, 0.0, 1.0, 1.0, 0.0] {
+        dbl(&mut b, v);
+    }
+    st(&mut b, 0);
+    st(&mut b, 1);
+    int(&mut b, 1);
+    b.extend_from_slice(b"\n$EndEntities\n$Nodes\n");
+    for v in [1u64, 5, 1, 5] {
+        st(&mut b, v);
+    }
+    int(&mut b, 2);
+    int(&mut b, 1);
+    int(&mut b, 0);
+    st(&mut b, 5);
+    for t in 1..=5u64 {
+        st(&mut b, t);
+    }
+    for p in [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.5]] {
+        dbl(&mut b, p[0]);
+        dbl(&mut b, p[1]);
+        dbl(&mut b, 0.0);
+    }
+    b.extend_from_slice(b"\n$EndNodes\n$Elements\n");
+    for v in [2u64, 5, 1, 5] {
+        st(&mut b, v);
+    }
+    int(&mut b, 1);
+    int(&mut b, 1);
+    int(&mut b, 1); // Lin2
+    st(&mut b, 1);
+    for v in [1u64, 1, 2] {
+        st(&mut b, v);
+    }
+    int(&mut b, 2);
+    int(&mut b, 1);
+    int(&mut b, 2); // Tri3
+    st(&mut b, 4);
+    for tri in [[2u64, 1, 2, 5], [3, 2, 3, 5], [4, 3, 4, 5], [5, 4, 1, 5]] {
+        for v in tri {
+            st(&mut b, v);
+        }
+    }
+    b.extend_from_slice(b"\n$EndElements\n");
+
+    b
+}
