@@ -60,17 +60,23 @@ fn reduced_reports_non_convergence_with_exit_code_3() {
     assert_eq!(json["status"], "max_iterations");
 }
 
-#[test]
-fn reduced_names_a_bad_file() {
-    let path = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bad.dat");
-    std::fs::write(&path, "3\n1\n1\n0\n3\n3\n3\t3\n1 2 x\n").unwrap();
+/// `talus reduced` on `text` written to `name`: the file's path and the error, after
+/// checking the exit code is 1 (invalid input).
+fn refused(name: &str, text: impl AsRef<[u8]>) -> (std::path::PathBuf, String) {
+    let path = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    std::fs::write(&path, text).unwrap();
     let out = Command::new(env!("CARGO_BIN_EXE_talus"))
         .arg("reduced")
         .arg(&path)
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
-    let err = String::from_utf8_lossy(&out.stderr);
+    (path, String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+#[test]
+fn reduced_names_a_bad_file() {
+    let (path, err) = refused("bad.dat", "3\n1\n1\n0\n3\n3\n3\t3\n1 2 x\n");
     assert!(
         err.contains(&format!("error: {}: line 8:", path.display())),
         "{err}"
@@ -81,17 +87,9 @@ fn reduced_names_a_bad_file() {
 /// model type 1 (Drucker-Prager) or 2 (von Mises), found `0`", without the file).
 #[test]
 fn reduced_names_a_wrong_size_line_and_the_file() {
-    let path = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("wrong_n_c.dat");
     let text = std::fs::read_to_string(FILE).unwrap();
     let text = text.replacen("3\n10\n", "3\n11\n", 1);
-    std::fs::write(&path, text).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_talus"))
-        .arg("reduced")
-        .arg(&path)
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(1));
-    let err = String::from_utf8_lossy(&out.stderr);
+    let (path, err) = refused("wrong_n_c.dat", text);
     assert!(
         err.contains(&format!(
             "error: {}: line 2: declares n_c = 11 cones, so n = d * n_c = 3 * 11 = 33",
@@ -104,15 +102,7 @@ fn reduced_names_a_wrong_size_line_and_the_file() {
 /// A file the solver cannot take (d = 2) is named too.
 #[test]
 fn reduced_names_the_file_of_an_unsolvable_problem() {
-    let path = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("d2.dat");
-    std::fs::write(&path, "2\n1\n1\n0\n2\n2\n2\t2\n1 0\n0 1\n0 0\n0.5\n0\n").unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_talus"))
-        .arg("reduced")
-        .arg(&path)
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(1));
-    let err = String::from_utf8_lossy(&out.stderr);
+    let (path, err) = refused("d2.dat", "2\n1\n1\n0\n2\n2\n2\t2\n1 0\n0 1\n0 0\n0.5\n0\n");
     assert!(
         err.contains(&format!("error: {}: ", path.display())),
         "{err}"
