@@ -68,9 +68,10 @@ def test_ctrl_c_during_a_step_raises_keyboard_interrupt_with_valid_outputs(tmp_p
     # A signal arrives 0.2 s into the run, while Rust steps with the GIL released: Python's C
     # handler only records it; the run sees it between steps, writes its files and raises
     # what the Python handler raises. The handler is Ctrl-C's own (default_int_handler:
-    # KeyboardInterrupt), on SIGALRM from a real-time timer: the kernel sends it on time,
-    # with no helper thread that would have to win the GIL or a core first (a thread
-    # sending SIGINT once lost that race on CI and the run finished untouched).
+    # KeyboardInterrupt), installed here on SIGALRM from a real-time timer: SIGINT itself
+    # is ignored in a process started as a background job (the shell sets SIG_IGN and
+    # Python then installs no handler), which made a SIGINT-sending version of this test
+    # pass or fail with the way the tests were started.
     previous = signal.signal(signal.SIGALRM, signal.default_int_handler)
     signal.setitimer(signal.ITIMER_REAL, 0.2)
     try:
