@@ -9,6 +9,8 @@ use std::process::{Child, Command, Output, Stdio};
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
+mod common;
+
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("checkpoint_resume")
 }
@@ -154,13 +156,7 @@ fn stopped_run(
         }
         std::thread::sleep(Duration::from_millis(2));
     }
-    let status = Command::new("kill")
-        .arg(format!("-{signal}"))
-        .arg(child.id().to_string())
-        .status()
-        .unwrap();
-    assert!(status.success());
-    let output = child.wait_with_output().unwrap();
+    let output = common::signal(child, signal);
     let step = checkpoint_step(out).unwrap();
     eprintln!(
         "{}: SIG{signal} with the checkpoint of step {step} and {} rows in history.csv",

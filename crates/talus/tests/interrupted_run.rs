@@ -6,6 +6,8 @@ use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
+mod common;
+
 fn interrupt_footing(signal: &str) {
     let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
         .join("interrupted_run")
@@ -30,13 +32,7 @@ fn interrupt_footing(signal: &str) {
         }
         std::thread::sleep(Duration::from_millis(20));
     }
-    let status = Command::new("kill")
-        .arg(format!("-{signal}"))
-        .arg(child.id().to_string())
-        .status()
-        .unwrap();
-    assert!(status.success());
-    let output = child.wait_with_output().unwrap();
+    let output = common::signal(child, signal);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(output.status.code(), Some(130), "{stderr}");
     assert!(stderr.contains("interrupted after step"), "{stderr}");

@@ -7,6 +7,17 @@ use std::path::{Path, PathBuf};
 
 use talus::output::OutputError;
 
+/// Sends `kill -SIGNAL` (e.g. `INT`, `TERM`, `KILL`) to `child` and waits for its output.
+pub fn signal(child: std::process::Child, signal: &str) -> std::process::Output {
+    let status = std::process::Command::new("kill")
+        .arg(format!("-{signal}"))
+        .arg(child.id().to_string())
+        .status()
+        .unwrap();
+    assert!(status.success());
+    child.wait_with_output().unwrap()
+}
+
 /// `target/tmp/<test>/<name>`, created.
 pub fn target_tmp_dir(test: &str, name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(test).join(name);
