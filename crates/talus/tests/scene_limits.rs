@@ -79,6 +79,46 @@ fn a_load_overflowing_with_its_ramp_is_refused() {
     );
 }
 
+/// Found by `fuzz_scene_reader.rs`: a K₀ `surface` far above the body was checked against
+/// E only through the body's own height, so `surface = 1e305` gave an initial stress of
+/// -inf, and `surface = 1e6` one of 2.0e10 Pa, 20 times E, both accepted; `k0 = 1e305`
+/// was refused by the flow rule without naming the scene's field.
+#[test]
+fn a_k0_stress_that_overflows_or_exceeds_e_is_refused_at_its_field() {
+    let (text, err) = fem("surface = 0.0", "surface = 1e305");
+    assert_names(
+        &err,
+        "initial_stress.surface",
+        &text,
+        "surface = 1e305",
+        &["overflows"],
+    );
+    // The initial state is built after the model (`talus run` does both before step 1).
+    let text = with(
+        include_str!("../../../scenes/footing.toml"),
+        "k0 = 0.546",
+        "k0 = 1e305",
+    );
+    let scene = Scene::parse(&text, None).expect("parses");
+    let model = Model::from_scene(&scene).expect("the model builds");
+    let err = model.initial_state(&scene).err().expect("refused");
+    assert_names(
+        &err,
+        "initial_stress.k0",
+        &text,
+        "k0 = 1e305",
+        &["overflows"],
+    );
+    let (text, err) = fem("surface = 0.0", "surface = 1e6");
+    assert_names(
+        &err,
+        "material.young_modulus",
+        &text,
+        "young_modulus",
+        &["(initial_stress.surface)", "must be at most"],
+    );
+}
+
 #[test]
 fn an_array_longer_than_its_field_is_refused() {
     let (text, err) = fem("cells = [32, 14]", "cells = [32, 14, 3]");

@@ -158,7 +158,7 @@ fn check_scales(scene: &MpmScene) -> Result<(), SceneError> {
     let mut stresses = scales::material_stresses(
         &spec.material,
         spec.gravity,
-        top - bottom,
+        [bottom, top],
         spec.initial_stress.as_ref(),
     );
     for (k, l) in spec.surface_load.iter().enumerate() {

@@ -66,14 +66,16 @@ pub fn caps(scene: &impl Locate, time: &TimeSpec, halvings: usize) -> Result<(),
     Ok(())
 }
 
-/// The stresses a scene imposes (Pa), with their fields: cohesion, the weight of `depth`
-/// metres of ground, the initial stress. The caller adds its loads.
+/// The stresses a scene imposes (Pa), with their fields: cohesion, the weight of the body
+/// (from `bottom` to `top`, m), the initial stress (the K₀ procedure's at `bottom`, whose
+/// `surface` may lie far above the body). The caller adds its loads.
 pub fn material_stresses(
     m: &MaterialSpec,
     gravity: Option<[f64; 2]>,
-    depth: f64,
+    [bottom, top]: [f64; 2],
     initial: Option<&InitialStressSpec>,
 ) -> Vec<(String, f64)> {
+    let depth = top - bottom;
     let mut s = vec![("material.cohesion".to_string(), m.cohesion.abs())];
     if let (Some(g), Some(rho)) = (gravity, m.density) {
         // Named as the user reads it: the weight of the body's height, from the density.
@@ -85,6 +87,20 @@ pub fn material_stresses(
     if let Some(i) = initial {
         if let Some(q) = i.surcharge {
             s.push(("initial_stress.surcharge".into(), q.abs()));
+        }
+        // A K₀ surface above the body adds the weight of the ground between them, which the
+        // body's own height does not count: σ_yy at the lowest point (infinite on overflow).
+        if let (Some(_), Some(surface)) = (i.k0, i.surface) {
+            if surface > top {
+                let weight = match (gravity, m.density) {
+                    (Some(g), Some(rho)) => rho * g[0].hypot(g[1]) * (surface - bottom),
+                    _ => 0.0,
+                };
+                s.push((
+                    "initial_stress.surface".into(),
+                    i.surcharge.unwrap_or(0.0).abs() + weight,
+                ));
+            }
         }
         if let Some(st) = i.stress {
             let largest = st.iter().fold(0.0f64, |a, v| a.max(v.abs()));
@@ -143,7 +159,7 @@ pub fn check(
             return Err(scene.error(
                 field,
                 "overflows: the stress it imposes (a load times its largest ramp multiplier; \
-                 the density times |gravity| times the body's height) exceeds 1.8e308 Pa",
+                 the density times |gravity| times a depth) exceeds 1.8e308 Pa",
             ));
         }
         if !(sigma / e <= MAX_STRESS_RATIO) {

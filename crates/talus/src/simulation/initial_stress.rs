@@ -161,6 +161,15 @@ pub fn k0_stress_at(
         }
         let vertical = -(surcharge + gamma * depth.max(0.0));
         let s = nalgebra::SVector::<f64, 4>::new(k0 * vertical, vertical, k0 * vertical, 0.0);
+        if !(k0 * vertical).is_finite() {
+            // The cone test below cannot judge an infinite stress (its f is NaN).
+            return Err(scene.error(
+                "initial_stress.k0",
+                format!(
+                    "K₀ = {k0:e} times σ_yy = {vertical:.4e} Pa at depth {depth:.3} m overflows"
+                ),
+            ));
+        }
         let f = material.yield_function(&s);
         if f > 1e-9 * s.norm().max(material.parameters().cohesion) {
             let (lo, hi) = k0_bounds(material);

@@ -431,7 +431,7 @@ fn check_scales(scene: &Scene, mesh: &Mesh) -> Result<(), SceneError> {
     let mut stresses = scales::material_stresses(
         &spec.material,
         spec.gravity,
-        hi[1] - lo[1],
+        [lo[1], hi[1]],
         spec.initial_stress.as_ref(),
     );
     for (k, t) in spec.traction.iter().enumerate() {
