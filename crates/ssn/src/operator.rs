@@ -374,7 +374,7 @@ pub(crate) fn apply<const D: usize>(
             if parallel {
                 z.par_chunks_mut(D)
                     .enumerate()
-                    .with_min_len(256)
+                    .with_min_len(64)
                     .for_each(one);
             } else {
                 z.chunks_mut(D).enumerate().for_each(one);

@@ -57,18 +57,44 @@ fn first_halved_step_equals_two_half_steps<D: Discretization>(
 #[test]
 fn fem_footing_halves_through_the_engine() {
     let mut scene = builtin_footing_with_cells([32, 14]);
-    // Step 4 takes 6 iterations at full h and 4 + 4 as two halves: 5 forces one halving.
-    scene.spec.solver.max_iterations = 5;
+    let h = scene.spec.time.step;
     let model = Model::from_scene(&scene).expect("model");
-    let state = model.initial_state(&scene).expect("state");
+    let mut state = model.initial_state(&scene).expect("state");
+    let defaults = StepSettings::with_solver(solver_settings(&scene), 1);
+    // The first step k whose full-h solve takes more iterations than either of its two
+    // halves (`n` against fewer), found at the default settings; `max_iterations = n − 1`
+    // then forces exactly one halving there, whatever round-off does to the counts.
+    let mut stepper = Stepper::new(&model, defaults);
+    let (before, rate, full) = (1..=10)
+        .find_map(|_| {
+            let before = state.clone();
+            let rate = stepper.stress_rate().map(<[f64]>::to_vec);
+            let mut halves = Stepper::new(&model, defaults);
+            halves.set_stress_rate(rate.clone());
+            let mut s = before.clone();
+            let half_its = (0..2)
+                .map(|_| halves.advance(&mut s, 0.5 * h).expect("half step"))
+                .map(|r| r.max_newton_iterations)
+                .max()
+                .expect("two halves");
+            let r = stepper.advance(&mut state, h).expect("full step");
+            (r.substeps == 1 && r.max_newton_iterations > half_its).then_some((
+                before,
+                rate,
+                r.max_newton_iterations,
+            ))
+        })
+        .expect("a step of the first 10 whose halves take fewer iterations");
+    scene.spec.solver.max_iterations = full - 1;
     let settings = StepSettings::with_solver(solver_settings(&scene), 1);
     let mut stepper = Stepper::new(&model, settings);
+    stepper.set_stress_rate(rate);
     first_halved_step_equals_two_half_steps(
         &mut stepper,
         || Stepper::new(&model, settings),
-        state,
-        scene.spec.time.step,
-        6,
+        before,
+        h,
+        1,
         |a, b| {
             bits(&a.sigma) == bits(&b.sigma)
                 && bits(&a.velocity_free) == bits(&b.velocity_free)

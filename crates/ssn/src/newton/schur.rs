@@ -1,5 +1,5 @@
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
-use nalgebra::{SMatrix, SVector};
+use nalgebra::SMatrix;
 use rayon::prelude::*;
 use talus_bipotential::NaturalMapLinearization;
 
@@ -132,7 +132,7 @@ impl<const D: usize> SchurSystem<D> {
                 .par_iter_mut()
                 .zip(self.a_inv_r.par_chunks_mut(D))
                 .enumerate()
-                .with_min_len(256)
+                .with_min_len(64)
                 .map(|(i, (c, ar))| one(i, c, ar))
                 .collect()
         } else {
@@ -159,27 +159,33 @@ impl<const D: usize> SchurSystem<D> {
             rest = tail;
         }
         let group_ptr = &self.group_ptr;
-        let fill = |(g, out): (usize, &mut &mut [f64])| {
-            out.fill(0.0);
+        let local_c = &self.local_c;
+        // Each point adds h² Bᵢᵀ (Cᵢ Bᵢ) to its group's m × m block, row a of the block as
+        // Σ_k h² B[k, a] · (C B)[k, :]: contiguous rows, so the inner loop vectorizes.
+        // The symmetric case keeps only `dofs[a] ≥ dofs[b]`, packed from a scratch block.
+        let fill = |scratch: &mut Vec<f64>, (g, out): (usize, &mut &mut [f64])| {
+            let m = blocks.point(group_ptr[g]).0.len();
+            scratch.clear();
+            scratch.resize(D * m + if symmetric { m * m } else { 0 }, 0.0);
+            let (cb, full) = scratch.split_at_mut(D * m);
+            let block: &mut [f64] = if symmetric {
+                full
+            } else {
+                out.fill(0.0);
+                out
+            };
             for i in group_ptr[g]..group_ptr[g + 1] {
-                let c = &self.local_c[i];
-                let (dofs, bv) = blocks.point(i);
-                let m = dofs.len();
+                add_point_block::<D>(&local_c[i], blocks.point(i).1, m, h2, cb, block);
+            }
+            if symmetric {
+                let dofs = blocks.point(group_ptr[g]).0;
                 let mut pos = 0;
                 for a in 0..m {
-                    // (C Bᵢ)[:, b] and Bᵢ[:, a]
-                    let ba = SVector::<f64, D>::from_fn(|k, _| bv[k * m + a]);
-                    let cta = c.transpose() * ba;
                     for b in 0..m {
-                        if symmetric && dofs[a] < dofs[b] {
-                            continue;
+                        if dofs[a] >= dofs[b] {
+                            out[pos] = full[a * m + b];
+                            pos += 1;
                         }
-                        let mut v = 0.0;
-                        for k in 0..D {
-                            v += cta[k] * bv[k * m + b];
-                        }
-                        out[pos] += h2 * v;
-                        pos += 1;
                     }
                 }
             }
@@ -188,10 +194,14 @@ impl<const D: usize> SchurSystem<D> {
             per_group
                 .par_iter_mut()
                 .enumerate()
-                .with_min_len(256)
-                .for_each(fill);
+                .with_min_len(64)
+                .for_each_init(Vec::new, fill);
         } else {
-            per_group.iter_mut().enumerate().for_each(fill);
+            let mut scratch = Vec::new();
+            per_group
+                .iter_mut()
+                .enumerate()
+                .for_each(|x| fill(&mut scratch, x));
         }
         drop(per_group);
         let (contributions, gather, gather_ptr) =
@@ -228,11 +238,46 @@ impl<const D: usize> SchurSystem<D> {
         if parallel {
             d.par_chunks_mut(D)
                 .enumerate()
-                .with_min_len(256)
+                .with_min_len(64)
                 .for_each(back);
         } else {
             d.chunks_mut(D).enumerate().for_each(back);
         }
         Ok(used)
+    }
+}
+
+/// `block += h² Bᵀ C B` for one point, `B` the D × m row-major `bv`, `block` m × m
+/// row-major; `cb` (D × m) is scratch for `C B`.
+#[inline]
+fn add_point_block<const D: usize>(
+    c: &SMatrix<f64, D, D>,
+    bv: &[f64],
+    m: usize,
+    h2: f64,
+    cb: &mut [f64],
+    block: &mut [f64],
+) {
+    if m == 0 {
+        return; // a point whose dofs are all prescribed adds nothing to K
+    }
+    let (bv, cb, block) = (&bv[..D * m], &mut cb[..D * m], &mut block[..m * m]);
+    for k in 0..D {
+        let row = &mut cb[k * m..(k + 1) * m];
+        row.fill(0.0);
+        for l in 0..D {
+            let ckl = c[(k, l)];
+            for (x, &b) in row.iter_mut().zip(&bv[l * m..(l + 1) * m]) {
+                *x += ckl * b;
+            }
+        }
+    }
+    for (a, out_row) in block.chunks_exact_mut(m).enumerate() {
+        for k in 0..D {
+            let s = h2 * bv[k * m + a];
+            for (x, &y) in out_row.iter_mut().zip(&cb[k * m..(k + 1) * m]) {
+                *x += s * y;
+            }
+        }
     }
 }

@@ -170,10 +170,10 @@ impl<const D: usize> Solver<D> {
     /// `z`, `F` and the linearization at `sigma` (into the trial buffers when `trial`);
     /// returns `‖F‖²`.
     pub(super) fn evaluate(&mut self, sigma: &[f64], trial: bool) -> f64 {
-        let (z, lin) = if trial {
-            (&mut self.trial_z, &mut self.trial_lin)
+        let z = if trial {
+            &mut self.trial_z
         } else {
-            (&mut self.z, &mut self.lin)
+            &mut self.z
         };
         apply(
             &self.problem.operator,
@@ -184,9 +184,35 @@ impl<const D: usize> Solver<D> {
             &mut self.scratch,
             self.settings.parallel,
         );
+        self.linearize(sigma, trial)
+    }
+
+    /// The trial point `σ + t d` with `z + t W d`: `z = Wσ + q` is affine in σ and `W d`
+    /// is the accuracy check's product (`direction_is_accurate`), so a line-search trial
+    /// costs the natural map only, not another product with W. Returns `‖F‖²`.
+    pub(super) fn evaluate_along(&mut self, sigma: &[f64], t: f64) -> f64 {
+        let mut trial = std::mem::take(&mut self.trial_sigma);
+        for ((x, s), d) in trial.iter_mut().zip(sigma).zip(&self.direction) {
+            *x = s + t * d;
+        }
+        for ((x, z), wd) in self.trial_z.iter_mut().zip(&self.z).zip(&self.check) {
+            *x = z + t * wd;
+        }
+        let merit = self.linearize(&trial, true);
+        self.trial_sigma = trial;
+        merit
+    }
+
+    /// `F` and its linearization at `sigma` with the `z` already in place (the trial
+    /// buffers when `trial`); returns `‖F‖²`.
+    fn linearize(&mut self, sigma: &[f64], trial: bool) -> f64 {
+        let (z, lin) = if trial {
+            (&self.trial_z, &mut self.trial_lin)
+        } else {
+            (&self.z, &mut self.lin)
+        };
         let rules = &self.problem.rules;
         let rho = &self.rho;
-        let z = &*z;
         let one = |(i, l): (usize, &mut NaturalMapLinearization<D>)| {
             *l = rules[i].natural_map_linearization(
                 &block::<D>(sigma, i),
@@ -197,7 +223,7 @@ impl<const D: usize> Solver<D> {
         if self.settings.parallel {
             lin.par_iter_mut()
                 .enumerate()
-                .with_min_len(256)
+                .with_min_len(64)
                 .for_each(one);
         } else {
             lin.iter_mut().enumerate().for_each(one);
@@ -213,21 +239,38 @@ impl<const D: usize> Solver<D> {
 
     pub(super) fn residual_norm_with(&self, sigma: &[f64], z: &[f64]) -> f64 {
         let rules = &self.problem.rules;
-        let mut worst: f64 = 0.0;
-        for (i, rule) in rules.iter().enumerate() {
-            let f = rule.natural_map_residual(
+        let residual_rho = &self.residual_rho;
+        let point = |i: usize| {
+            let f = rules[i].natural_map_residual(
                 &block::<D>(sigma, i),
                 &block::<D>(z, i),
-                self.residual_rho[i],
+                residual_rho[i],
             );
-            for x in f.iter() {
-                if x.is_nan() {
-                    return f64::NAN;
+            f.iter().fold(0.0f64, |w, x| {
+                if x.is_nan() || w.is_nan() {
+                    f64::NAN
+                } else {
+                    w.max(x.abs())
                 }
-                worst = worst.max(x.abs());
+            })
+        };
+        // A maximum (NaN if any entry is) does not depend on the order: parallel is exact.
+        let worst = |a: f64, b: f64| {
+            if a.is_nan() || b.is_nan() {
+                f64::NAN
+            } else {
+                a.max(b)
             }
+        };
+        if self.settings.parallel {
+            (0..rules.len())
+                .into_par_iter()
+                .with_min_len(64)
+                .map(point)
+                .reduce(|| 0.0, worst)
+        } else {
+            (0..rules.len()).map(point).fold(0.0, worst)
         }
-        worst
     }
 
     /// Armijo backtracking on `‖F‖²` along `self.direction`; moves `sigma` and returns the
@@ -243,12 +286,7 @@ impl<const D: usize> Solver<D> {
         let mut t = 1.0;
         let mut backtracks = 0;
         loop {
-            let mut trial = std::mem::take(&mut self.trial_sigma);
-            for ((x, s), d) in trial.iter_mut().zip(sigma.iter()).zip(&self.direction) {
-                *x = s + t * d;
-            }
-            let trial_merit = self.evaluate(&trial, true);
-            self.trial_sigma = trial;
+            let trial_merit = self.evaluate_along(sigma, t);
             let accept = match ls {
                 None => trial_merit.is_finite(),
                 // The full step is also taken when the stopping test's residual decreases
@@ -289,13 +327,8 @@ impl<const D: usize> Solver<D> {
         sigma: &mut [f64],
     ) -> Option<f64> {
         let current = self.residual_norm(sigma);
-        let mut trial = std::mem::take(&mut self.trial_sigma);
-        for ((x, s), d) in trial.iter_mut().zip(sigma.iter()).zip(&self.direction) {
-            *x = s + d;
-        }
-        let merit = self.evaluate(&trial, true);
-        let full = self.residual_norm_with(&trial, &self.trial_z);
-        self.trial_sigma = trial;
+        let merit = self.evaluate_along(sigma, 1.0);
+        let full = self.residual_norm_with(&self.trial_sigma, &self.trial_z);
         if full < current {
             sigma.copy_from_slice(&self.trial_sigma);
             std::mem::swap(&mut self.z, &mut self.trial_z);
