@@ -187,18 +187,16 @@ impl<const D: usize> Solver<D> {
         self.linearize(sigma, trial)
     }
 
-    /// The trial point `σ + t d` with `z + t W d`: `z = Wσ + q` is affine in σ and `W d`
-    /// is the accuracy check's product (`direction_is_accurate`), so a line-search trial
-    /// costs the natural map only, not another product with W. Returns `‖F‖²`.
+    /// The trial point `σ + t d`, evaluated in full: `z = Wσ + q` computed again rather
+    /// than as `z + t W d`, whose round-off would hide the floor the stopping test must
+    /// see (`tests/round_off_floor.rs` ends at a residual of exactly 0 with it). Returns
+    /// `‖F‖²`.
     pub(super) fn evaluate_along(&mut self, sigma: &[f64], t: f64) -> f64 {
         let mut trial = std::mem::take(&mut self.trial_sigma);
         for ((x, s), d) in trial.iter_mut().zip(sigma).zip(&self.direction) {
             *x = s + t * d;
         }
-        for ((x, z), wd) in self.trial_z.iter_mut().zip(&self.z).zip(&self.check) {
-            *x = z + t * wd;
-        }
-        let merit = self.linearize(&trial, true);
+        let merit = self.evaluate(&trial, true);
         self.trial_sigma = trial;
         merit
     }
