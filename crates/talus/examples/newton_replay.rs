@@ -11,7 +11,8 @@
 //! The mesh is `scenes/footing.toml` with `cells = [nx, ny]` and the y-grading of the paper's
 //! 32×14 (`ratio = [1, 1.1^(14/ny)]`), as `benches/footing_steps.rs` builds it. One line per step:
 //! `STEP k substeps iterations failed_iterations backtracks max_iterations residual
-//! reaction_kN seconds statuses` (iterations of accepted sub-steps; failed: of halved attempts)..
+//! reaction_kN seconds statuses` (iterations of accepted sub-steps; failed: of halved attempts).
+//! `--max-halvings N` overrides the scene's `solver.max_step_halvings` (4).
 use std::io::{Read, Write};
 
 use talus::run::solver_settings;
@@ -87,6 +88,7 @@ fn main() {
     let mut associative = false;
     let mut rho_factor = None;
     let mut max_iterations = None;
+    let mut max_halvings = None;
     let mut it = args.iter();
     while let Some(a) = it.next() {
         let mut value = || it.next().expect("value").clone();
@@ -107,6 +109,7 @@ fn main() {
             "--associative" => associative = true,
             "--rho-factor" => rho_factor = Some(value().parse::<f64>().unwrap()),
             "--max-iterations" => max_iterations = Some(value().parse::<usize>().unwrap()),
+            "--max-halvings" => max_halvings = Some(value().parse::<usize>().unwrap()),
             other => panic!("unknown argument {other}"),
         }
     }
@@ -116,6 +119,9 @@ fn main() {
     }
     if let Some(m) = max_iterations {
         scene.spec.solver.max_iterations = m;
+    }
+    if let Some(m) = max_halvings {
+        scene.spec.solver.max_step_halvings = m;
     }
     let model = Model::from_scene(&scene).expect("model");
     let mut state = model.initial_state(&scene).expect("K0 state");
