@@ -3,7 +3,10 @@
 //! associative flow rule is refactorized every iteration on the same pattern, and faer's
 //! `Llt` would allocate (and zero) the whole factor each time.
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::sparse::linalg::cholesky::{CholeskySymbolicParams, LltRef, SymbolicCholesky};
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
+    SymmetricOrdering,
+};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
@@ -17,7 +20,7 @@ pub struct NotPositiveDefinite {
     pub column: usize,
 }
 
-/// Symbolic analysis (AMD or nested dissection, `ordering.rs`; supernodes) once per pattern; numeric factorizations
+/// Symbolic analysis (AMD ordering, supernodes) once per pattern; numeric factorizations
 /// into reused storage. Sequential: the factors do not depend on the thread count.
 pub struct SupernodalCholesky {
     symbolic: SymbolicCholesky<usize>,
@@ -40,7 +43,13 @@ impl std::fmt::Debug for SupernodalCholesky {
 impl SupernodalCholesky {
     /// Analyses the lower triangle `lower` of a symmetric pattern.
     pub fn try_new(lower: SymbolicSparseColMatRef<'_, usize>) -> Result<Self, SymbolicError> {
-        let symbolic = super::ordering::analyse(lower, CholeskySymbolicParams::default())?;
+        let symbolic = factorize_symbolic_cholesky(
+            lower,
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            CholeskySymbolicParams::default(),
+        )
+        .map_err(|e| SymbolicError::new(format!("{e:?}")))?;
         let factor_scratch = MemBuffer::try_new(
             symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
         )

@@ -25,8 +25,6 @@
 //! ```
 mod cholesky;
 mod dense_lu;
-mod nested_dissection;
-mod ordering;
 mod symmetric_pattern_lu;
 
 pub use cholesky::{NotPositiveDefinite, SupernodalCholesky};

@@ -20,10 +20,12 @@ use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_unit_lower_triangular_in_place,
 };
 use faer::reborrow::{Reborrow, ReborrowMut};
-use faer::sparse::linalg::cholesky::{CholeskySymbolicParams, SymbolicCholeskyRaw};
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholeskyRaw, SymmetricOrdering,
+};
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{Pair, SymbolicSparseColMat, SymbolicSparseColMatRef};
-use faer::{Accum, MatMut, MatRef, Par};
+use faer::{Accum, MatMut, MatRef, Par, Side};
 
 use super::dense_lu::lu_in_place;
 
@@ -67,7 +69,7 @@ struct Update {
 }
 
 /// The symbolic analysis of [`SymmetricPatternLu`] for one pattern: the fill-reducing
-/// ordering (AMD or nested dissection, `ordering.rs`), the supernodes of the Cholesky
+/// ordering (approximate minimum degree on the pattern), the supernodes of the Cholesky
 /// factor of the permuted pattern, which supernode updates which, and where each stored
 /// entry of the input lands in the factors.
 #[derive(Debug)]
@@ -122,13 +124,16 @@ impl SymbolicSymmetricPatternLu {
         }
         let (lower, _) = SymbolicSparseColMat::try_new_from_indices(n, n, &pairs)
             .map_err(|e| SymbolicError(format!("{e:?}")))?;
-        let cholesky = super::ordering::analyse(
+        let cholesky = factorize_symbolic_cholesky(
             lower.as_ref(),
+            Side::Lower,
+            SymmetricOrdering::Amd,
             CholeskySymbolicParams {
                 supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
                 ..Default::default()
             },
-        )?;
+        )
+        .map_err(|e| SymbolicError(format!("{e:?}")))?;
         let (perm_fwd, perm_inv) = match cholesky.perm() {
             Some(p) => {
                 let (fwd, inv) = p.arrays();
