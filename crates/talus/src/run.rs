@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use talus_ssn::Settings;
 
-use crate::checkpoint::{self, Checkpoint, CheckpointError, Plan, SceneRecord};
+use crate::checkpoint::{self, Checkpoint, CheckpointError};
 use crate::output::{self, FieldSnapshot, MeshView, OutputError};
 use crate::output::{Results, ResultsProgress};
 use crate::run_loop::{run_steps, Begin, RunOutputs, HISTORY_COLUMNS};
@@ -150,25 +150,6 @@ pub fn resume_scene(
     run_scene_from(scene, options, Some(checkpoint))
 }
 
-/// How often `scene` checkpoints: `options.checkpoint_every`, or the resumed run's.
-pub(crate) fn checkpoint_plan<S>(
-    path: Option<&Path>,
-    source: &str,
-    options: &RunOptions,
-    resumed: Option<&Checkpoint<S>>,
-) -> Option<Plan> {
-    match resumed {
-        Some(c) => Some(Plan {
-            every: c.every,
-            scene: c.scene.clone(),
-        }),
-        None => (options.checkpoint_every > 0).then(|| Plan {
-            every: options.checkpoint_every,
-            scene: SceneRecord::new(path, source),
-        }),
-    }
-}
-
 fn run_scene_from(
     scene: &Scene,
     options: &RunOptions,
@@ -249,32 +230,16 @@ fn run_scene_from(
         }
     }
     let time = scene.spec.time;
-    let plan = checkpoint_plan(
-        scene.path.as_deref(),
-        &scene.source,
-        options,
-        resumed.as_ref(),
-    );
-    let begin = match resumed {
-        Some(c) => Begin::Resumed(Box::new(c)),
-        None => Begin::Fresh(state),
-    };
     let stepped = run_steps(
         &mut stepper,
-        begin,
+        Begin::new(state, resumed),
         time.steps,
         time.step,
         &mut outputs,
         options,
-        plan.as_ref(),
+        scene.path.as_deref(),
+        &scene.source,
     )?;
-    if let Some(step) = stepped.interrupted {
-        let time = stepped.state.time;
-        return Err(RunError::Interrupted { step, time });
-    }
-    if let Some(c) = stepped.collapse {
-        return Err(RunError::Collapsed(c));
-    }
     if let Some((step, source)) = stepped.failure {
         return Err(RunError::Step { step, source });
     }

@@ -4,7 +4,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use crate::checkpoint::{self, Checkpoint, Plan};
+use crate::checkpoint::{self, Checkpoint, Plan, SceneRecord};
 use crate::output::{CollapseTime, Results, RunStatus};
 use crate::run::{io_err, progress_bar, RunError, RunOptions, StepProgress};
 use crate::simulation::engine::{
@@ -52,16 +52,38 @@ pub enum Begin<S> {
     Resumed(Box<Checkpoint<S>>),
 }
 
-/// What the run loop returns: every step's report, the last state, and the step that
-/// failed or after which the body was found collapsed (the files written before it are
-/// kept).
+impl<S> Begin<S> {
+    /// From the checkpoint when resuming, else afresh from `state`.
+    pub fn new(state: S, resumed: Option<Checkpoint<S>>) -> Self {
+        match resumed {
+            Some(c) => Self::Resumed(Box::new(c)),
+            None => Self::Fresh(state),
+        }
+    }
+
+    /// How often the run checkpoints: the resumed run's plan, or `options.checkpoint_every`
+    /// with the scene at `path` whose text is `source`.
+    fn plan(&self, path: Option<&Path>, source: &str, options: &RunOptions) -> Option<Plan> {
+        match self {
+            Self::Resumed(c) => Some(Plan {
+                every: c.every,
+                scene: c.scene.clone(),
+            }),
+            Self::Fresh(_) => (options.checkpoint_every > 0).then(|| Plan {
+                every: options.checkpoint_every,
+                scene: SceneRecord::new(path, source),
+            }),
+        }
+    }
+}
+
+/// What the run loop returns when the run was neither interrupted nor collapsed: every
+/// step's report, the last state, and the step that failed (the files written before it
+/// are kept).
 pub struct Stepped<D: Discretization> {
     pub reports: Vec<StepReport<D::Stats>>,
     pub state: D::State,
     pub failure: Option<(usize, StepError<D::Error>)>,
-    pub collapse: Option<Collapsed>,
-    /// The last step completed before SIGINT/SIGTERM stopped the run.
-    pub interrupted: Option<usize>,
 }
 
 /// Where a run ended in collapse (`docs/scenes.md`, 'Collapse').
@@ -85,9 +107,12 @@ impl std::fmt::Display for Collapsed {
 }
 
 /// Steps from `begin` to step `steps` by `h`, writing `out/history.csv`, what `outputs`
-/// asks, a checkpoint every `plan.every` steps (and at an interruption), and
-/// `out/summary.json` at the end, finished or failed. SIGINT/SIGTERM or the observer's
-/// `Break` stop it after the step in progress.
+/// asks, a checkpoint every `options.checkpoint_every` steps (a resumed run: its own
+/// plan; and at an interruption) of the scene at `scene_path` with text `scene_source`,
+/// and `out/summary.json` at the end, finished or failed. SIGINT/SIGTERM or the
+/// observer's `Break` stop it after the step in progress: `RunError::Interrupted`; a
+/// collapse ends it with `RunError::Collapsed`.
+#[allow(clippy::too_many_arguments)]
 pub fn run_steps<D, O>(
     stepper: &mut Stepper<D>,
     begin: Begin<D::State>,
@@ -95,7 +120,8 @@ pub fn run_steps<D, O>(
     h: f64,
     outputs: &mut O,
     options: &RunOptions,
-    plan: Option<&Plan>,
+    scene_path: Option<&Path>,
+    scene_source: &str,
 ) -> Result<Stepped<D>, RunError>
 where
     D: Discretization,
@@ -108,6 +134,8 @@ where
     let summary_path = out.join("summary.json");
     let _ = std::fs::remove_file(&summary_path);
     let history_path = out.join("history.csv");
+    let plan = begin.plan(scene_path, scene_source, options);
+    let plan = plan.as_ref();
     let mut watch;
     let (mut state, first) = match begin {
         Begin::Fresh(state) => {
@@ -281,12 +309,17 @@ where
     });
     summary.write(&summary_path)?;
     tracing::info!("{}", summary.sentence());
+    if let Some(step) = interrupted {
+        let time = stepper.discretization().time(&state);
+        return Err(RunError::Interrupted { step, time });
+    }
+    if let Some(c) = collapse {
+        return Err(RunError::Collapsed(c));
+    }
     Ok(Stepped {
         reports,
         state,
         failure,
-        collapse,
-        interrupted,
     })
 }
 

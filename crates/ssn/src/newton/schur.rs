@@ -174,8 +174,9 @@ impl<const D: usize> SchurSystem<D> {
                 out.fill(0.0);
                 out
             };
-            for i in group_ptr[g]..group_ptr[g + 1] {
-                add_point_block::<D>(&local_c[i], blocks.point(i).1, m, h2, cb, block);
+            let points = group_ptr[g]..group_ptr[g + 1];
+            for (c, i) in local_c[points.clone()].iter().zip(points) {
+                add_point_block::<D>(c, blocks.point(i).1, m, h2, cb, block);
             }
             if symmetric {
                 let dofs = blocks.point(group_ptr[g]).0;

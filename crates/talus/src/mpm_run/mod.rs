@@ -18,7 +18,6 @@ use crate::checkpoint::{self, Checkpoint, CheckpointError};
 use crate::output;
 use crate::output::Results;
 use crate::output::ResultsProgress;
-use crate::run::checkpoint_plan;
 use crate::run::{RunError, RunOptions};
 use crate::run_loop::{run_steps, Begin, RunOutputs, HISTORY_COLUMNS};
 use crate::scene::MpmScene;
@@ -180,32 +179,16 @@ fn run_mpm_scene_from(
             .into());
         }
     }
-    let plan = checkpoint_plan(
-        scene.path.as_deref(),
-        &scene.source,
-        options,
-        resumed.as_ref(),
-    );
-    let begin = match resumed {
-        Some(c) => Begin::Resumed(Box::new(c)),
-        None => Begin::Fresh(state),
-    };
     let stepped = run_steps(
         &mut stepper,
-        begin,
+        Begin::new(state, resumed),
         steps,
         h,
         &mut outputs,
         options,
-        plan.as_ref(),
+        scene.path.as_deref(),
+        &scene.source,
     )?;
-    if let Some(step) = stepped.interrupted {
-        let time = stepped.state.time;
-        return Err(RunError::Interrupted { step, time });
-    }
-    if let Some(c) = stepped.collapse {
-        return Err(RunError::Collapsed(c));
-    }
     if let Some((step, source)) = stepped.failure {
         return Err(RunError::MpmStep {
             step,
