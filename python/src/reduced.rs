@@ -1,5 +1,5 @@
 //! `read_siconos` and `solve_reduced`: the path of `talus reduced FILE`
-//! (`crates/talus/src/reduced.rs`) with the problem given as arrays. The arrays are put
+//! (`crates/talus/src/cli/reduced.rs`) with the problem given as arrays. The arrays are put
 //! back into a [`SiconosProblem`] so that `reduced_system_from_siconos` builds the same
 //! operator and flow rules as for a file.
 use std::path::PathBuf;
@@ -153,7 +153,7 @@ pub fn solve_reduced<'py>(
         tolerance: tol,
         rho,
         max_iterations,
-        ..Settings::default()
+        ..Settings::reduced()
     };
     let solved = py.detach(move || -> Result<(Vec<f64>, Report), SolveError> {
         let system = reduced_system_from_siconos::<3>(&problem)?;

@@ -1,6 +1,6 @@
 //! `talus.run`: the CLI's `run_scene` / `run_mpm_scene` in-process, the GIL released
 //! while it steps. `history.csv` and `summary.json` are the run loop's own outputs
-//! (`crates/talus/src/run_loop.rs`); without `out` they go to a temporary folder that is
+//! (`crates/talus/src/run/steps.rs`); without `out` they go to a temporary folder that is
 //! read back and removed, so the arrays hold the values of the CLI's file.
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -9,11 +9,12 @@ use numpy::ndarray::Array2;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use talus::checkpoint::Checkpoint;
-use talus::mpm_run::{resume_mpm_scene, run_mpm_scene};
-use talus::run::{resume_scene, run_scene, RunError, RunOptions};
+use talus::model::fem::{FromScene, Model};
+use talus::run::checkpoint::Checkpoint;
+use talus::run::fem::{resume_scene, run_scene};
+use talus::run::mpm::{resume_mpm_scene, run_mpm_scene};
+use talus::run::{RunError, RunOptions};
 use talus::scene::SceneFile;
-use talus::simulation::Model;
 
 use crate::errors::{raise, scene_error};
 use crate::scene::Scene;
@@ -169,7 +170,7 @@ pub fn resume<'py>(
     callback: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let refused = |py: Python<'py>, e: String| raise(py, "RunError", (e, PyDict::new(py)));
-    let checkpoint = talus::checkpoint::read(&out).map_err(|e| refused(py, e.to_string()))?;
+    let checkpoint = talus::run::checkpoint::read(&out).map_err(|e| refused(py, e.to_string()))?;
     let source = checkpoint
         .current_scene()
         .map_err(|e| refused(py, e.to_string()))?;

@@ -6,9 +6,9 @@ use std::path::PathBuf;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
-use talus::mpm_run::MpmModel;
+use talus::model::fem::{FromScene, Model};
+use talus::model::mpm::MpmModel;
 use talus::scene::{SceneError, SceneFile};
-use talus::simulation::Model;
 
 use crate::errors::scene_error;
 

@@ -37,7 +37,7 @@ pub fn factor_of_safety<'py>(
         observer: Some(watch.observer()),
         ..RunOptions::new(dir.clone())
     };
-    let ran = py.detach(move || talus::stability::run(&fem, &options));
+    let ran = py.detach(move || talus::analysis::stability::run(&fem, &options));
     let d = PyDict::new(py);
     if let Ok(history) = std::fs::read_to_string(dir.join("history.csv")) {
         d.set_item("history_csv", history)?;

@@ -315,10 +315,10 @@ def solve_reduced(
     W: Any,
     q: Any,
     cones: Cones,
-    tol: float = 1e-12,
-    rho_factor: float = 10.0,
+    tol: float = _talus.REDUCED_TOLERANCE,
+    rho_factor: float = _talus.REDUCED_RHO_FACTOR,
     global_rho: bool = False,
-    max_iterations: int = 100,
+    max_iterations: int = _talus.REDUCED_MAX_ITERATIONS,
 ) -> Tuple[np.ndarray, Dict[str, Any]]:
     """Solves one reduced problem ``z = Wσ + q``, ``σᵢ = P_K(σᵢ − ρ y(zᵢ))`` per cone of
     dimension 3, with the solver and settings of ``talus reduced``.

@@ -121,10 +121,10 @@ def solve_reduced(
     W: Any,
     q: npt.ArrayLike,
     cones: Cones,
-    tol: float = 1e-12,
-    rho_factor: float = 10.0,
+    tol: float = ...,
+    rho_factor: float = ...,
     global_rho: bool = False,
-    max_iterations: int = 100,
+    max_iterations: int = ...,
 ) -> Tuple[npt.NDArray[np.float64], Dict[str, Any]]:
     """Solves ``z = Wσ + q``, ``σᵢ = P_K(σᵢ − ρ y(zᵢ))`` with the solver of
     ``talus reduced``; returns ``(σ, report)``. Raises ``NotConverged`` (``.report``,

@@ -59,16 +59,49 @@ fn workspace_root() -> PathBuf {
         .to_path_buf()
 }
 
-/// Runs a command in the workspace, failing with its name if it cannot start or fails.
+/// Runs a command in the workspace and returns its captured output whatever its exit
+/// status; fails, naming the command, only if it cannot start.
+pub(crate) fn run_output(
+    root: &Path,
+    program: &str,
+    args: &[&str],
+) -> Result<std::process::Output, String> {
+    Command::new(program)
+        .args(args)
+        .current_dir(root)
+        .output()
+        .map_err(|e| format!("cannot run `{}`: {e}", command_line(program, args)))
+}
+
+/// Runs a command in the workspace, failing with its name if it cannot start or fails:
+/// the error names the command and its exit status, followed by the end of its stderr.
 pub(crate) fn run_checked(
     root: &Path,
     program: &str,
     args: &[&str],
 ) -> Result<std::process::Output, String> {
-    let output = Command::new(program)
-        .args(args)
-        .current_dir(root)
-        .output()
-        .map_err(|e| format!("cannot run {program}: {e}"))?;
-    Ok(output)
+    let output = run_output(root, program, args)?;
+    if output.status.success() {
+        return Ok(output);
+    }
+    let mut message = format!(
+        "`{}` failed ({})",
+        command_line(program, args),
+        output.status
+    );
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let lines: Vec<&str> = stderr.trim_end().lines().collect();
+    if !lines.is_empty() {
+        const TAIL: usize = 20;
+        message.push_str(":\n");
+        message.push_str(&lines[lines.len().saturating_sub(TAIL)..].join("\n"));
+    }
+    Err(message)
+}
+
+fn command_line(program: &str, args: &[&str]) -> String {
+    std::iter::once(program)
+        .chain(args.iter().copied())
+        .collect::<Vec<_>>()
+        .join(" ")
 }

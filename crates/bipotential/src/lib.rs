@@ -27,3 +27,8 @@ pub use drucker_prager::{DruckerPrager, DruckerPragerParameters};
 pub use error::MaterialError;
 pub use flow_rule::{FlowRule, NaturalMapLinearization, YieldSet};
 pub use talus_cone::{Region, SMatrix, SVector};
+
+// The README's example, compiled and run as a doctest (`cargo test --doc`).
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -32,3 +32,8 @@ pub use second_order_cone::SecondOrderCone;
 
 /// Re-exported so that callers name the same vector and matrix types.
 pub use nalgebra::{SMatrix, SVector};
+
+// The README's example, compiled and run as a doctest (`cargo test --doc`).
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -18,7 +18,10 @@ pub mod element;
 mod error;
 pub mod geometry;
 pub mod mesh;
+mod model;
 pub mod quadrature;
+mod reduced_problem;
+mod state;
 
 pub use assembly::Assembly;
 pub use dofs::{Constraint, Dof, DofMap};
@@ -26,3 +29,11 @@ pub use element::ElementOrder;
 pub use error::{FemError, MeshError};
 pub use geometry::Geometry;
 pub use mesh::{graded_coordinates, BoundaryEdge, Mesh};
+pub use model::{bounding_box, Loads, Model, RampedForce};
+pub use reduced_problem::{prescribed_forces, prescribed_forces_at_rest, FemStats, ReactionForce};
+pub use state::State;
+
+// The README's example, compiled and run as a doctest (`cargo test --doc`).
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -1,8 +1,8 @@
 //! The background grid: square cells of side `dx` over `[x0, x0 + nx dx] × [y0, y0 + ny dx]`,
 //! plus ghost node layers outside it (see [`ShapeFunction`]).
-use crate::boundary::Side;
 use crate::error::MpmError;
 use crate::shape::ShapeFunction;
+use crate::side::Side;
 
 /// Up to 9 nodes a particle touches, with `N_i(x_p)` and `∇N_i(x_p)` (1/m).
 #[derive(Debug, Clone, Copy)]

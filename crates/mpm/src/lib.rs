@@ -8,8 +8,9 @@
 //! Plane strain, SI units, Mandel stresses `(xx, yy, zz, √2 xy)`, tension positive.
 //!
 //! The crate builds each sub-step's reduced problem and applies its solution; the Newton
-//! solves and the step control (halving, predictor) belong to a stepping engine (Talus's
-//! is `talus::simulation::Stepper`). One sub-step driven by hand:
+//! solves and the step control (halving, predictor) belong to talus-engine's `Stepper`,
+//! which steps an [`Mpm`] as its `Discretization` ([`MpmStepper`] keeps the time). One
+//! sub-step driven by hand:
 //!
 //! ```
 //! use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters};
@@ -40,26 +41,41 @@
 //! ```
 mod boundary;
 mod contact;
+mod discretization;
 mod error;
 mod grid;
 mod loads;
+mod measure;
 mod mpm;
 mod particles;
 mod probe;
+mod programme;
 mod reduced_problem;
 mod rotation;
 mod settings;
 mod shape;
+mod side;
+mod stepper;
 mod substep;
 pub mod transfer;
 
-pub use boundary::{GridBoundary, PrescribedVelocity, Side, Wall, WallCondition};
+pub use boundary::{GridBoundary, PrescribedVelocity, Wall, WallCondition};
+pub use discretization::{GroupForces, MpmState, MpmStepReport};
 pub use error::MpmError;
 pub use grid::{Grid, Stencil};
 pub use loads::SubstepLoads;
+pub use measure::{front, kinetic_energy, RunoutReference};
 pub use mpm::Mpm;
 pub use particles::Particles;
 pub use probe::grid_value_at;
+pub use programme::{MpmLoadProgramme, ProgrammedMpm, RampedSurfaceLoad};
 pub use settings::MpmSettings;
 pub use shape::ShapeFunction;
+pub use side::Side;
+pub use stepper::MpmStepper;
 pub use substep::{Substep, SubstepStats};
+
+// The README's example, compiled and run as a doctest (`cargo test --doc`).
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

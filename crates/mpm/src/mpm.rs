@@ -3,10 +3,11 @@
 use nalgebra::SMatrix;
 use talus_bipotential::{DruckerPrager, FlowRule};
 
-use crate::boundary::{GridBoundary, NodeCondition, Side};
+use crate::boundary::{GridBoundary, NodeCondition};
 use crate::error::MpmError;
 use crate::grid::Grid;
 use crate::settings::MpmSettings;
+use crate::side::Side;
 
 /// The implicit MPM: [`Mpm::begin_substep`] starts a sub-step of a [`Particles`] set
 /// (`crate::Particles`); a stepping engine solves its reduced problems.

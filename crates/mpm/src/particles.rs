@@ -3,7 +3,9 @@ use crate::error::MpmError;
 
 /// Structure-of-arrays particle set. Units: m, m/s, kg/m and m²·(1 m) per metre of
 /// thickness (plane strain), Pa (Mandel `(xx, yy, zz, √2 xy)`, tension positive).
-#[derive(Debug, Clone, PartialEq, Default)]
+/// Serialized field by field (a checkpoint of a run's state).
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Particles {
     pub position: Vec<[f64; 2]>,
     pub velocity: Vec<[f64; 2]>,

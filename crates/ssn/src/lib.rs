@@ -40,3 +40,8 @@ pub use siconos_system::reduced_system_from_siconos;
 pub use solver::Solver;
 
 pub use faer;
+
+// The README's example, compiled and run as a doctest (`cargo test --doc`).
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -16,6 +16,18 @@ pub enum Rho {
     Fixed(f64),
 }
 
+impl Rho {
+    /// The factor of a scaled ρ, or the value of a fixed one.
+    pub const fn factor(&self) -> f64 {
+        match *self {
+            Rho::PerPointDiagonal { factor }
+            | Rho::PerPointCompliance { factor }
+            | Rho::GlobalDiagonal { factor }
+            | Rho::Fixed(factor) => factor,
+        }
+    }
+}
+
 /// Backtracking (Armijo) line search on the merit `½‖F‖²`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LineSearch {
@@ -27,13 +39,17 @@ pub struct LineSearch {
     pub max_backtracks: usize,
 }
 
+impl LineSearch {
+    pub const DEFAULT: Self = Self {
+        armijo: 1e-4,
+        shrink: 0.5,
+        max_backtracks: 40,
+    };
+}
+
 impl Default for LineSearch {
     fn default() -> Self {
-        Self {
-            armijo: 1e-4,
-            shrink: 0.5,
-            max_backtracks: 40,
-        }
+        Self::DEFAULT
     }
 }
 
@@ -52,6 +68,17 @@ pub struct Stall {
     pub decrease: f64,
 }
 
+impl Stall {
+    /// From iteration 25 (slow solves that converge within it, up to 23 iterations on the
+    /// footing snapshots, keep their step), a merit not halved over 10 iterations: the
+    /// attempts that fail at the footing's mechanism onset stall for 20–40 iterations.
+    pub const DEFAULT: Self = Self {
+        after: 25,
+        window: 10,
+        decrease: 0.5,
+    };
+}
+
 /// Which linear system gives the Newton direction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum LinearSolver {
@@ -66,7 +93,8 @@ pub enum LinearSolver {
     SchurPivoting,
 }
 
-/// Solver settings; `Settings::default()` documents the defaults.
+/// Solver settings; the presets [`Settings::reduced`] (the default), [`Settings::fem`] and
+/// [`Settings::mpm`] hold the defaults.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Settings {
     /// Converged when `‖F‖∞ ≤ tolerance · max(1, ‖σ‖∞)`. Default `1e-12`.
@@ -90,18 +118,52 @@ pub struct Settings {
     pub parallel: bool,
 }
 
-impl Default for Settings {
-    fn default() -> Self {
+/// The one place of the solver's defaults (`docs/solver.md`): every caller (the scenes, the
+/// `talus` command line, the Python package) starts from one of these presets.
+impl Settings {
+    /// A problem read as given (`talus reduced`, Siconos files): `W` unstructured, so ρ is
+    /// scaled by its diagonal; 100 iterations.
+    pub const fn reduced() -> Self {
         Self {
             tolerance: 1e-12,
             max_iterations: 100,
             rho: Rho::PerPointDiagonal { factor: 10.0 },
-            line_search: Some(LineSearch::default()),
+            line_search: Some(LineSearch::DEFAULT),
             warm_start: true,
             stall: None,
             linear_solver: LinearSolver::Auto,
             pivot_tolerance: crate::factorization::DEFAULT_PIVOT_TOLERANCE,
             parallel: true,
         }
+    }
+
+    /// A time step of a finite-element model: ρ at the return-mapping scale of the
+    /// compliance (factor 0.3), 50 iterations, and a stalled solve stopped from iteration
+    /// 25 when its merit has not halved over 10 iterations, so that its step is halved
+    /// early (`docs/solver.md`, "Non-associative Newton at the mechanism's onset").
+    pub const fn fem() -> Self {
+        Self {
+            max_iterations: 50,
+            rho: Rho::PerPointCompliance { factor: 0.3 },
+            stall: Some(Stall::DEFAULT),
+            ..Self::reduced()
+        }
+    }
+
+    /// A sub-step of the material point method: as [`Settings::fem`], but slow first
+    /// friction passes run on (the a = 2 column: 92.2 → 102.4 iterations per step with a
+    /// stall window of 10, `docs/mpm-performance.md`).
+    pub const fn mpm() -> Self {
+        Self {
+            stall: None,
+            ..Self::fem()
+        }
+    }
+}
+
+impl Default for Settings {
+    /// [`Settings::reduced`].
+    fn default() -> Self {
+        Self::reduced()
     }
 }

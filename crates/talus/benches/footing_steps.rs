@@ -17,9 +17,11 @@
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
-use talus::run::solver_settings;
+use talus::model::fem::ReactionForce;
+use talus::model::fem::{FromScene, Model};
+use talus::run::fem::solver_settings;
 use talus::scene::builtin_footing_with_cells;
-use talus::simulation::{Model, StepSettings, Stepper};
+use talus_engine::{StepSettings, Stepper};
 
 /// Steps of the two windows (1-based, inclusive).
 const EARLY: [usize; 2] = [3, 5];

@@ -13,10 +13,9 @@
 //! Without `--bench` (`cargo test --benches`) it runs 3 steps of a 200-particle column.
 use std::time::Instant;
 
-use talus::mpm_run::MpmStepper;
-use talus::scene::SolverSpec;
-use talus::simulation::engine::{Method, PredictorRule, StepSettings};
 use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters};
+use talus_engine::{PredictorRule, StepSettings};
+use talus_mpm::MpmStepper;
 use talus_mpm::{
     Grid, GridBoundary, Mpm, MpmSettings, Particles, ShapeFunction, Side, Wall, WallCondition,
 };
@@ -41,7 +40,7 @@ fn main() {
     if let Some(a) = value("--flip") {
         settings.flip_ratio = a;
     }
-    let mut stepping = StepSettings::from_spec(&SolverSpec::default(), Method::Mpm);
+    let mut stepping = StepSettings::mpm();
     if args.iter().any(|a| a == "--elastic-predictor") {
         stepping.predictor = PredictorRule::Elastic;
     }

@@ -30,13 +30,12 @@
 //! as a smoke test.
 use std::process::{Command, Stdio};
 
-use talus::mpm_run::{MpmStepReport as StepReport, MpmStepper};
-use talus::scene::SolverSpec;
-use talus::simulation::engine::{Method, StepSettings};
 use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters};
+use talus_engine::StepSettings;
 use talus_mpm::{
     Grid, GridBoundary, Mpm, MpmSettings, Particles, ShapeFunction, Side, Wall, WallCondition,
 };
+use talus_mpm::{MpmStepReport as StepReport, MpmStepper};
 
 const YOUNG: f64 = 1e7;
 const POISSON: f64 = 0.3;
@@ -280,7 +279,7 @@ fn measure(n: usize, steps: usize, verbose: bool) -> Measurement {
         plastic,
         StepSettings {
             reuse_analysis: std::env::var("TALUS_MPM_BENCH_NO_REUSE").is_err(),
-            ..StepSettings::from_spec(&SolverSpec::default(), Method::Mpm)
+            ..StepSettings::mpm()
         },
     );
     let elastic = Mpm::try_new(

@@ -30,9 +30,10 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use nalgebra::{SMatrix, SVector};
-use talus::run::solver_settings;
+use talus::model::fem::{FromScene, Model};
+use talus::run::fem::solver_settings;
 use talus::scene::{builtin_footing_with_cells, Scene};
-use talus::simulation::{Model, StepSettings, Stepper};
+use talus_engine::{StepSettings, Stepper};
 use talus_ssn::factorization::{
     SupernodalCholesky, SymbolicSymmetricPatternLu, SymmetricPatternLu, DEFAULT_PIVOT_TOLERANCE,
 };

@@ -1,6 +1,6 @@
 //! Probe: the criterion's measure per step for trial factors (measurements for docs/stability.md).
+use talus::analysis::stability::Analysis;
 use talus::scene::Scene;
-use talus::stability::Analysis;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();

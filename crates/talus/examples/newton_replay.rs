@@ -15,9 +15,11 @@
 //! `--max-halvings N` overrides the scene's `solver.max_step_halvings` (4).
 use std::io::{Read, Write};
 
-use talus::run::solver_settings;
+use talus::model::fem::ReactionForce;
+use talus::model::fem::{FromScene, Model, State};
+use talus::run::fem::solver_settings;
 use talus::scene::{builtin_footing_with_cells, Scene};
-use talus::simulation::{Model, State, StepSettings, Stepper};
+use talus_engine::{StepSettings, Stepper};
 
 fn scene(cells: [usize; 2], associative: bool) -> Scene {
     let mut scene = builtin_footing_with_cells(cells);

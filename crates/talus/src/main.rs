@@ -5,21 +5,25 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
-use talus::checkpoint::Checkpoint;
-use talus::exit::Exit;
-use talus::mpm_run::{resume_mpm_scene, run_mpm_scene};
-use talus::run::{resume_scene, run_scene, RunOptions};
+use talus::model::fem::ReactionForce;
+use talus::model::size::{available_memory, SizeEstimate};
+use talus::run::checkpoint::{self, Checkpoint, CheckpointError};
+use talus::run::fem::{resume_scene, run_scene};
+use talus::run::mpm::{resume_mpm_scene, run_mpm_scene};
+use talus::run::{stop_when, RunError, RunOptions};
 use talus::scene::{builtin_footing, MpmScene, Scene, SceneFile};
-use talus::size::SizeEstimate;
 
-mod reduced;
+mod cli;
+
+use cli::exit::{self, Exit};
+use cli::{interrupt, reduced};
 
 #[derive(Parser)]
 #[command(
     name = "talus",
     version = concat!(env!("CARGO_PKG_VERSION"), " (commit ", env!("TALUS_COMMIT"), ")"),
     about = "Implicit elasto-plasticity of geomaterials by semi-smooth Newton",
-    after_help = talus::exit::TABLE
+    after_help = exit::TABLE
 )]
 struct Cli {
     #[command(subcommand)]
@@ -83,7 +87,7 @@ fn main() -> ExitCode {
         tracing::warn!("{why}");
     }
     let cli = Cli::parse();
-    if let Err(e) = talus::interrupt::install() {
+    if let Err(e) = interrupt::install() {
         tracing::warn!("no SIGINT/SIGTERM handler ({e}): an interrupted run leaves no summary");
     }
     let result = match cli.command {
@@ -133,7 +137,7 @@ fn run(
         SceneFile::Fem(s) => SizeEstimate::of_fem(s)?,
         SceneFile::Mpm(s) => SizeEstimate::of_mpm(s),
     };
-    let available = talus::size::available_memory();
+    let available = available_memory();
     tracing::info!(
         points = estimate.points,
         bytes = estimate.bytes,
@@ -147,12 +151,12 @@ fn run(
         }
         tracing::warn!("{e} (--allow-large: running anyway)");
     }
-    let options = RunOptions {
+    let options = interruptible(RunOptions {
         progress: true,
         write_fields: true,
         checkpoint_every,
         ..RunOptions::new(out.clone())
-    };
+    });
     match scene {
         SceneFile::Fem(scene) => run_fem(&scene, &options, None),
         SceneFile::Mpm(scene) => run_mpm(&scene, &options, None),
@@ -161,12 +165,12 @@ fn run(
 
 /// `talus resume OUT`: the checkpoint read, its scene checked and parsed, the run continued.
 fn resume(out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
-    let refused = |e: talus::checkpoint::CheckpointError| {
+    let refused = |e: CheckpointError| {
         eprintln!("error: {e}");
-        let e = talus::run::RunError::Checkpoint(e);
+        let e = RunError::Checkpoint(e);
         Ok(Exit::of_run_error(&e).into())
     };
-    let checkpoint = match talus::checkpoint::read(&out) {
+    let checkpoint = match checkpoint::read(&out) {
         Ok(c) => c,
         Err(e) => return refused(e),
     };
@@ -187,11 +191,11 @@ fn resume(out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
         checkpoint.step,
         checkpoint.steps
     );
-    let options = RunOptions {
+    let options = interruptible(RunOptions {
         progress: true,
         write_fields: true,
         ..RunOptions::new(out.clone())
-    };
+    });
     match scene {
         SceneFile::Fem(scene) => run_fem(&scene, &options, Some(checkpoint)),
         SceneFile::Mpm(scene) => run_mpm(&scene, &options, Some(checkpoint)),
@@ -244,12 +248,12 @@ fn run_fem(
 
 /// A `[stability]` scene: the factor of safety (`docs/stability.md`).
 fn run_stability(scene: &Scene, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
-    let options = RunOptions {
+    let options = interruptible(RunOptions {
         progress: true,
         write_fields: true,
         ..RunOptions::new(out.clone())
-    };
-    let run = match ended(talus::stability::run(scene, &options), &out) {
+    });
+    let run = match ended(talus::analysis::stability::run(scene, &options), &out) {
         Ok(run) => run,
         Err(code) => return Ok(code.into()),
     };
@@ -299,13 +303,18 @@ fn run_mpm(
     Ok(ExitCode::SUCCESS)
 }
 
+/// `options` stopped after the step in progress by SIGINT/SIGTERM (`cli::interrupt`).
+fn interruptible(options: RunOptions) -> RunOptions {
+    stop_when(options, interrupt::requested)
+}
+
 /// The run's result; a failed run prints its error, then `summary.json` in words as its
 /// last line, and gives its exit code.
-fn ended<T>(result: Result<T, talus::run::RunError>, out: &std::path::Path) -> Result<T, Exit> {
+fn ended<T>(result: Result<T, RunError>, out: &std::path::Path) -> Result<T, Exit> {
     result.map_err(|e| {
         eprintln!("error: {e}");
         // A scene error stops the run before it starts: no summary of it.
-        if !matches!(e, talus::run::RunError::Scene(_)) {
+        if !matches!(e, RunError::Scene(_)) {
             print_summary(out);
         }
         Exit::of_run_error(&e)
@@ -355,7 +364,7 @@ fn verify(
     if let Some(dir) = &figures {
         std::fs::create_dir_all(dir)?;
     }
-    let results = talus::verification::all_cases(quick, figures.as_deref());
+    let results = talus::analysis::verification::all_cases(quick, figures.as_deref());
     let failed = results.iter().filter(|r| !r.passed()).count();
     for r in &results {
         if json {

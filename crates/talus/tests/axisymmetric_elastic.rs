@@ -1,10 +1,10 @@
 //! Elastic axisymmetric checks (`docs/axisymmetry.md`, 'Verification'): Lamé's thick
 //! cylinder and Sneddon's rigid circular punch.
-use talus::verification::{
+use talus::analysis::verification::{
     circular_punch, lame_axisymmetric, lame_errors, punch_stiffness, sneddon_stiffness,
 };
 
-fn report(cases: &[talus::verification::CaseResult]) {
+fn report(cases: &[talus::analysis::verification::CaseResult]) {
     for c in cases {
         println!(
             "{} {}: reference {:.6e}, computed {:.6e}, error {:.2e} (tol {:.1e})",

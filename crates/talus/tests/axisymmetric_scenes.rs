@@ -2,10 +2,12 @@
 //! axisymmetric scenes report whole-circumference forces (`docs/axisymmetry.md`).
 use std::path::Path;
 
-use talus::mpm_run::MpmModel;
-use talus::run::solver_settings;
+use talus::model::fem::ReactionForce;
+use talus::model::fem::{FromScene, Model};
+use talus::model::mpm::MpmModel;
+use talus::run::fem::solver_settings;
 use talus::scene::{MpmScene, Scene};
-use talus::simulation::{Model, StepSettings, Stepper};
+use talus_engine::{StepSettings, Stepper};
 
 fn scene_text(name: &str) -> String {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../scenes/{name}"));
@@ -106,7 +108,7 @@ fn axisymmetric_summary_reports_forces_in_newtons() {
     let out = std::env::temp_dir().join("talus-axisym-summary-unit");
     let _ = std::fs::remove_dir_all(&out);
     let options = talus::run::RunOptions::new(out.clone());
-    let run = talus::run::run_scene(&scene, &options).unwrap();
+    let run = talus::run::fem::run_scene(&scene, &options).unwrap();
     let summary = talus::output::Summary::read(&out.join("summary.json")).unwrap();
     assert_eq!(summary.force_unit, "N");
     let reaction = summary.reaction.as_ref().unwrap();

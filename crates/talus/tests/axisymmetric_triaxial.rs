@@ -1,7 +1,7 @@
 //! Drained triaxial compression (`scenes/triaxial.toml`, axisymmetric): the peak deviator
 //! and the dilatancy ratio match the Drucker-Prager closed forms to 1e-6
 //! (`docs/axisymmetry.md`, 'Triaxial compression'), for two cone fits and θ = 0, θ = φ.
-use talus::verification::{
+use talus::analysis::verification::{
     run_triaxial, triaxial_compression, triaxial_peak_deviator, triaxial_scene,
 };
 

@@ -1,8 +1,9 @@
 //! Bad scenes give a clear error naming the field and the line, never a panic.
-use talus::run::{run_scene, RunOptions};
-use talus::run_loop::HISTORY_COLUMNS;
+use talus::model::fem::{FromScene, Model};
+use talus::run::fem::run_scene;
+use talus::run::RunOptions;
+use talus::run::HISTORY_COLUMNS;
 use talus::scene::{builtin_footing, Scene};
-use talus::simulation::Model;
 
 fn footing_with(from: &str, to: &str) -> String {
     let text = include_str!("../../../scenes/footing.toml");
@@ -144,14 +145,11 @@ fn k0_outside_the_cone_reports_the_admissible_interval() {
         .replacen("k0 = 0.546", "k0 = 0.2929", 1);
     let scene = Scene::parse(&text, None).unwrap();
     let model = Model::from_scene(&scene).unwrap();
-    let (lo, hi) = talus::simulation::k0_bounds_without_cohesion(&model);
+    let (lo, hi) = talus::model::k0_bounds_without_cohesion(&model);
     assert!(lo > 0.2929 && lo < hi, "bounds {lo} {hi}");
-    let err = talus::simulation::initial_stress(
-        &scene,
-        &model,
-        scene.spec.initial_stress.as_ref().unwrap(),
-    )
-    .unwrap_err();
+    let err =
+        talus::model::initial_stress(&scene, &model, scene.spec.initial_stress.as_ref().unwrap())
+            .unwrap_err();
     assert_eq!(err.field, "initial_stress.k0");
     assert!(err.to_string().contains(&format!("{lo:.4} ≤ K₀")), "{err}");
     // Just inside the interval the K0 state is accepted, just outside it is not.
@@ -159,7 +157,7 @@ fn k0_outside_the_cone_reports_the_admissible_interval() {
         let mut spec = *scene.spec.initial_stress.as_ref().unwrap();
         spec.k0 = Some(k0);
         assert_eq!(
-            talus::simulation::initial_stress(&scene, &model, &spec).is_ok(),
+            talus::model::initial_stress(&scene, &model, &spec).is_ok(),
             ok,
             "K0 = {k0}"
         );

@@ -10,9 +10,10 @@
 //! The front is the largest particle x (particle centres), as in `history.csv`.
 use std::path::Path;
 
-use talus::mpm_run::{front, MpmModel, MpmState};
+use talus::model::mpm::MpmModel;
 use talus::scene::MpmScene;
-use talus::simulation::Stepper;
+use talus_engine::Stepper;
+use talus_mpm::{front, MpmState};
 
 fn final_runout(a: &str) -> f64 {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../scenes/column_a{a}.toml"));

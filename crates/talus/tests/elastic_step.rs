@@ -4,7 +4,7 @@
 //!   reduced system');
 //! - the patch test: an affine velocity field is kept exactly and every Gauss point sees the
 //!   uniform strain rate, for P1 and P2 on a graded (irregular) mesh.
-use talus::verification::{elastic_patch_test, elastic_step_identity, CaseResult};
+use talus::analysis::verification::{elastic_patch_test, elastic_step_identity, CaseResult};
 
 fn assert_passes(results: Vec<CaseResult>) {
     assert!(!results.is_empty());

@@ -1,14 +1,15 @@
-//! FEM and MPM go through the one halving code of the engine (`talus::simulation::Stepper`):
+//! FEM and MPM go through the one halving code of the engine (`talus_engine::Stepper`):
 //! in each a step forced to fail at its full length is redone as two halves, and what the
 //! halved step returns equals the two half steps taken one by one from the same state and
 //! predictor, bit for bit (`docs/solver.md`, 'Time stepping').
+#[path = "../../mpm/tests/sand_column/mod.rs"]
 mod sand_column;
 
-use talus::mpm_run::{MpmState, MpmStepper};
-use talus::run::solver_settings;
-use talus::scene::{builtin_footing_with_cells, SolverSpec};
-use talus::simulation::engine::{Discretization, Method, StepSettings, Stepper};
-use talus::simulation::Model;
+use talus::model::fem::{FromScene, Model};
+use talus::run::fem::solver_settings;
+use talus::scene::builtin_footing_with_cells;
+use talus_engine::{Discretization, StepSettings, Stepper};
+use talus_mpm::{MpmState, MpmStepper};
 
 fn bits(v: &[f64]) -> Vec<u64> {
     v.iter().map(|x| x.to_bits()).collect()
@@ -106,12 +107,12 @@ fn fem_footing_halves_through_the_engine() {
 #[test]
 fn mpm_column_halves_through_the_engine() {
     let (mpm, particles) = sand_column::small_column();
-    // The column of `mpm_halving_memory.rs`: its first step from rest takes 42 iterations
+    // The column of `crates/mpm/tests/halving_memory.rs`: its first step from rest takes 42 iterations
     // at h = 1/60 s and 26 at h/2; one halving allowed, no memory.
     let mut settings = StepSettings {
         max_halvings: 1,
         halving_memory: 0,
-        ..StepSettings::from_spec(&SolverSpec::default(), Method::Mpm)
+        ..StepSettings::mpm()
     };
     settings.solver.max_iterations = 34;
     let state = MpmState {

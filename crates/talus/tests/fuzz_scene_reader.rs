@@ -10,11 +10,11 @@ use std::path::{Path, PathBuf};
 
 use proptest::prelude::*;
 use proptest::sample::select;
-use talus::mpm_run::MpmModel;
-use talus::run_results::FemResults;
+use talus::model::fem::{FromScene, Model};
+use talus::model::mpm::MpmModel;
+use talus::model::size::SizeEstimate;
+use talus::run::fem::FemResults;
 use talus::scene::SceneFile;
-use talus::simulation::Model;
-use talus::size::SizeEstimate;
 
 #[path = "../../ssn/tests/common/mutations.rs"]
 mod mutations;
@@ -73,7 +73,7 @@ fn read(bytes: &[u8], path: &Path) -> Result<Outcome, String> {
                 return Ok(Outcome::Skipped(format!("{} points", estimate.points)));
             }
             if scene.spec.stability.is_some() {
-                return match talus::stability::Analysis::new(&scene) {
+                return match talus::analysis::stability::Analysis::new(&scene) {
                     Ok(_) => Ok(Outcome::Read),
                     Err(e) => Ok(Outcome::Refused(e.to_string())),
                 };

@@ -4,9 +4,10 @@
 //! plane-strain closed form at every step, ramp points included.
 use std::path::Path;
 
-use talus::run::solver_settings;
+use talus::model::fem::{FromScene, Model};
+use talus::run::fem::solver_settings;
 use talus::scene::Scene;
-use talus::simulation::{Model, StepSettings, Stepper};
+use talus_engine::{StepSettings, Stepper};
 
 /// Plane-strain Lamé solution (Timoshenko & Goodier, *Theory of Elasticity*, 3rd ed.,
 /// §28): `u = A r + B/r` with `σ_rr = 2(λ+μ) A − 2μ B/r²`; `σ_rr(a) = −p`, `σ_rr(b) = 0`

@@ -2,9 +2,11 @@
 //! prescribed velocities are those of the end of each step, scaled by their ramp; the
 //! reaction of a column under ramped gravity follows the ramp exactly once inertia is
 //! accounted for; bad ramps are refused with the field named.
-use talus::run::solver_settings;
+use talus::model::fem::ReactionForce;
+use talus::model::fem::{FromScene, Model, State};
+use talus::run::fem::solver_settings;
 use talus::scene::Scene;
-use talus::simulation::{Model, Predictor, State, StepSettings, Stepper};
+use talus_engine::{Predictor, StepSettings, Stepper};
 use talus_fem::assembly::add_mul;
 
 const MATERIAL: &str = "[material]
@@ -401,7 +403,8 @@ fn bad_ramps_name_the_field() {
 /// it stops rising starts from the elastic predictor).
 #[test]
 fn shipped_cavity_scene_loads_its_wall_and_runs() {
-    use talus::run::{run_scene, RunOptions};
+    use talus::run::fem::run_scene;
+    use talus::run::RunOptions;
     use talus_fem::Dof;
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cavity_pressure.toml");

@@ -1,7 +1,7 @@
 //! The material-point cases of `talus verify`, solved by `talus-ssn` on a one-point system
 //! (`W = S`, `q = −S σ_trial`): dilatancy ratio `k_d tan θ`, return to the apex
 //! `p = c / tan φ`, associative normality.
-use talus::verification::{apex_return, associative_normality, dilatancy_ratio};
+use talus::analysis::verification::{apex_return, associative_normality, dilatancy_ratio};
 
 #[test]
 fn material_point_cases_reproduce_their_closed_forms() {

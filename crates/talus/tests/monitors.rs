@@ -7,12 +7,13 @@ mod common;
 
 use std::path::PathBuf;
 
-use talus::mpm_run::run_mpm_scene;
-use talus::run::{run_scene, RunError, RunOptions, FEM_COLUMNS};
-use talus::run_loop::HISTORY_COLUMNS;
-use talus::run_results::FemResults;
+use talus::model::fem::{FromScene, Model};
+use talus::run::fem::FemResults;
+use talus::run::fem::{run_scene, FEM_COLUMNS};
+use talus::run::mpm::run_mpm_scene;
+use talus::run::HISTORY_COLUMNS;
+use talus::run::{RunError, RunOptions};
 use talus::scene::{MpmScene, Scene};
-use talus::simulation::Model;
 
 const BLOCK: &str = "[mesh.rectangle]
 x = [0.0, 1.0]

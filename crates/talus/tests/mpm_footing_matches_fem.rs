@@ -5,10 +5,14 @@
 //! included (the criterion at comparable resolution).
 use std::path::Path;
 
-use talus::mpm_run::{MpmModel, MpmState};
-use talus::run::{run_scene, RunOptions};
+use talus::model::fem::ReactionForce;
+use talus::model::mpm::MpmModel;
+use talus::run::fem::run_scene;
+use talus::run::RunOptions;
 use talus::scene::{builtin_footing, MpmScene};
-use talus::simulation::Stepper;
+use talus_engine::Stepper;
+use talus_mpm::GroupForces;
+use talus_mpm::MpmState;
 
 #[test]
 fn mpm_footing_follows_the_fem_footing_within_ten_percent() {

@@ -1,9 +1,11 @@
 //! Load programmes in MPM scenes (`gravity_ramp`, `ramp` on `[[prescribed]]` and
 //! `[[surface_load]]`): each sub-step takes the loads and velocities of its end time
 //! `tₙ₊₁`, scaled by their ramps there; bad ramps are refused with the field named.
-use talus::mpm_run::{MpmModel, MpmState};
+use talus::model::mpm::MpmModel;
 use talus::scene::MpmScene;
-use talus::simulation::Stepper;
+use talus_engine::Stepper;
+use talus_mpm::GroupForces;
+use talus_mpm::MpmState;
 
 const MATERIAL: &str = "[material]
 young_modulus = 1.0e7

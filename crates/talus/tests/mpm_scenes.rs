@@ -3,9 +3,10 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use talus::mpm_run::{run_mpm_scene, MpmModel, Reaction};
+use talus::model::mpm::{MpmModel, Reaction};
+use talus::run::mpm::run_mpm_scene;
 use talus::run::RunOptions;
-use talus::run_loop::HISTORY_COLUMNS;
+use talus::run::HISTORY_COLUMNS;
 use talus::scene::{MpmScene, SceneError, SceneFile};
 
 const SCENES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes");

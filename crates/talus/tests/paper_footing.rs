@@ -1,7 +1,9 @@
 //! The strip footing of Guillet et al. (2024), Fig. 3–4 (`scenes/footing.toml`): every one
 //! of the 300 steps converges to the solver tolerance (1e-12 relative) in at most 6 Newton
 //! iterations (the paper reports at most 5), and the force reaches a plateau.
-use talus::run::{run_scene, RunOptions};
+use talus::model::fem::ReactionForce;
+use talus::run::fem::run_scene;
+use talus::run::RunOptions;
 use talus::scene::builtin_footing;
 
 #[test]

@@ -10,9 +10,11 @@ use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 use std::path::Path;
 use std::time::Instant;
 
-use talus::run::{run_scene, RunOptions};
+use talus::model::fem::ReactionForce;
+use talus::model::fem::{FromScene, Model};
+use talus::run::fem::run_scene;
+use talus::run::RunOptions;
 use talus::scene::{Fix, MeshSpec, Order, Scene, Selection};
-use talus::simulation::Model;
 use talus_bipotential::ConeFit;
 
 /// Relative tolerance on N_c.

@@ -9,9 +9,11 @@
 //! - dynamic with the same h = 1e-4 s, which must differ: inertia is then ~1e-1 of the
 //!   stiffness and the reaction oscillates about the plateau (the witness that the comparison can fail, e.g.
 //!   if the quasi-static run kept the material's mass).
-use talus::run::solver_settings;
+use talus::model::fem::ReactionForce;
+use talus::model::fem::{quasi_static_masses, FromScene, Model};
+use talus::run::fem::solver_settings;
 use talus::scene::{builtin_footing, Scene};
-use talus::simulation::{quasi_static_masses, Model, StepSettings, Stepper};
+use talus_engine::{StepSettings, Stepper};
 
 const STEPS: usize = 200;
 
@@ -70,7 +72,7 @@ fn quasi_static_plateau_equals_dynamic_with_a_large_step() {
     let (quasi_static, ratio) = reactions(&footing(1.0e-4, 0.1, true));
     // The quasi-static masses are inertia_ratio · h² K_jj exactly.
     assert!(
-        (ratio / talus::simulation::DEFAULT_INERTIA_RATIO - 1.0).abs() < 1e-12,
+        (ratio / talus::model::fem::DEFAULT_INERTIA_RATIO - 1.0).abs() < 1e-12,
         "{ratio:e}"
     );
     let (dynamic, small_h_inertia) = reactions(&footing(1.0e-4, 0.1, false));

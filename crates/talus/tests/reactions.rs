@@ -9,9 +9,10 @@
 use std::collections::HashMap;
 use std::path::PathBuf;
 
-use talus::run::{run_scene, RunOptions};
+use talus::model::fem::{FromScene, Model, ReactionGroups};
+use talus::run::fem::run_scene;
+use talus::run::RunOptions;
 use talus::scene::Scene;
-use talus::simulation::{Model, ReactionGroups};
 
 const PRESSURE: f64 = 1.0e5;
 const WIDTH: f64 = 1.0;
@@ -214,7 +215,7 @@ plots = false
 "#;
     let scene = talus::scene::MpmScene::parse(text, None).unwrap();
     let out = out_dir("mpm_corner");
-    talus::mpm_run::run_mpm_scene(&scene, &RunOptions::new(out.clone())).unwrap();
+    talus::run::mpm::run_mpm_scene(&scene, &RunOptions::new(out.clone())).unwrap();
     let row = last_row(&out);
     println!(
         "floor ({:.4e}, {:.4e}), side ({:.4e}, {:.4e})",

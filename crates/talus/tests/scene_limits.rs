@@ -2,9 +2,9 @@
 //! error naming the field, its line and the range that works: arrays of the wrong length,
 //! time steps against the elastic wave time and the prescribed motion, stresses against E,
 //! caps on steps and halvings, MPM bodies smaller than a particle spacing.
-use talus::mpm_run::MpmModel;
+use talus::model::fem::{FromScene, Model};
+use talus::model::mpm::MpmModel;
 use talus::scene::{MpmScene, Scene, SceneError};
-use talus::simulation::Model;
 
 fn with(text: &str, from: &str, to: &str) -> String {
     assert!(text.contains(from), "test setup: `{from}` not in the scene");

@@ -8,9 +8,11 @@
 //!   INSTA_UPDATE=always cargo test --release -p talus --test snapshots
 //! and review the diff of `tests/snapshots/`.
 use serde::Serialize;
-use talus::run::{run_scene, RunOptions};
+use talus::model::fem::ReactionForce;
+use talus::model::fem::{FromScene, Model};
+use talus::run::fem::run_scene;
+use talus::run::RunOptions;
 use talus::scene::Scene;
-use talus::simulation::Model;
 
 const FOOTING: &str = include_str!("../../../scenes/footing.toml");
 

@@ -1,7 +1,7 @@
 //! Factor of safety (`docs/stability.md`): the published cases of `talus verify`, the
 //! bracket, the by-hand check of the criterion, and the errors of `[stability]`.
+use talus::analysis::verification::{slope_cases, vertical_cut_case, CaseResult};
 use talus::scene::Scene;
-use talus::verification::{slope_cases, vertical_cut_case, CaseResult};
 
 fn assert_passed(results: &[CaseResult]) {
     for r in results {
@@ -29,7 +29,7 @@ fn slope_factor_of_safety_bracket_and_by_hand() {
     assert_passed(&cases);
     // The run's files: one history row per trial after the loading's, summary.json's
     // factor_of_safety (also the run's last line), the mechanism.
-    let dir = talus::verification::case_dir("slope");
+    let dir = talus::analysis::verification::case_dir("slope");
     let summary = talus::output::Summary::read(&dir.join("summary.json")).unwrap();
     let fos = summary.factor_of_safety.clone().unwrap();
     assert_eq!(fos.value, Some(cases[0].computed));
@@ -96,10 +96,10 @@ fn error_of(text: &str) -> String {
     };
     let out = std::env::temp_dir().join("talus-stability-errors");
     let options = talus::run::RunOptions::new(out);
-    match talus::stability::Analysis::new(&scene) {
+    match talus::analysis::stability::Analysis::new(&scene) {
         Err(e) => e.to_string(),
         Ok(None) => "no [stability]".into(),
-        Ok(Some(_)) => match talus::run::run_scene(&scene, &options) {
+        Ok(Some(_)) => match talus::run::fem::run_scene(&scene, &options) {
             Err(e) => format!("run_scene: {e}"),
             Ok(_) => "accepted".into(),
         },

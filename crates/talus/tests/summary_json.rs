@@ -6,7 +6,8 @@
 //! run stopped on the elastic branch has no limit; a run whose step fails says so.
 use std::path::{Path, PathBuf};
 
-use talus::run::{run_scene, RunOptions};
+use talus::run::fem::run_scene;
+use talus::run::RunOptions;
 use talus::scene::Scene;
 
 fn out_dir(name: &str) -> PathBuf {

@@ -1,9 +1,11 @@
 //! `[initial_stress] stress = [sxx, syy, sxy, szz]`: the conversion to the Mandel vector
 //! against principal stresses and invariants computed by hand, equilibrium of a uniform
 //! stress with the tractions it implies (no motion), and the refusals naming the field.
-use talus::run::solver_settings;
+use talus::model::fem::{FromScene, Model};
+use talus::model::mandel_from_components;
+use talus::run::fem::solver_settings;
 use talus::scene::{Scene, SceneError};
-use talus::simulation::{mandel_from_components, Model, StepSettings, Stepper};
+use talus_engine::{StepSettings, Stepper};
 
 const STRESS: [f64; 4] = [-120.0e3, -80.0e3, 30.0e3, -90.0e3];
 
@@ -262,7 +264,7 @@ steps = 1
 ";
     let model = |text: &str| {
         let scene = talus::scene::MpmScene::parse(text, None).unwrap();
-        talus::mpm_run::MpmModel::from_scene(&scene).map(|m| m.particles.stress.clone())
+        talus::model::mpm::MpmModel::from_scene(&scene).map(|m| m.particles.stress.clone())
     };
     let stress = model(mpm).expect("uniform stress accepted");
     assert!(stress

@@ -26,7 +26,7 @@ pub struct Results {
 }
 
 /// What [`Results`] recorded so far (its columns come from the scene): saved in a
-/// checkpoint (`crate::checkpoint`).
+/// checkpoint (`crate::run::checkpoint`).
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ResultsProgress {
     last: Vec<[f64; 2]>,

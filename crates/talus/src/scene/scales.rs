@@ -27,7 +27,7 @@ pub const MAX_STEPS: usize = 100_000_000;
 /// up to 2¹⁶ sub-steps.
 pub const MAX_STEP_HALVINGS: usize = 16;
 
-/// The lengths and speeds of a built scene.
+/// The lengths of a built model.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scales {
     /// The smallest cell: element (√(2A) of the smallest triangle) or grid spacing (m).
@@ -37,10 +37,29 @@ pub struct Scales {
     pub max_step_motion: f64,
     /// What `max_step_motion` is, in words.
     pub motion_limit: &'static str,
-    /// The largest prescribed speed, ramps at their largest multiplier (m/s), and its field.
-    pub speed: Option<(String, f64)>,
     /// Whether inertia is physical (dynamic analysis): then `h` is checked against t_w.
     pub dynamic: bool,
+}
+
+/// What a scene imposes, gathered by its method's model for [`check_scales`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Imposed<'a> {
+    pub material: &'a MaterialSpec,
+    pub time: &'a TimeSpec,
+    pub gravity: Option<[f64; 2]>,
+    /// The body's lowest and highest y (m).
+    pub heights: [f64; 2],
+    pub initial_stress: Option<&'a InitialStressSpec>,
+    /// Each load's field and its largest stress over its ramp ([`ramp_max`]) (Pa).
+    pub loads: Vec<(String, f64)>,
+    /// Each prescribed motion's field and its largest speed over its ramp (m/s).
+    pub speeds: Vec<(String, f64)>,
+}
+
+/// The largest |multiplier| of a ramp (1 without one).
+pub fn ramp_max(ramp: &Option<Vec<[f64; 2]>>) -> f64 {
+    ramp.as_ref()
+        .map_or(1.0, |r| r.iter().fold(0.0, |m, p| m.max(p[1].abs())))
 }
 
 /// Steps and halvings within their caps.
@@ -69,7 +88,7 @@ pub fn caps(scene: &impl Locate, time: &TimeSpec, halvings: usize) -> Result<(),
 /// The stresses a scene imposes (Pa), with their fields: cohesion, the weight of the body
 /// (from `bottom` to `top`, m), the initial stress (the K₀ procedure's at `bottom`, whose
 /// `surface` may lie far above the body). The caller adds its loads.
-pub fn material_stresses(
+fn material_stresses(
     m: &MaterialSpec,
     gravity: Option<[f64; 2]>,
     [bottom, top]: [f64; 2],
@@ -110,14 +129,18 @@ pub fn material_stresses(
     s
 }
 
-/// `h` against the wave time and the prescribed motion, the stresses against E.
-pub fn check(
-    scene: &impl Locate,
-    m: &MaterialSpec,
-    time: &TimeSpec,
-    stresses: &[(String, f64)],
-    s: &Scales,
-) -> Result<(), SceneError> {
+/// The scene against its own scales, FEM and MPM alike: `h` against the wave time of the
+/// smallest cell and the fastest prescribed motion, the stresses against E.
+pub fn check_scales(scene: &impl Locate, imposed: &Imposed, s: &Scales) -> Result<(), SceneError> {
+    let (m, time) = (imposed.material, imposed.time);
+    let mut stresses =
+        material_stresses(m, imposed.gravity, imposed.heights, imposed.initial_stress);
+    stresses.extend(imposed.loads.iter().cloned());
+    let speed = imposed
+        .speeds
+        .iter()
+        .filter(|(_, v)| *v > 0.0)
+        .max_by(|a, b| a.1.total_cmp(&b.1));
     let e = m.young_modulus;
     let h = time.step;
     let largest = |cohesion: bool| {
@@ -196,7 +219,7 @@ pub fn check(
             }
         }
     }
-    if let Some((field, v)) = &s.speed {
+    if let Some((field, v)) = speed {
         let motion = h * v;
         if !(motion <= s.max_step_motion) {
             return Err(scene.error(

@@ -42,7 +42,7 @@ impl DilatancyRule {
     }
 }
 
-/// `[stability]` as written; checked by `talus::stability::StabilitySettings`.
+/// `[stability]` as written; checked by `talus::analysis::stability::StabilitySettings`.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct StabilitySpec {

@@ -1,4 +1,6 @@
 use serde::{Deserialize, Serialize};
+
+use super::SolverSpec;
 use talus_bipotential::ConeFit;
 
 /// The whole scene. Optional sections cost nothing when left out: no gravity, no
@@ -258,46 +260,6 @@ pub enum AnalysisKind {
     Dynamic,
     /// The inertia-free limit of eq. 15; time is a load parameter.
     QuasiStatic,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct SolverSpec {
-    pub tolerance: f64,
-    pub max_iterations: usize,
-    /// ρ_i = rho_factor / max diag S_i (`compliance`, the return-mapping scale) or
-    /// rho_factor / max diag W_i (`diagonal`).
-    pub rho_factor: f64,
-    pub rho_scaling: RhoScaling,
-    /// Halvings of h allowed when a step does not converge.
-    pub max_step_halvings: usize,
-    /// Armijo backtracking on ‖F‖² (true) or full Newton steps.
-    pub line_search: bool,
-    /// A solve whose merit has not halved over this many iterations is stopped as stalled
-    /// and its step halved (from iteration 25); 0: never. Default: 10 for FEM, 0 for MPM
-    /// (`talus::run::FEM_STALL_WINDOW`, `docs/solver.md`).
-    pub stall_window: Option<usize>,
-}
-
-impl Default for SolverSpec {
-    fn default() -> Self {
-        Self {
-            tolerance: 1e-12,
-            max_iterations: 50,
-            rho_factor: 0.3,
-            rho_scaling: RhoScaling::Compliance,
-            max_step_halvings: 4,
-            line_search: true,
-            stall_window: None,
-        }
-    }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum RhoScaling {
-    Compliance,
-    Diagonal,
 }
 
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]

@@ -1,0 +1,178 @@
+//! A finite-element model: everything fixed during a run (mesh, operators, material,
+//! loads, prescribed motion). Stepped by talus-engine through its [`Discretization`]
+//! (`crate::reduced_problem`).
+//!
+//! [`Discretization`]: talus_engine::Discretization
+use nalgebra::SMatrix;
+use talus_bipotential::{DruckerPrager, FlowRule};
+use talus_engine::Ramp;
+
+use crate::{Assembly, Mesh};
+
+/// A load that follows a ramp: its nodal forces at multiplier 1 (N/m).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RampedForce {
+    pub ramp: Ramp,
+    pub free: Vec<f64>,
+    pub prescribed: Vec<f64>,
+}
+
+/// The loading of one instant: forces (N/m) and prescribed velocities (m/s).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Loads {
+    pub force_free: Vec<f64>,
+    pub force_prescribed: Vec<f64>,
+    pub prescribed_velocity: Vec<f64>,
+}
+
+/// Everything fixed during a run: mesh, operators, material, loads, prescribed motion.
+pub struct Model {
+    pub mesh: Mesh,
+    pub assembly: Assembly,
+    pub material: DruckerPrager,
+    pub flow_rule: FlowRule<4>,
+    /// Elastic compliance `S₀` (1/Pa, Mandel).
+    pub compliance: SMatrix<f64, 4, 4>,
+    /// External forces without a ramp (gravity, tractions, pressures), N/m, on free and
+    /// prescribed dofs: the whole load of a model without load programmes.
+    pub force_free: Vec<f64>,
+    pub force_prescribed: Vec<f64>,
+    /// Forces following a ramp, at multiplier 1: `f(t) = force + Σ_k ramp_k(t) f_k`.
+    pub ramped_forces: Vec<RampedForce>,
+    /// Velocity of every prescribed dof at multiplier 1 (m/s).
+    pub prescribed_velocity: Vec<f64>,
+    /// The prescribed dofs whose velocity follows a ramp, per ramp.
+    pub velocity_ramps: Vec<(Ramp, Vec<usize>)>,
+    /// Prescribed dofs of the boundary whose reaction is reported, with their component.
+    pub reaction_dofs: Vec<(usize, usize)>,
+    /// Per prescribed dof, the boundary condition whose velocity it follows (a scene's
+    /// `[[boundary]]` index, the last that fixes it), which also owns its reaction.
+    pub dof_owner: Vec<usize>,
+    /// The smallest side of the mesh's bounding box (m): the body's scale for the collapse
+    /// criterion (`docs/scenes.md`, 'Collapse').
+    pub size: f64,
+}
+
+impl Model {
+    /// `material` on `mesh` with the operators of `assembly`, at rest: no load, every
+    /// prescribed velocity 0, no reported boundary. Loads are added with
+    /// [`Model::add_load`], velocities set in [`Model::prescribed_velocity`].
+    pub fn new(mesh: Mesh, assembly: Assembly, material: DruckerPrager) -> Self {
+        let dofs = assembly.dofs();
+        let (n_free, n_prescribed) = (dofs.n_free(), dofs.n_prescribed());
+        let (lo, hi) = bounding_box(&mesh.nodes);
+        Self {
+            size: (hi[0] - lo[0]).min(hi[1] - lo[1]),
+            compliance: material.compliance::<4>(),
+            flow_rule: material.flow_rule::<4>(),
+            material,
+            mesh,
+            assembly,
+            force_free: vec![0.0; n_free],
+            force_prescribed: vec![0.0; n_prescribed],
+            ramped_forces: Vec::new(),
+            prescribed_velocity: vec![0.0; n_prescribed],
+            velocity_ramps: Vec::new(),
+            reaction_dofs: Vec::new(),
+            dof_owner: vec![0; n_prescribed],
+        }
+    }
+
+    pub fn n_points(&self) -> usize {
+        self.assembly.n_points()
+    }
+
+    /// Adds the nodal forces `(free, prescribed)` (N/m, as the [`Assembly`]'s load
+    /// methods return them): to the constant forces without a ramp, else kept apart at
+    /// multiplier 1.
+    pub fn add_load(&mut self, (free, prescribed): (Vec<f64>, Vec<f64>), ramp: Option<Ramp>) {
+        match ramp {
+            None => {
+                add_scaled(&mut self.force_free, 1.0, &free);
+                add_scaled(&mut self.force_prescribed, 1.0, &prescribed);
+            }
+            Some(ramp) => self.ramped_forces.push(RampedForce {
+                ramp,
+                free,
+                prescribed,
+            }),
+        }
+    }
+
+    /// The forces and prescribed velocities at time `t` (s): each ramp's multiplier times
+    /// its load, plus the loads without a ramp. Without ramps, the constant vectors.
+    pub fn loads_at(&self, t: f64) -> Loads {
+        let mut loads = Loads {
+            force_free: self.force_free.clone(),
+            force_prescribed: self.force_prescribed.clone(),
+            prescribed_velocity: self.prescribed_velocity_at(t),
+        };
+        for r in &self.ramped_forces {
+            let f = r.ramp.at(t);
+            add_scaled(&mut loads.force_free, f, &r.free);
+            add_scaled(&mut loads.force_prescribed, f, &r.prescribed);
+        }
+        loads
+    }
+
+    /// The velocity of every prescribed dof at time `t` (m/s).
+    pub fn prescribed_velocity_at(&self, t: f64) -> Vec<f64> {
+        let mut v = self.prescribed_velocity.clone();
+        for (ramp, dofs) in &self.velocity_ramps {
+            let f = ramp.at(t);
+            for &j in dofs {
+                v[j] *= f;
+            }
+        }
+        v
+    }
+
+    /// Whether the loading rate of the step from `t0` to `t1` differs from the last step's,
+    /// so that the last stress rate does not predict this step: a force ramp's slope
+    /// changes at the step's start or inside it, or a velocity ramp changes faster than the
+    /// step resolves (a velocity is continuous across a kink: stress rates follow it).
+    pub fn loading_rate_changes_from(&self, t0: f64, t1: f64) -> bool {
+        self.loading_rate_changes(t0, t1, Ramp::slope_changes_from)
+    }
+
+    /// Whether the loading rate changes inside the step from `t0` to `t1`, so that its
+    /// stress rate will not predict the next step.
+    pub fn loading_rate_changes_inside(&self, t0: f64, t1: f64) -> bool {
+        self.loading_rate_changes(t0, t1, Ramp::slope_changes_inside)
+    }
+
+    /// A force ramp's slope changes by `force_kink`, or a velocity ramp changes within the
+    /// step.
+    fn loading_rate_changes(
+        &self,
+        t0: f64,
+        t1: f64,
+        force_kink: fn(&Ramp, f64, f64) -> bool,
+    ) -> bool {
+        self.ramped_forces
+            .iter()
+            .any(|r| force_kink(&r.ramp, t0, t1))
+            || self
+                .velocity_ramps
+                .iter()
+                .any(|(r, _)| r.changes_within(t0, t1))
+    }
+}
+
+/// The bounding box of `nodes` (m).
+pub fn bounding_box(nodes: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in nodes {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (lo, hi)
+}
+
+fn add_scaled(into: &mut [f64], factor: f64, from: &[f64]) {
+    for (a, b) in into.iter_mut().zip(from) {
+        *a += factor * b;
+    }
+}

@@ -1,0 +1,176 @@
+//! Factor of safety (`[stability]`, `docs/stability.md`): the scene's loading brings the
+//! body to equilibrium, then each trial factor `F` restarts from that state with the
+//! strength divided by `F` (strength reduction) or gravity multiplied by `F` (gravity
+//! increase), stepped by the one engine until the criterion calls it stable or failing;
+//! `F` is bracketed, then bisected to the tolerance.
+pub mod bracket;
+pub mod criterion;
+mod outputs;
+pub mod settings;
+pub mod strength;
+pub mod trial;
+
+use std::time::Instant;
+
+use talus_bipotential::DruckerPragerParameters;
+
+use crate::model::fem::FromScene;
+use crate::model::fem::{Model, State};
+use crate::run::RunError;
+use crate::scene::{Scene, StabilityMethod};
+use talus_engine::{StepSettings, Stepper};
+
+pub use bracket::{Bracket, Next, Outcome};
+pub use criterion::{Criterion, Verdict};
+pub use outputs::run;
+pub use settings::StabilitySettings;
+pub use strength::{davis_beta, plane_strain_match, Strength};
+pub use trial::Trial;
+
+/// The loading phase: the scene's own steps from its initial state.
+#[derive(Debug, Clone)]
+pub struct Equilibrium {
+    pub state: State,
+    pub steps: usize,
+    pub newton_iterations: usize,
+    pub seconds: f64,
+    /// The criterion's measure over the last loading step (m).
+    pub last_increment: f64,
+}
+
+/// A scene set up for trials: the model (its material or gravity changed per trial), the
+/// scene's material and gravity at factor 1, the stepping settings and the criterion.
+pub struct Analysis {
+    pub model: Model,
+    pub settings: StabilitySettings,
+    pub criterion: Criterion,
+    step_settings: StepSettings,
+    h: f64,
+    steps: usize,
+    scene_material: DruckerPragerParameters,
+    /// The forces at factor 1 (gravity increase adds `(F − 1)` times the weight).
+    force_free: Vec<f64>,
+    force_prescribed: Vec<f64>,
+    /// The weight at the end of the loading (N/m), free and prescribed dofs.
+    weight: Option<(Vec<f64>, Vec<f64>)>,
+}
+
+impl Analysis {
+    /// `None` for a scene without `[stability]`.
+    pub fn new(scene: &Scene) -> Result<Option<Self>, RunError> {
+        let model = Model::from_scene(scene)?;
+        let Some(settings) = StabilitySettings::of(scene, &model)? else {
+            return Ok(None);
+        };
+        let spec = &scene.spec;
+        let (h, steps) = (spec.time.step, spec.time.steps);
+        let end = h * steps as f64;
+        let weight = match (settings.method, spec.gravity) {
+            (StabilityMethod::GravityIncrease, Some(g)) => {
+                let density = spec.material.density.unwrap_or(0.0);
+                let (free, prescribed) = model
+                    .assembly
+                    .body_force(density, g)
+                    .map_err(|e| scene.error("gravity", e.to_string()))?;
+                let ramp = crate::scene::check::ramp(scene, "gravity_ramp", &spec.gravity_ramp)?;
+                let f = ramp.map_or(1.0, |r| r.at(end));
+                Some((
+                    free.iter().map(|v| f * v).collect(),
+                    prescribed.iter().map(|v| f * v).collect(),
+                ))
+            }
+            _ => None,
+        };
+        let criterion =
+            Criterion::new(settings.monitor.as_ref().map(|m| m.0), settings.trial_steps);
+        let mut analysis = Self {
+            step_settings: spec.solver.fem(),
+            h,
+            steps,
+            scene_material: *model.material.parameters(),
+            force_free: model.force_free.clone(),
+            force_prescribed: model.force_prescribed.clone(),
+            weight,
+            criterion,
+            settings,
+            model,
+        };
+        // The loading phase runs with the material of F = 1 (for strength reduction, the
+        // matched cone of `strength::drucker_prager`).
+        analysis
+            .set_factor(1.0)
+            .map_err(|e| scene.error("material", e))?;
+        Ok(Some(analysis))
+    }
+
+    /// Sets the model to factor `f`.
+    pub fn set_factor(&mut self, f: f64) -> Result<(), String> {
+        match self.settings.method {
+            StabilityMethod::StrengthReduction => {
+                let reduced =
+                    Strength::of(&self.scene_material).reduced(f, self.settings.dilatancy);
+                let material = strength::drucker_prager(&self.scene_material, &reduced)
+                    .map_err(|e| format!("the strength reduced by F = {f}: {e}"))?;
+                self.model.flow_rule = material.flow_rule::<4>();
+                self.model.material = material;
+            }
+            StabilityMethod::GravityIncrease => {
+                let (free, prescribed) = self.weight.as_ref().ok_or("no gravity")?;
+                for (k, v) in self.model.force_free.iter_mut().enumerate() {
+                    *v = self.force_free[k] + (f - 1.0) * free[k];
+                }
+                for (k, v) in self.model.force_prescribed.iter_mut().enumerate() {
+                    *v = self.force_prescribed[k] + (f - 1.0) * prescribed[k];
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The scene's loading, `time.steps` steps of `time.step` from its initial state, with
+    /// the material of F = 1.
+    pub fn equilibrium(&mut self, scene: &Scene) -> Result<Equilibrium, RunError> {
+        let start = Instant::now();
+        self.set_factor(1.0)
+            .map_err(|e| scene.error("material", e))?;
+        let mut state = self.model.initial_state(scene)?;
+        let mut stepper = Stepper::new(&self.model, self.step_settings);
+        let mut newton_iterations = 0;
+        let mut last_increment = 0.0;
+        for step in 1..=self.steps {
+            let before = state.displacement.clone();
+            let report = stepper
+                .advance(&mut state, self.h)
+                .map_err(|source| RunError::Step { step, source })?;
+            newton_iterations += report.total_newton_iterations();
+            let du: Vec<[f64; 2]> = state
+                .displacement
+                .iter()
+                .zip(&before)
+                .map(|(a, b)| [a[0] - b[0], a[1] - b[1]])
+                .collect();
+            last_increment = self.criterion.measure(&du);
+        }
+        self.criterion.set_scale(&state.displacement);
+        Ok(Equilibrium {
+            state,
+            steps: self.steps,
+            newton_iterations,
+            seconds: start.elapsed().as_secs_f64(),
+            last_increment,
+        })
+    }
+
+    /// One trial at factor `f` from `equilibrium`.
+    pub fn trial(&mut self, f: f64, equilibrium: &State) -> Result<Trial, String> {
+        self.set_factor(f)?;
+        Ok(trial::run_trial(
+            &self.model,
+            self.step_settings,
+            equilibrium,
+            f,
+            self.h,
+            &self.criterion,
+        ))
+    }
+}

@@ -1,0 +1,196 @@
+//! `[stability]` checked against the scene: every error names the field and its value.
+use crate::model::fem::{Model, NodeMonitors};
+use crate::scene::{AnalysisKind, DilatancyRule, Scene, SceneError, StabilityMethod};
+
+/// `tolerance` when the scene gives none: the bracket's relative width.
+pub const DEFAULT_TOLERANCE: f64 = 0.005;
+/// `max_trials` when the scene gives none: enough for a bracket from F = 1 to 32 and its
+/// bisection to 1e-3 (5 + 15 trials) twice over.
+pub const DEFAULT_MAX_TRIALS: usize = 40;
+/// `trial_steps` when the scene gives none (`docs/stability.md`, 'Failure criterion').
+pub const DEFAULT_TRIAL_STEPS: usize = 12;
+
+/// A validated `[stability]`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StabilitySettings {
+    pub method: StabilityMethod,
+    pub tolerance: f64,
+    pub dilatancy: DilatancyRule,
+    pub bracket: Option<[f64; 2]>,
+    pub first_guess: f64,
+    /// The monitored node and its monitor's name; `None`: the whole body.
+    pub monitor: Option<(usize, String)>,
+    pub max_trials: usize,
+    pub trial_steps: usize,
+}
+
+impl StabilitySettings {
+    /// `None` for a scene without `[stability]`.
+    pub fn of(scene: &Scene, model: &Model) -> Result<Option<Self>, SceneError> {
+        let Some(spec) = &scene.spec.stability else {
+            return Ok(None);
+        };
+        let tolerance = spec.tolerance.unwrap_or(DEFAULT_TOLERANCE);
+        if !(tolerance.is_finite() && tolerance > 0.0 && tolerance < 1.0) {
+            return Err(scene.error(
+                "stability.tolerance",
+                format!("{tolerance} must be finite and in (0, 1): the bracket's relative width"),
+            ));
+        }
+        let dilatancy = match (spec.method, spec.dilatancy) {
+            (StabilityMethod::GravityIncrease, Some(d)) => {
+                return Err(scene.error(
+                    "stability.dilatancy",
+                    format!(
+                        "\"{}\" applies to method = \"strength_reduction\" only",
+                        d.name()
+                    ),
+                ))
+            }
+            (_, d) => d.unwrap_or(DilatancyRule::Scaled),
+        };
+        if spec.method == StabilityMethod::GravityIncrease && scene.spec.gravity.is_none() {
+            return Err(scene.error(
+                "stability.method",
+                "\"gravity_increase\" multiplies `gravity`, which is not given",
+            ));
+        }
+        if let Some([lo, hi]) = spec.bracket {
+            if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && hi > lo) {
+                return Err(scene.error(
+                    "stability.bracket",
+                    format!("[{lo}, {hi}] must be finite with 0 < lo < hi"),
+                ));
+            }
+            if spec.first_guess.is_some() {
+                return Err(scene.error(
+                    "stability.first_guess",
+                    "give either `bracket` or `first_guess`, not both",
+                ));
+            }
+        }
+        let first_guess = spec.first_guess.unwrap_or(1.0);
+        if !(first_guess.is_finite() && first_guess > 0.0) {
+            return Err(scene.error(
+                "stability.first_guess",
+                format!("{first_guess} must be finite and > 0"),
+            ));
+        }
+        let max_trials = spec.max_trials.unwrap_or(DEFAULT_MAX_TRIALS);
+        if max_trials < 2 {
+            return Err(scene.error(
+                "stability.max_trials",
+                format!("{max_trials} must be at least 2 (one stable, one failing trial)"),
+            ));
+        }
+        let trial_steps = spec.trial_steps.unwrap_or(DEFAULT_TRIAL_STEPS);
+        if trial_steps < super::criterion::MIN_STEPS {
+            return Err(scene.error(
+                "stability.trial_steps",
+                format!(
+                    "{trial_steps} must be at least {} (the criterion compares steps)",
+                    super::criterion::MIN_STEPS
+                ),
+            ));
+        }
+        let monitor = match &spec.monitor {
+            None => None,
+            Some(name) => {
+                let monitors = NodeMonitors::new(scene, model)?;
+                let k = monitors
+                    .names
+                    .iter()
+                    .position(|(_, n)| n == name)
+                    .ok_or_else(|| {
+                        let known: Vec<&str> =
+                            monitors.names.iter().map(|(_, n)| n.as_str()).collect();
+                        scene.error(
+                            "stability.monitor",
+                            format!(
+                                "\"{name}\" names no [[monitor]] (the scene has: {})",
+                                if known.is_empty() {
+                                    "none".into()
+                                } else {
+                                    known.join(", ")
+                                }
+                            ),
+                        )
+                    })?;
+                Some((monitors.nodes[k], name.clone()))
+            }
+        };
+        check_loading_settles(scene, model)?;
+        Ok(Some(Self {
+            method: spec.method,
+            tolerance,
+            dilatancy,
+            bracket: spec.bracket,
+            first_guess,
+            monitor,
+            max_trials,
+            trial_steps,
+        }))
+    }
+}
+
+/// The trials start from the state the scene's loading reached and hold that loading: it
+/// must be quasi-static, every ramp must have ended by the last step, and no boundary may
+/// still move.
+fn check_loading_settles(scene: &Scene, model: &Model) -> Result<(), SceneError> {
+    let spec = &scene.spec;
+    if spec.analysis.kind != AnalysisKind::QuasiStatic {
+        return Err(scene.error(
+            "analysis.kind",
+            "[stability] needs kind = \"quasi_static\": each trial is judged by how its \
+             displacement increments grow, which inertia would blur",
+        ));
+    }
+    let end = spec.time.step * spec.time.steps as f64;
+    let mut ramps: Vec<(String, &Option<Vec<[f64; 2]>>)> =
+        vec![("gravity_ramp".into(), &spec.gravity_ramp)];
+    ramps.extend(
+        spec.boundary
+            .iter()
+            .enumerate()
+            .map(|(k, b)| (format!("boundary[{k}].ramp"), &b.ramp)),
+    );
+    ramps.extend(
+        spec.traction
+            .iter()
+            .enumerate()
+            .map(|(k, t)| (format!("traction[{k}].ramp"), &t.ramp)),
+    );
+    ramps.extend(
+        spec.pressure
+            .iter()
+            .enumerate()
+            .map(|(k, p)| (format!("pressure[{k}].ramp"), &p.ramp)),
+    );
+    for (field, ramp) in ramps {
+        if let Some(last) = ramp.as_ref().and_then(|r| r.last()) {
+            if last[0] > end * (1.0 + 1e-12) {
+                return Err(scene.error(
+                    &field,
+                    format!(
+                        "ends at t = {} s, after the loading's last step (t = {end} s): \
+                         [stability] holds the loading of the last step",
+                        last[0]
+                    ),
+                ));
+            }
+        }
+    }
+    let v = model.prescribed_velocity_at(end);
+    if let Some(j) = v.iter().position(|v| *v != 0.0) {
+        let k = model.dof_owner[j];
+        return Err(scene.error(
+            &format!("boundary[{k}].velocity"),
+            format!(
+                "{:?} m/s still moves at the end of the loading (t = {end} s): [stability] \
+                 needs the body at rest under a held load",
+                scene.spec.boundary[k].velocity
+            ),
+        ));
+    }
+    Ok(())
+}

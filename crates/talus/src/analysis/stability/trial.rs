@@ -1,0 +1,101 @@
+//! One trial factor `F`: the model with the strength divided (or gravity multiplied) by `F`,
+//! stepped by the engine from the equilibrium state until the criterion decides.
+use std::time::Instant;
+
+use crate::model::fem::{Model, State};
+use talus_engine::{StepSettings, Stepper};
+
+use super::criterion::{Criterion, Verdict};
+
+/// What one trial did.
+#[derive(Debug, Clone)]
+pub struct Trial {
+    pub factor: f64,
+    pub verdict: Verdict,
+    /// The criterion's measure per completed step: the displacement increment (m).
+    pub increments: Vec<f64>,
+    /// Newton iterations, failed attempts included.
+    pub newton_iterations: usize,
+    pub seconds: f64,
+    /// The step that did not converge even after its halvings, and why.
+    pub error: Option<String>,
+    /// The displacement increment of the last completed step at every node (m).
+    pub last_increment: Vec<[f64; 2]>,
+    /// Accumulated plastic strain increment of the trial per Gauss point.
+    pub plastic_increment: Vec<f64>,
+    /// The stress at the trial's end (Mandel, per Gauss point, flat; Pa).
+    pub stress: Vec<f64>,
+}
+
+impl Trial {
+    pub fn steps(&self) -> usize {
+        self.increments.len()
+    }
+
+    pub fn fails(&self) -> bool {
+        self.verdict.fails()
+    }
+
+    /// The last step's increment over the one before (the criterion's growth), if two.
+    pub fn growth(&self) -> Option<f64> {
+        let n = self.increments.len();
+        (n >= 2).then(|| self.increments[n - 1] / self.increments[n - 2])
+    }
+}
+
+/// Steps `model` (already set to the trial's factor) from `equilibrium` by `h` until
+/// `criterion` decides, at most `max_steps` steps.
+pub fn run_trial(
+    model: &Model,
+    settings: StepSettings,
+    equilibrium: &State,
+    factor: f64,
+    h: f64,
+    criterion: &Criterion,
+) -> Trial {
+    let start = Instant::now();
+    let mut stepper = Stepper::new(model, settings);
+    let mut state = equilibrium.clone();
+    let mut increments = Vec::new();
+    let mut last_increment = vec![[0.0; 2]; state.displacement.len()];
+    let mut newton_iterations = 0;
+    let mut error = None;
+    let verdict = loop {
+        let before = state.displacement.clone();
+        match stepper.advance(&mut state, h) {
+            Ok(report) => newton_iterations += report.total_newton_iterations(),
+            Err(e) => {
+                error = Some(format!("step {}: {e}", increments.len() + 1));
+                break criterion.after_failed_step(&increments);
+            }
+        }
+        for ((d, a), b) in last_increment
+            .iter_mut()
+            .zip(&state.displacement)
+            .zip(&before)
+        {
+            *d = [a[0] - b[0], a[1] - b[1]];
+        }
+        increments.push(criterion.measure(&last_increment));
+        if let Some(v) = criterion.judge(&increments) {
+            break v;
+        }
+    };
+    let plastic_increment = state
+        .plastic_strain
+        .iter()
+        .zip(&equilibrium.plastic_strain)
+        .map(|(a, b)| a - b)
+        .collect();
+    Trial {
+        factor,
+        verdict,
+        increments,
+        newton_iterations,
+        seconds: start.elapsed().as_secs_f64(),
+        error,
+        last_increment,
+        plastic_increment,
+        stress: state.sigma,
+    }
+}

@@ -1,0 +1,6 @@
+//! The `talus` binary's own concerns: its exit codes, its SIGINT/SIGTERM handler (which
+//! reaches a run through `RunOptions::observer`, `talus::run::stop_when`), and the
+//! `reduced` subcommand.
+pub mod exit;
+pub mod interrupt;
+pub mod reduced;

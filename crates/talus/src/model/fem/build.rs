@@ -1,0 +1,407 @@
+//! A finite-element [`Model`] from a scene: the mesh, its boundary conditions and loads,
+//! the material, checked field by field against the scene's own scales.
+use talus_fem::{
+    Assembly, BoundaryEdge, Constraint, DofMap, ElementOrder, FemError, Geometry, Mesh, Model,
+    State,
+};
+
+use crate::scene::{
+    check, scales, scales::ramp_max, AnalysisKind, Fix, MeshSpec, Order, Ramp, Scene, SceneError,
+    Selection,
+};
+
+/// A [`Model`] built from a scene, and the state a run of it starts from.
+pub trait FromScene: Sized {
+    fn from_scene(scene: &Scene) -> Result<Self, SceneError>;
+    /// The state at the start of a run: at rest, with the scene's initial stress (K₀
+    /// procedure or uniform) or stress free.
+    fn initial_state(&self, scene: &Scene) -> Result<State, SceneError>;
+}
+
+impl FromScene for Model {
+    fn from_scene(scene: &Scene) -> Result<Self, SceneError> {
+        let spec = &scene.spec;
+        let mesh = build_mesh(scene)?;
+        let m = &spec.material;
+        let material = check::material(scene, m)?;
+        check::time(scene, &spec.time)?;
+        check::solver(scene, &spec.solver)?;
+        check_scales(scene, &mesh)?;
+
+        // Axisymmetric: the axis nodes' radial velocity is 0, first, so that a
+        // `[[boundary]]` naming them later owns them (and their reaction).
+        let geometry = spec.analysis.geometry.fem();
+        geometry
+            .check_mesh(&mesh)
+            .map_err(|e| scene.error("analysis.geometry", e.to_string()))?;
+        let axis = geometry.axis_nodes(&mesh);
+        let mut constraints = Vec::new();
+        if !axis.is_empty() {
+            constraints.push((axis.clone(), Constraint::FixX));
+        }
+        let axis_constraints = constraints.len();
+        let mut boundary_ramps = Vec::new();
+        for (k, b) in spec.boundary.iter().enumerate() {
+            let nodes = select_nodes(scene, &mesh, &b.nodes, &format!("boundary[{k}].nodes"))?;
+            let c = match b.fix {
+                Fix::X => Constraint::FixX,
+                Fix::Y => Constraint::FixY,
+                Fix::Xy => Constraint::Fixed,
+            };
+            if !b.velocity.iter().all(|v| v.is_finite()) {
+                return Err(scene.error(&format!("boundary[{k}].velocity"), "must be finite"));
+            }
+            // The axis r = 0 cannot move radially (docs/axisymmetry.md): a radial velocity
+            // there would tear the body open along its axis.
+            let radial = matches!(b.fix, Fix::X | Fix::Xy) && b.velocity[0] != 0.0;
+            if let Some(&n) = nodes.iter().find(|n| radial && axis.contains(n)) {
+                return Err(scene.error(
+                    &format!("boundary[{k}].velocity"),
+                    format!(
+                        "[{:e}, {:e}] m/s moves node {n} on the axis r = 0 radially; the \
+                         axis has no radial velocity: use velocity = [0, {:e}] or leave the \
+                         axis out of the set",
+                        b.velocity[0], b.velocity[1], b.velocity[1]
+                    ),
+                ));
+            }
+            boundary_ramps.push(check::ramp(scene, &format!("boundary[{k}].ramp"), &b.ramp)?);
+            constraints.push((nodes, c));
+        }
+        let dofs = DofMap::new(mesh.nodes.len(), &constraints)
+            .map_err(|e| scene.error("boundary", e.to_string()))?;
+        if dofs.n_free() == 0 {
+            return Err(scene.error("boundary", "every degree of freedom is prescribed"));
+        }
+        let density = required_density(scene)?;
+        let assembly = Assembly::with_geometry(&mesh, &dofs, density, geometry).map_err(|e| {
+            let field = match &e {
+                FemError::InvalidInput {
+                    field: "density", ..
+                } => "material.density",
+                _ if geometry == Geometry::Axisymmetric => "analysis.geometry",
+                _ => "material.density",
+            };
+            scene.error(field, e.to_string())
+        })?;
+
+        // Prescribed velocities: later conditions win where sets overlap.
+        let mut prescribed_velocity = vec![0.0; dofs.n_prescribed()];
+        // A dof no `[[boundary]]` fixes (the axis) belongs to no condition: index
+        // `boundary.len()`, which names no reaction group and follows no ramp.
+        let mut owner = vec![spec.boundary.len(); dofs.n_prescribed()];
+        let mut reaction_dofs = Vec::new();
+        let boundary_constraints = &constraints[axis_constraints..];
+        for (k, (b, (nodes, _))) in spec.boundary.iter().zip(boundary_constraints).enumerate() {
+            let is_reaction = b.name.is_some() && b.name == spec.output.reaction;
+            for &n in nodes {
+                for comp in 0..2 {
+                    let fixed = matches!((b.fix, comp), (Fix::Xy, _) | (Fix::X, 0) | (Fix::Y, 1));
+                    if let (true, Some(j)) = (fixed, dofs.prescribed(n, comp)) {
+                        prescribed_velocity[j] = b.velocity[comp];
+                        owner[j] = k;
+                        if is_reaction && !reaction_dofs.contains(&(j, comp)) {
+                            reaction_dofs.push((j, comp));
+                        }
+                    }
+                }
+            }
+        }
+        // A dof follows the ramp of the condition that set its velocity.
+        let velocity_ramps: Vec<(Ramp, Vec<usize>)> = boundary_ramps
+            .into_iter()
+            .enumerate()
+            .filter_map(|(k, ramp)| {
+                let dofs: Vec<usize> = (0..owner.len()).filter(|&j| owner[j] == k).collect();
+                ramp.filter(|_| !dofs.is_empty()).map(|r| (r, dofs))
+            })
+            .collect();
+        if let Some(name) = &spec.output.reaction {
+            if reaction_dofs.is_empty() {
+                return Err(scene.error(
+                    "output.reaction",
+                    format!("no boundary named `{name}` with fixed components"),
+                ));
+            }
+        }
+
+        // Added to the model in the order of the scene: a load without a ramp into the
+        // constant forces, a ramped one kept apart at multiplier 1 (`Model::add_load`).
+        let mut loads = Vec::new();
+        let mut add_load = |forces: (Vec<f64>, Vec<f64>), ramp: Option<Ramp>| {
+            loads.push((forces, ramp));
+        };
+        let gravity_ramp = check::ramp(scene, "gravity_ramp", &spec.gravity_ramp)?;
+        match spec.gravity {
+            Some(g) => add_load(
+                assembly
+                    .body_force(density, g)
+                    .map_err(|e| scene.error("gravity", e.to_string()))?,
+                gravity_ramp,
+            ),
+            None if gravity_ramp.is_some() => {
+                return Err(scene.error("gravity_ramp", "multiplies `gravity`, which is not given"))
+            }
+            None => {}
+        }
+        for (k, t) in spec.traction.iter().enumerate() {
+            let field = format!("traction[{k}].edges");
+            let edges = select_edges(scene, &mesh, &t.edges, &field)?;
+            let ramp = check::ramp(scene, &format!("traction[{k}].ramp"), &t.ramp)?;
+            add_load(
+                assembly
+                    .traction(&mesh, &edges, t.value)
+                    .map_err(|e| scene.error(&format!("traction[{k}].value"), e.to_string()))?,
+                ramp,
+            );
+        }
+        for (k, p) in spec.pressure.iter().enumerate() {
+            let field = format!("pressure[{k}].edges");
+            let edges = select_edges(scene, &mesh, &p.edges, &field)?;
+            let ramp = check::ramp(scene, &format!("pressure[{k}].ramp"), &p.ramp)?;
+            if !p.value.is_finite() {
+                return Err(scene.error(
+                    &format!("pressure[{k}].value"),
+                    format!("{} Pa must be finite", p.value),
+                ));
+            }
+            add_load(
+                assembly
+                    .pressure(&mesh, &edges, p.value)
+                    .map_err(|e| scene.error(&field, e.to_string()))?,
+                ramp,
+            );
+        }
+        let mut model = Model::new(mesh, assembly, material);
+        for (forces, ramp) in loads {
+            model.add_load(forces, ramp);
+        }
+        super::quasi_static::scale_masses(scene, &mut model.assembly, &model.compliance)?;
+        model.prescribed_velocity = prescribed_velocity;
+        model.velocity_ramps = velocity_ramps;
+        model.reaction_dofs = reaction_dofs;
+        model.dof_owner = owner;
+        Ok(model)
+    }
+
+    fn initial_state(&self, scene: &Scene) -> Result<State, SceneError> {
+        let dofs = self.assembly.dofs();
+        let mut state = State::at_rest(
+            self.n_points(),
+            dofs.n_free(),
+            dofs.n_prescribed(),
+            self.mesh.nodes.len(),
+        );
+        if let Some(initial) = &scene.spec.initial_stress {
+            state.sigma = crate::model::initial_stress(scene, self, initial)?;
+        }
+        Ok(state)
+    }
+}
+
+/// The density (kg/m³) the assembly takes: the scene's, required by a dynamic analysis (the
+/// mass) and by gravity (the weight); a weightless quasi-static scene may leave it out (its
+/// masses are scaled from the stiffness, `super::quasi_static`).
+fn required_density(scene: &Scene) -> Result<f64, SceneError> {
+    let spec = &scene.spec;
+    match spec.material.density {
+        Some(d) => Ok(d),
+        None if spec.gravity.is_some() => Err(scene.error(
+            "material.density",
+            "is required with `gravity` (the weight of the ground)",
+        )),
+        None if spec.analysis.kind == AnalysisKind::Dynamic => Err(scene.error(
+            "material.density",
+            "is required by a dynamic analysis (the mass); a quasi-static one \
+             ([analysis] kind = \"quasi_static\") without gravity does not need it",
+        )),
+        None => Ok(1.0),
+    }
+}
+
+/// The scene against its own scales (`scene::scales`): caps, `h` against the wave time of
+/// the smallest element and the boundaries' motion, the stresses against E.
+fn check_scales(scene: &Scene, mesh: &Mesh) -> Result<(), SceneError> {
+    let spec = &scene.spec;
+    scales::caps(scene, &spec.time, spec.solver.max_step_halvings)?;
+    let (lo, hi) = talus_fem::bounding_box(&mesh.nodes);
+    let cell = mesh
+        .triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = [mesh.nodes[t[0]], mesh.nodes[t[1]], mesh.nodes[t[2]]];
+            ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]))
+                .abs()
+                .sqrt()
+        })
+        .fold(f64::INFINITY, f64::min);
+    let tractions = spec.traction.iter().enumerate().map(|(k, t)| {
+        let v = t.value[0].hypot(t.value[1]) * ramp_max(&t.ramp);
+        (format!("traction[{k}].value"), v)
+    });
+    let pressures = spec.pressure.iter().enumerate().map(|(k, p)| {
+        let v = p.value.abs() * ramp_max(&p.ramp);
+        (format!("pressure[{k}].value"), v)
+    });
+    let speeds = spec.boundary.iter().enumerate().map(|(k, b)| {
+        let v = b.velocity[0].hypot(b.velocity[1]) * ramp_max(&b.ramp);
+        (format!("boundary[{k}].velocity"), v)
+    });
+    let imposed = scales::Imposed {
+        material: &spec.material,
+        time: &spec.time,
+        gravity: spec.gravity,
+        heights: [lo[1], hi[1]],
+        initial_stress: spec.initial_stress.as_ref(),
+        loads: tractions.chain(pressures).collect(),
+        speeds: speeds.collect(),
+    };
+    let body = scales::Scales {
+        cell,
+        max_step_motion: (hi[0] - lo[0]).min(hi[1] - lo[1]),
+        motion_limit: "the body's smallest side",
+        dynamic: spec.analysis.kind == AnalysisKind::Dynamic,
+    };
+    scales::check_scales(scene, &imposed, &body)
+}
+
+fn build_mesh(scene: &Scene) -> Result<Mesh, SceneError> {
+    match &scene.spec.mesh {
+        MeshSpec::Rectangle {
+            x,
+            y,
+            cells,
+            order,
+            focus,
+            ratio,
+        } => {
+            // Before any coordinate is allocated: `[4294967295, 0]` has no Gauss point, so
+            // the size estimate lets it through, yet its x coordinates alone take 34 GB.
+            if cells.contains(&0) {
+                return Err(scene.error(
+                    "mesh.rectangle.cells",
+                    format!("{cells:?}: the number of cells must be ≥ 1 in x and in y"),
+                ));
+            }
+            let focus = focus.unwrap_or([x[0], y[0]]);
+            let xs = talus_fem::graded_coordinates(x[0], x[1], cells[0], focus[0], ratio[0])
+                .map_err(|e| scene.error("mesh.rectangle.x", e.to_string()))?;
+            let ys = talus_fem::graded_coordinates(y[0], y[1], cells[1], focus[1], ratio[1])
+                .map_err(|e| scene.error("mesh.rectangle.y", e.to_string()))?;
+            let order = match order {
+                Order::P1 => ElementOrder::P1,
+                Order::P2 => ElementOrder::P2,
+            };
+            Mesh::rectangle(&xs, &ys, order)
+                .map_err(|e| scene.error("mesh.rectangle", e.to_string()))
+        }
+        MeshSpec::Gmsh { path } => {
+            // The .msh file named as well as the scene's line: the error is in it.
+            let file = scene.resolve(path);
+            Mesh::from_msh(&file)
+                .map_err(|e| scene.error("mesh.gmsh.path", format!("{}: {e}", file.display())))
+        }
+    }
+}
+
+fn select_nodes(
+    scene: &Scene,
+    mesh: &Mesh,
+    sel: &Selection,
+    field: &str,
+) -> Result<Vec<usize>, SceneError> {
+    let nodes = match sel {
+        Selection::Named(name) => mesh.node_sets.get(name).cloned().ok_or_else(|| {
+            scene.error(
+                field,
+                format!(
+                    "no node set named `{name}` (the mesh has: {})",
+                    names(mesh.node_sets.keys())
+                ),
+            )
+        })?,
+        Selection::Box { corners } => mesh
+            .nodes_in_box(corners[0], corners[1])
+            .map_err(|e| scene.error(field, e.to_string()))?,
+    };
+    if nodes.is_empty() {
+        return Err(scene.error(field, "selects no node"));
+    }
+    Ok(nodes)
+}
+
+fn select_edges(
+    scene: &Scene,
+    mesh: &Mesh,
+    sel: &Selection,
+    field: &str,
+) -> Result<Vec<BoundaryEdge>, SceneError> {
+    let edges = match sel {
+        Selection::Named(name) => mesh.edge_sets.get(name).cloned().ok_or_else(|| {
+            scene.error(
+                field,
+                format!(
+                    "no edge set named `{name}` (the mesh has: {})",
+                    names(mesh.edge_sets.keys())
+                ),
+            )
+        })?,
+        Selection::Box { corners } => {
+            check_box_does_not_cut_edges(scene, mesh, corners, field)?;
+            mesh.boundary_edges_in_box(corners[0], corners[1])
+                .map_err(|e| scene.error(field, e.to_string()))?
+        }
+    };
+    if edges.is_empty() {
+        return Err(scene.error(field, "selects no boundary edge"));
+    }
+    Ok(edges)
+}
+
+/// A traction box whose side falls inside a boundary edge loads part of the surface with no
+/// edge to carry it: an error, naming the edge, rather than a silently wrong load.
+fn check_box_does_not_cut_edges(
+    scene: &Scene,
+    mesh: &Mesh,
+    corners: &[[f64; 2]; 2],
+    field: &str,
+) -> Result<(), SceneError> {
+    let (lo, hi) = (corners[0], corners[1]);
+    let size = mesh
+        .nodes
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()))
+        .max(1.0);
+    let tol = 1e-9 * size;
+    let inside = |p: [f64; 2]| (0..2).all(|k| p[k] >= lo[k] - tol && p[k] <= hi[k] + tol);
+    let strictly = |p: [f64; 2]| {
+        (0..2).all(|k| p[k] > lo[k] + tol && p[k] < hi[k] - tol) || {
+            // On a degenerate (flat) box, "strictly" means strictly between its ends.
+            let flat: Vec<usize> = (0..2).filter(|&k| hi[k] - lo[k] <= 2.0 * tol).collect();
+            !flat.is_empty()
+                && (0..2)
+                    .filter(|k| !flat.contains(k))
+                    .all(|k| p[k] > lo[k] + tol && p[k] < hi[k] - tol)
+                && inside(p)
+        }
+    };
+    for edge in mesh.boundary_edges() {
+        let pts: Vec<[f64; 2]> = edge.nodes.iter().map(|&n| mesh.nodes[n]).collect();
+        let n_in = pts.iter().filter(|p| inside(**p)).count();
+        if n_in > 0 && n_in < pts.len() && pts.iter().any(|p| strictly(*p)) {
+            let (a, b) = (pts[0], pts[1]);
+            return Err(scene.error(
+                field,
+                format!(
+                    "the box cuts the boundary edge ({:.4}, {:.4})–({:.4}, {:.4}); put mesh nodes on the box's sides",
+                    a[0], a[1], b[0], b[1]
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn names<'a>(keys: impl Iterator<Item = &'a String>) -> String {
+    keys.map(String::as_str).collect::<Vec<_>>().join(", ")
+}

@@ -1,0 +1,210 @@
+use talus_bipotential::DruckerPrager;
+
+use crate::scene::{InitialStressSpec, Locate, Scene, SceneError};
+
+use talus_fem::Model;
+
+/// The initial stress at every Gauss point (Mandel, flat), checked against the yield cone.
+pub fn initial_stress(
+    scene: &Scene,
+    model: &Model,
+    spec: &InitialStressSpec,
+) -> Result<Vec<f64>, SceneError> {
+    // In equilibrium with the gravity of the start, t = 0 (`gravity_ramp` scales it).
+    let ramp = crate::scene::check::ramp(scene, "gravity_ramp", &scene.spec.gravity_ramp)?;
+    let g = scene.spec.gravity.map(|g| -g[1]).unwrap_or(0.0);
+    let g = ramp.map_or(g, |r| g * r.at(0.0));
+    // Without gravity the density is not needed (and may be absent).
+    let gamma = if g == 0.0 {
+        0.0
+    } else {
+        scene.spec.material.density.unwrap_or(0.0) * g
+    };
+    let sigma = initial_stress_at(
+        scene,
+        &model.material,
+        gamma,
+        spec,
+        &model.assembly.gauss_points,
+    )?;
+    Ok(sigma.into_iter().flatten().collect())
+}
+
+/// The initial stress (Mandel, Pa) of `spec` at each of `points` (m): the K₀ procedure
+/// ([`k0_stress_at`]) or a uniform `stress` ([`uniform_stress`]). Errors name
+/// `initial_stress.*`: neither or both forms, a point above the surface, a state outside
+/// the cone.
+pub fn initial_stress_at(
+    scene: &impl Locate,
+    material: &DruckerPrager,
+    gamma: f64,
+    spec: &InitialStressSpec,
+    points: &[[f64; 2]],
+) -> Result<Vec<[f64; 4]>, SceneError> {
+    let k0_fields = [
+        ("k0", spec.k0.is_some()),
+        ("surface", spec.surface.is_some()),
+        ("surcharge", spec.surcharge.is_some()),
+    ];
+    let given: Vec<&str> = k0_fields.iter().filter(|f| f.1).map(|f| f.0).collect();
+    match (spec.stress, spec.k0, spec.surface) {
+        (Some(_), _, _) if !given.is_empty() => Err(scene.error(
+            "initial_stress.stress",
+            format!(
+                "a uniform `stress` excludes the K₀ procedure, but `{}` is given too",
+                given.join("`, `")
+            ),
+        )),
+        (Some(stress), _, _) => {
+            let s = uniform_stress(scene, material, stress)?;
+            Ok(vec![s; points.len()])
+        }
+        (None, Some(k0), Some(surface)) => k0_stress_at(
+            scene,
+            material,
+            gamma,
+            k0,
+            surface,
+            spec.surcharge.unwrap_or(0.0),
+            points,
+        ),
+        (None, None, _) => Err(scene.error(
+            "initial_stress",
+            "give either `stress = [sxx, syy, sxy, szz]` or the K₀ procedure (`k0`, `surface`, `surcharge`)",
+        )),
+        (None, Some(_), None) => Err(scene.error(
+            "initial_stress.surface",
+            "the K₀ procedure needs the height of the ground surface",
+        )),
+    }
+}
+
+/// `[σxx, σyy, σxy, σzz]` (Pa, tension positive) as the Mandel vector
+/// `(σxx, σyy, σzz, √2 σxy)` (`docs/conventions.md`, 'Stress space').
+pub fn mandel_from_components(stress: [f64; 4]) -> [f64; 4] {
+    let [xx, yy, xy, zz] = stress;
+    [xx, yy, zz, std::f64::consts::SQRT_2 * xy]
+}
+
+/// The uniform initial stress `[σxx, σyy, σxy, σzz]` (Pa) in Mandel form, refused (naming
+/// `initial_stress.stress`) when not finite or outside the yield cone, with the distance.
+pub fn uniform_stress(
+    scene: &impl Locate,
+    material: &DruckerPrager,
+    stress: [f64; 4],
+) -> Result<[f64; 4], SceneError> {
+    if !stress.iter().all(|s| s.is_finite()) {
+        return Err(scene.error(
+            "initial_stress.stress",
+            format!("{stress:?} Pa must be finite"),
+        ));
+    }
+    let m = mandel_from_components(stress);
+    let s = nalgebra::SVector::<f64, 4>::from(m);
+    let f = material.yield_function(&s);
+    if f > 1e-9 * s.norm().max(material.parameters().cohesion) {
+        // f = ‖dev σ‖/k_d + p tan φ − c: f > 0 is how far outside, in Pa of cohesion.
+        return Err(scene.error(
+            "initial_stress.stress",
+            format!(
+                "{stress:?} Pa (σxx, σyy, σxy, σzz) lies outside the yield cone: f = {f:.4e} Pa > 0 \
+                 (p = {:.4e} Pa, ‖dev σ‖ = {:.4e} Pa; the cohesion would have to be {:.4e} Pa larger)",
+                (s[0] + s[1] + s[2]) / 3.0,
+                deviator_norm(&s),
+                f
+            ),
+        ));
+    }
+    Ok(m)
+}
+
+fn deviator_norm(s: &nalgebra::SVector<f64, 4>) -> f64 {
+    let p = (s[0] + s[1] + s[2]) / 3.0;
+    ((s[0] - p).powi(2) + (s[1] - p).powi(2) + (s[2] - p).powi(2) + s[3].powi(2)).sqrt()
+}
+
+/// The K₀ stress (Mandel, Pa) at each of `points` (m) under a ground of unit weight
+/// `gamma = ρ g` (N/m³): `σ_yy = −(surcharge + γ (surface − y))`, `σ_xx = σ_zz = K₀ σ_yy`.
+/// Errors name `initial_stress.*`: a point above the surface, a state outside the cone.
+pub fn k0_stress_at(
+    scene: &impl Locate,
+    material: &DruckerPrager,
+    gamma: f64,
+    k0: f64,
+    surface: f64,
+    surcharge: f64,
+    points: &[[f64; 2]],
+) -> Result<Vec<[f64; 4]>, SceneError> {
+    if !(k0.is_finite() && k0 > 0.0) {
+        return Err(scene.error("initial_stress.k0", format!("{k0} must be finite and > 0")));
+    }
+    if !surface.is_finite() {
+        return Err(scene.error("initial_stress.surface", "must be finite"));
+    }
+    if !(surcharge.is_finite() && surcharge >= 0.0) {
+        return Err(scene.error(
+            "initial_stress.surcharge",
+            format!("{surcharge} Pa must be finite and >= 0"),
+        ));
+    }
+    let mut sigma = Vec::with_capacity(points.len());
+    for x in points {
+        let depth = surface - x[1];
+        if depth < -1e-9 * surface.abs().max(1.0) {
+            return Err(scene.error(
+                "initial_stress.surface",
+                format!(
+                    "point ({:.4}, {:.4}) lies above the surface y = {surface}",
+                    x[0], x[1]
+                ),
+            ));
+        }
+        let vertical = -(surcharge + gamma * depth.max(0.0));
+        let s = nalgebra::SVector::<f64, 4>::new(k0 * vertical, vertical, k0 * vertical, 0.0);
+        if !(k0 * vertical).is_finite() {
+            // The cone test below cannot judge an infinite stress (its f is NaN).
+            return Err(scene.error(
+                "initial_stress.k0",
+                format!(
+                    "K₀ = {k0:e} times σ_yy = {vertical:.4e} Pa at depth {depth:.3} m overflows"
+                ),
+            ));
+        }
+        let f = material.yield_function(&s);
+        if f > 1e-9 * s.norm().max(material.parameters().cohesion) {
+            let (lo, hi) = k0_bounds(material);
+            return Err(scene.error(
+                "initial_stress.k0",
+                format!(
+                    "K₀ = {k0} puts the point at depth {depth:.3} m outside the yield cone (f = {f:.3e} Pa); \
+                     without cohesion the cone admits {lo:.4} ≤ K₀ ≤ {hi:.4} (Jaky's 1 − sin φ = {:.4})",
+                    1.0 - material.parameters().friction_angle.to_radians().sin()
+                ),
+            ));
+        }
+        sigma.push([s[0], s[1], s[2], s[3]]);
+    }
+    Ok(sigma)
+}
+
+/// The K₀ for which `(−K₀ s, −s, −K₀ s)` lies in the cone for every depth when c = 0:
+/// `|1 − K₀| √(2/3) / k_d ≤ tan φ (1 + 2K₀) / 3` (cohesion only widens the interval).
+/// Jaky's `1 − sin φ` falls below it for φ ≳ 36° with the plane-strain fit, because the fit
+/// matches Mohr-Coulomb in plastic flow, not in this stress state.
+pub fn k0_bounds_without_cohesion(model: &Model) -> (f64, f64) {
+    k0_bounds(&model.material)
+}
+
+/// [`k0_bounds_without_cohesion`] of a material.
+pub fn k0_bounds(material: &DruckerPrager) -> (f64, f64) {
+    let a = (2.0f64 / 3.0).sqrt() / material.k_d();
+    let t = material.parameters().friction_angle.to_radians().tan() / 3.0;
+    // K₀ ≤ 1: a (1 − K₀) ≤ t (1 + 2K₀); K₀ ≥ 1: a (K₀ − 1) ≤ t (1 + 2K₀).
+    let lo = (a - t) / (a + 2.0 * t);
+    let hi = if a > 2.0 * t {
+        (a + t) / (a - 2.0 * t)
+    } else {
+        f64::INFINITY
+    };
+    (lo.max(0.0), hi)
+}

@@ -1,0 +1,380 @@
+//! A finite-element scene run by the run loop: the reported boundary's reaction and
+//! settlement, element VTUs and the PNG plots.
+mod results;
+
+use std::path::Path;
+use std::time::Instant;
+
+use talus_engine::Stepper;
+
+use super::checkpoint::{self, Checkpoint, CheckpointError};
+use super::{io_err, RunError, RunOptions, RunOutputs, Shape, HISTORY_COLUMNS};
+use crate::model::fem::{FromScene, Model, ReactionForce, State, StepRecord};
+use crate::output::{self, FieldSnapshot, MeshView, OutputError};
+use crate::output::{Results, ResultsProgress};
+use crate::scene::Scene;
+pub use results::FemResults;
+
+/// What a finished run measured.
+#[derive(Debug, Clone)]
+pub struct RunSummary {
+    pub records: Vec<StepRecord>,
+    /// Footing displacement (m, downward positive) after each step.
+    pub displacements: Vec<f64>,
+    pub seconds: f64,
+    pub final_state: State,
+}
+
+impl Shape for State {
+    const SIZES: &'static str = "stress, plastic strain, free and prescribed velocities, nodes";
+    fn sizes(&self) -> Vec<usize> {
+        vec![
+            self.sigma.len(),
+            self.plastic_strain.len(),
+            self.velocity_free.len(),
+            self.velocity_prescribed.len(),
+            self.displacement.len(),
+        ]
+    }
+}
+
+/// Newton settings of a FEM scene (`SolverSpec::fem`).
+pub fn solver_settings(scene: &Scene) -> talus_ssn::Settings {
+    scene.spec.solver.fem().solver
+}
+
+pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<RunSummary, RunError> {
+    run_scene_from(scene, options, None)
+}
+
+/// Continues `scene` from `checkpoint` (read from `options.out_dir`, its scene checked by
+/// [`Checkpoint::current_scene`]), checkpointing as often as the run it continues.
+pub fn resume_scene(
+    scene: &Scene,
+    checkpoint: Checkpoint<serde_json::Value>,
+    options: &RunOptions,
+) -> Result<RunSummary, RunError> {
+    run_scene_from(scene, options, Some(checkpoint))
+}
+
+fn run_scene_from(
+    scene: &Scene,
+    options: &RunOptions,
+    resumed: Option<Checkpoint<serde_json::Value>>,
+) -> Result<RunSummary, RunError> {
+    if scene.spec.stability.is_some() {
+        return Err(scene
+            .error(
+                "stability",
+                "a factor-of-safety scene runs by talus::analysis::stability::run",
+            )
+            .into());
+    }
+    let start = Instant::now();
+    let model = Model::from_scene(scene)?;
+    let asm = &model.assembly;
+    let dofs = asm.dofs();
+    let state = model.initial_state(scene)?;
+    let mut stepper = Stepper::new(&model, scene.spec.solver.fem());
+    tracing::info!(
+        points = asm.n_points(),
+        free_dofs = dofs.n_free(),
+        elements = model.mesh.triangles.len(),
+        cone_fit = model.material.parameters().cone_fit.name(),
+        k_d = model.material.k_d(),
+        "model built"
+    );
+    let results = FemResults::new(
+        scene,
+        &model,
+        &format!("{HISTORY_COLUMNS},{}", FEM_COLUMNS.join(",")),
+    )?;
+    let mut outputs = FemOutputs {
+        scene,
+        results,
+        model: &model,
+        out: &options.out_dir,
+        write_fields: options.write_fields,
+        reaction_nodes: model
+            .reaction_dofs
+            .iter()
+            .map(|&(j, _)| dofs.prescribed_dofs()[j].0)
+            .collect(),
+        pvd: Vec::new(),
+        curve: Vec::new(),
+        histories: Vec::new(),
+    };
+    let stepped = super::execute(
+        &mut stepper,
+        state,
+        resumed,
+        &mut outputs,
+        &scene.spec.time,
+        options,
+        (scene.path.as_deref(), &scene.source),
+    )?;
+    if let Some((step, source)) = stepped.failure {
+        return Err(RunError::Step { step, source });
+    }
+    Ok(RunSummary {
+        displacements: outputs.curve[1..].iter().map(|c| c.0).collect(),
+        records: stepped.reports,
+        seconds: start.elapsed().as_secs_f64(),
+        final_state: stepped.state,
+    })
+}
+
+/// The columns a FEM run adds after [`HISTORY_COLUMNS`], before the named boundaries'
+/// and monitors'.
+pub const FEM_COLUMNS: [&str; 2] = ["reaction_force", "footing_displacement"];
+
+/// What a FEM run adds to the run loop: the reported boundary's reaction and settlement,
+/// element VTUs and the PNG plots.
+struct FemOutputs<'a> {
+    scene: &'a Scene,
+    results: FemResults,
+    model: &'a Model,
+    out: &'a Path,
+    write_fields: bool,
+    /// The nodes of the reported boundary's prescribed dofs.
+    reaction_nodes: Vec<usize>,
+    pvd: Vec<(f64, String)>,
+    /// (settlement, reaction) after every step, from step 0.
+    curve: Vec<(f64, f64)>,
+    /// `(step, ‖F‖∞ / max(1, ‖σ‖∞) per iteration)` of every solve, for the Newton plot.
+    histories: Vec<(usize, Vec<f64>)>,
+}
+
+/// What [`FemOutputs`] saves in a checkpoint.
+#[derive(serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FemProgress {
+    results: ResultsProgress,
+    pvd: Vec<(f64, String)>,
+    curve: Vec<(f64, f64)>,
+    histories: Vec<(usize, Vec<f64>)>,
+}
+
+impl RunOutputs<&Model> for FemOutputs<'_> {
+    fn columns(&self) -> String {
+        format!(
+            ",{}{}",
+            FEM_COLUMNS.join(","),
+            self.results.results.header()
+        )
+    }
+
+    fn row(&mut self, step: usize, state: &State, report: Option<&StepRecord>) -> String {
+        let displacement = if self.reaction_nodes.is_empty() {
+            0.0
+        } else {
+            -self
+                .reaction_nodes
+                .iter()
+                .map(|&n| state.displacement[n][1])
+                .sum::<f64>()
+                / self.reaction_nodes.len() as f64
+        };
+        // + 0.0: a settlement of −0 (no motion yet) is written as 0.
+        let displacement = displacement + 0.0;
+        if let Some(r) = report {
+            self.histories.extend(
+                r.residual_histories
+                    .iter()
+                    .filter(|h| !h.is_empty())
+                    .map(|h| (step, h.clone())),
+            );
+        }
+        let (reaction, rest) = match report {
+            Some(r) => (
+                r.reaction_force(),
+                self.results.step(self.model, state, step, r, displacement),
+            ),
+            None => {
+                let reaction = self.model.reaction(state);
+                (reaction, self.results.initial(self.model, state, reaction))
+            }
+        };
+        self.curve.push((displacement, reaction));
+        format!(",{reaction:.10e},{displacement:.10e}{rest}")
+    }
+
+    /// VTUs at step 0, every `vtu_every` steps and the last.
+    fn after_step(&mut self, step: usize, state: &State) -> Result<(), RunError> {
+        let every = self.scene.spec.output.vtu_every;
+        let last = self.scene.spec.time.steps;
+        if self.write_fields && (step == 0 || (every > 0 && step % every == 0) || step == last) {
+            self.write_vtu(step, state)?;
+        }
+        Ok(())
+    }
+
+    fn message(&self, report: &StepRecord, _: &State) -> String {
+        format!(
+            "{} Newton its, F = {:.4e} N/m",
+            report.newton_iterations,
+            report.reaction_force()
+        )
+    }
+
+    fn finish(&mut self, state: &State, step: usize) -> Result<(), RunError> {
+        if !self.write_fields {
+            return Ok(());
+        }
+        // A run that stopped early (collapse, failure, interruption) ends with its last
+        // state too; `write_vtu` keeps solution.pvd current.
+        if self.pvd.last().map(|(t, _)| *t) != Some(state.time) {
+            self.write_vtu(step, state)?;
+        }
+        if self.scene.spec.output.plots && step > 0 {
+            write_plots(
+                self.scene,
+                self.model,
+                state,
+                &self.histories,
+                &self.curve,
+                self.out,
+            )?;
+        }
+        Ok(())
+    }
+
+    fn results(&self) -> &Results {
+        &self.results.results
+    }
+
+    fn save(&self) -> serde_json::Value {
+        serde_json::json!(FemProgress {
+            results: self.results.results.progress(),
+            pvd: self.pvd.clone(),
+            curve: self.curve.clone(),
+            histories: self.histories.clone(),
+        })
+    }
+
+    fn restore(&mut self, saved: serde_json::Value, _: usize) -> Result<(), RunError> {
+        let path = checkpoint::path(self.out);
+        let corrupt = |why: String| CheckpointError::Corrupt {
+            path: path.clone(),
+            why: format!("its FEM outputs: {why}"),
+        };
+        let p: FemProgress = serde_json::from_value(saved).map_err(|e| corrupt(e.to_string()))?;
+        self.results.results.restore(p.results).map_err(corrupt)?;
+        self.pvd = p.pvd;
+        self.curve = p.curve;
+        self.histories = p.histories;
+        // The VTUs of later steps, and the one an interruption wrote of its last state.
+        let listed = |n: usize| {
+            self.pvd
+                .iter()
+                .any(|(_, f)| *f == format!("vtu/step_{n:05}.vtu"))
+        };
+        checkpoint::drop_numbered_files(&self.out.join("vtu"), "step_", ".vtu", listed)?;
+        if self.write_fields && !self.pvd.is_empty() {
+            output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
+        }
+        Ok(())
+    }
+}
+
+impl FemOutputs<'_> {
+    /// `vtu/step_NNNNN.vtu` of `state`, listed in the collection.
+    fn write_vtu(&mut self, step: usize, state: &State) -> Result<(), RunError> {
+        let dir = self.out.join("vtu");
+        std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
+        let name = format!("step_{step:05}.vtu");
+        write_snapshot(self.model, state, &dir.join(&name))?;
+        self.pvd.push((state.time, format!("vtu/{name}")));
+        // The collection lists every VTU written so far: ParaView opens a killed run.
+        output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
+        Ok(())
+    }
+}
+
+/// Per-element averages of the Gauss-point stress and plastic strain.
+fn element_fields(model: &Model, state: &State) -> (Vec<[f64; 4]>, Vec<f64>) {
+    let n_el = model.mesh.triangles.len();
+    let mut stress = vec![[0.0; 4]; n_el];
+    let mut plastic = vec![0.0; n_el];
+    let mut count = vec![0usize; n_el];
+    for (p, &e) in model.assembly.gauss_element.iter().enumerate() {
+        for (s, v) in stress[e].iter_mut().zip(&state.sigma[4 * p..4 * p + 4]) {
+            *s += v;
+        }
+        plastic[e] += state.plastic_strain[p];
+        count[e] += 1;
+    }
+    for e in 0..n_el {
+        let c = count[e].max(1) as f64;
+        stress[e].iter_mut().for_each(|s| *s /= c);
+        plastic[e] /= c;
+    }
+    (stress, plastic)
+}
+
+fn write_snapshot(model: &Model, state: &State, path: &Path) -> Result<(), RunError> {
+    let (stress, plastic) = element_fields(model, state);
+    let velocity = model
+        .assembly
+        .dofs()
+        .scatter(&state.velocity_free, &state.velocity_prescribed)
+        .map_err(|e| {
+            RunError::Output(OutputError::Invalid {
+                field: "velocity",
+                message: e.to_string(),
+            })
+        })?;
+    output::write_vtu(
+        path,
+        &FieldSnapshot {
+            mesh: MeshView {
+                nodes: &model.mesh.nodes,
+                triangles: &model.mesh.triangles,
+            },
+            time: state.time,
+            displacement: &state.displacement,
+            velocity: &velocity,
+            stress: &stress,
+            plastic_strain: &plastic,
+        },
+    )?;
+    Ok(())
+}
+
+fn write_plots(
+    scene: &Scene,
+    model: &Model,
+    state: &State,
+    histories: &[(usize, Vec<f64>)],
+    curve: &[(f64, f64)],
+    out: &Path,
+) -> Result<(), RunError> {
+    let title = scene
+        .spec
+        .title
+        .clone()
+        .unwrap_or_else(|| "talus run".into());
+    if !model.reaction_dofs.is_empty() {
+        output::plot_force_displacement(&out.join("force_displacement.png"), curve, &title)?;
+    }
+    if !histories.is_empty() {
+        output::plot_newton_residuals(
+            &out.join("newton_residuals.png"),
+            histories,
+            scene.spec.solver.tolerance,
+        )?;
+    }
+    let (_, plastic) = element_fields(model, state);
+    output::plot_field_on_mesh(
+        &out.join("plastic_strain.png"),
+        &MeshView {
+            nodes: &model.mesh.nodes,
+            triangles: &model.mesh.triangles,
+        },
+        None,
+        &plastic,
+        &format!("cumulative plastic strain at t = {:.4} s", state.time),
+        "∫‖ε̇ᵖ‖dt (-)",
+    )?;
+    Ok(())
+}

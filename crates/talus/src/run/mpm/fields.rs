@@ -1,0 +1,121 @@
+//! Files of an MPM run besides history.csv: particle VTUs and their `.pvd` collection,
+//! PNG maps of the plastic strain in the fixed frame of the grid, the reaction plot.
+use std::path::Path;
+
+use talus_mpm::Particles;
+
+use crate::output::{self, ParticlePlot, ParticleSnapshot};
+use crate::run::{io_err, RunError};
+
+use crate::model::mpm::MpmModel;
+
+/// Where the fields go and which steps write them.
+pub struct FieldWriter<'a> {
+    pub out: &'a Path,
+    pub title: &'a str,
+    pub vtu_every: usize,
+    pub snapshot_every: usize,
+    pub last_step: usize,
+    /// `(time, file relative to out)` of every VTU written, for the `.pvd`.
+    pub pvd: Vec<(f64, String)>,
+}
+
+/// Step 0, every `every` steps, and the last.
+fn due(step: usize, every: usize, last: usize) -> bool {
+    step == 0 || step == last || (every > 0 && step % every == 0)
+}
+
+impl FieldWriter<'_> {
+    /// The VTU and PNG due after `step` (state at `time`).
+    pub fn after_step(
+        &mut self,
+        model: &MpmModel,
+        particles: &Particles,
+        step: usize,
+        time: f64,
+    ) -> Result<(), RunError> {
+        if due(step, self.vtu_every, self.last_step) {
+            self.write_vtu(particles, step, time)?;
+        }
+        if due(step, self.snapshot_every, self.last_step) {
+            let dir = self.out.join("snapshots");
+            std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
+            self.png(
+                model,
+                particles,
+                &dir.join(format!("step_{step:05}.png")),
+                time,
+            )?;
+        }
+        Ok(())
+    }
+
+    /// `vtu/step_NNNNN.vtu` of the particles at `time`, listed in the collection.
+    fn write_vtu(&mut self, particles: &Particles, step: usize, time: f64) -> Result<(), RunError> {
+        let dir = self.out.join("vtu");
+        std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
+        let name = format!("step_{step:05}.vtu");
+        write_vtu(&dir.join(&name), particles, time)?;
+        self.pvd.push((time, format!("vtu/{name}")));
+        // The collection lists every VTU written so far: ParaView opens a killed run.
+        output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
+        Ok(())
+    }
+
+    /// The last state's VTU when a run stopped early (collapse, failure), the `.pvd`
+    /// collection and the final plastic strain map `plastic_strain.png`.
+    pub fn finish(
+        &mut self,
+        model: &MpmModel,
+        particles: &Particles,
+        step: usize,
+        time: f64,
+    ) -> Result<(), RunError> {
+        if self.pvd.last().map(|(t, _)| *t) != Some(time) {
+            self.write_vtu(particles, step, time)?;
+        }
+        self.png(model, particles, &self.out.join("plastic_strain.png"), time)
+    }
+
+    fn png(
+        &self,
+        model: &MpmModel,
+        particles: &Particles,
+        path: &Path,
+        time: f64,
+    ) -> Result<(), RunError> {
+        let title = format!("{}, t = {time:.3} s", self.title);
+        // Squares of the particles' mean side √V: the material's area, without the gaps a
+        // nearest-neighbour spacing leaves in a stretched lattice.
+        let side = particles.volume.iter().map(|v| v.sqrt()).sum::<f64>() / particles.len() as f64;
+        output::plot_particles(
+            path,
+            &particles.position,
+            &particles.plastic_strain,
+            ParticlePlot {
+                title: &title,
+                value_label: "cumulative plastic strain ∫‖ε̇ᵖ‖dt",
+                bounds: Some(model.bounds),
+                marker_size: Some(side),
+                floor: model.floor,
+            },
+        )?;
+        Ok(())
+    }
+}
+
+fn write_vtu(path: &Path, p: &Particles, time: f64) -> Result<(), RunError> {
+    output::write_particle_vtu(
+        path,
+        &ParticleSnapshot {
+            time,
+            position: &p.position,
+            velocity: &p.velocity,
+            volume: &p.volume,
+            mass: &p.mass,
+            stress: &p.stress,
+            plastic_strain: &p.plastic_strain,
+        },
+    )?;
+    Ok(())
+}

@@ -1,0 +1,107 @@
+//! What an MPM run reports besides the solver: the named walls' and boxes' reactions
+//! (`StepReport::group_forces`, each component owned by the last condition prescribing
+//! it) and the monitors' grid-interpolated displacement and velocity
+//! (`talus_mpm::grid_value_at`), appended to `history.csv`; `summary.json` at the end.
+use talus_mpm::{grid_value_at, Particles};
+
+use crate::output::Results;
+use crate::scene::{MpmScene, SceneError};
+
+use crate::model::mpm::MpmModel;
+use talus_mpm::{GroupForces, MpmStepReport};
+
+pub struct MpmResults {
+    /// Index in `StepReport::group_forces` of each named wall or box.
+    groups: Vec<usize>,
+    points: Vec<[f64; 2]>,
+    /// Particle positions at t = 0: the displacement is `x_p − X_p`.
+    initial_position: Vec<[f64; 2]>,
+    pub results: Results,
+}
+
+impl MpmResults {
+    pub fn new(scene: &MpmScene, model: &MpmModel, base: &str) -> Result<Self, SceneError> {
+        let spec = &scene.spec;
+        let mut named = Vec::new();
+        let mut groups = Vec::new();
+        for (k, w) in spec.wall.iter().enumerate() {
+            if let Some(name) = &w.name {
+                named.push((format!("wall[{k}].name"), name.clone()));
+                groups.push(k);
+            }
+        }
+        for (k, p) in spec.prescribed.iter().enumerate() {
+            if let Some(name) = &p.name {
+                named.push((format!("prescribed[{k}].name"), name.clone()));
+                groups.push(spec.wall.len() + k);
+            }
+        }
+        let mut monitors = Vec::new();
+        let mut points = Vec::new();
+        let grid = model.mpm.grid();
+        let p = &model.particles;
+        for (k, m) in spec.monitor.iter().enumerate() {
+            let field = format!("monitor[{k}].point");
+            match grid_value_at(grid, p, &p.position, m.point) {
+                Ok(Some(_)) => {}
+                Ok(None) => {
+                    return Err(scene.error(
+                        &field,
+                        format!("{:?} m has no material around it at t = 0", m.point),
+                    ))
+                }
+                Err(e) => return Err(scene.error(&field, e.to_string())),
+            }
+            monitors.push((format!("monitor[{k}].name"), m.name.clone()));
+            points.push(m.point);
+        }
+        let results = Results::new(base, &named, &monitors, spec.output.reaction.clone())
+            .map_err(|e| scene.error(&e.field, e.message))?;
+        Ok(Self {
+            groups,
+            points,
+            initial_position: p.position.clone(),
+            results,
+        })
+    }
+
+    /// Records step `step` (`report`: none at step 0) at `time`; `reported`: the
+    /// reported box's `(settlement, force)`.
+    pub fn record(
+        &mut self,
+        model: &MpmModel,
+        particles: &Particles,
+        step: usize,
+        time: f64,
+        report: Option<&MpmStepReport>,
+        reported: Option<(f64, f64)>,
+    ) -> String {
+        let forces: Vec<[f64; 2]> = self
+            .groups
+            .iter()
+            .map(|&g| {
+                report
+                    .and_then(|r| r.group_forces().get(g).copied())
+                    .unwrap_or([0.0; 2])
+            })
+            .collect();
+        let displacement: Vec<[f64; 2]> = particles
+            .position
+            .iter()
+            .zip(&self.initial_position)
+            .map(|(x, x0)| [x[0] - x0[0], x[1] - x0[1]])
+            .collect();
+        let grid = model.mpm.grid();
+        let monitors: Vec<Option<[f64; 4]>> = self
+            .points
+            .iter()
+            .map(|&point| {
+                let u = grid_value_at(grid, particles, &displacement, point).ok()??;
+                let v = grid_value_at(grid, particles, &particles.velocity, point).ok()??;
+                Some([u[0], u[1], v[0], v[1]])
+            })
+            .collect();
+        self.results
+            .record(step, time, &forces, &monitors, reported)
+    }
+}

@@ -1,0 +1,101 @@
+//! A scene's `[solver]` section, and the one place where it becomes the engine's settings:
+//! its defaults are the presets of talus-engine and talus-ssn (`StepSettings::fem`,
+//! `Settings::fem`), which the scene overrides key by key.
+use serde::{Deserialize, Serialize};
+use talus_engine::StepSettings;
+use talus_ssn::{Rho, Settings, Stall};
+
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SolverSpec {
+    pub tolerance: f64,
+    pub max_iterations: usize,
+    /// ρ_i = rho_factor / max diag S_i (`compliance`, the return-mapping scale) or
+    /// rho_factor / max diag W_i (`diagonal`).
+    pub rho_factor: f64,
+    pub rho_scaling: RhoScaling,
+    /// Halvings of h allowed when a step does not converge.
+    pub max_step_halvings: usize,
+    /// Armijo backtracking on ‖F‖² (true) or full Newton steps.
+    pub line_search: bool,
+    /// A solve whose merit has not halved over this many iterations is stopped as stalled
+    /// and its step halved (from iteration 25); 0: never. Default: 10 for FEM, 0 for MPM
+    /// (`Settings::fem`, `Settings::mpm`, `docs/solver.md`).
+    pub stall_window: Option<usize>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RhoScaling {
+    Compliance,
+    Diagonal,
+}
+
+impl Default for SolverSpec {
+    /// The FEM preset's values (`StepSettings::fem`); `stall_window` is the method's.
+    fn default() -> Self {
+        let step = StepSettings::fem();
+        let rho_scaling = match step.solver.rho {
+            Rho::PerPointDiagonal { .. } => RhoScaling::Diagonal,
+            // The presets scale ρ per point; the other variants have no key of their own.
+            _ => RhoScaling::Compliance,
+        };
+        Self {
+            tolerance: step.solver.tolerance,
+            max_iterations: step.solver.max_iterations,
+            rho_factor: step.solver.rho.factor(),
+            rho_scaling,
+            max_step_halvings: step.max_halvings,
+            line_search: step.solver.line_search.is_some(),
+            stall_window: None,
+        }
+    }
+}
+
+impl SolverSpec {
+    /// The method's preset `base` (`StepSettings::fem()` or `::mpm()`) with this section's
+    /// keys.
+    pub fn step_settings(&self, base: StepSettings) -> StepSettings {
+        let stall = match self.stall_window {
+            None => base.solver.stall,
+            Some(0) => None,
+            Some(window) => Some(Stall {
+                window,
+                ..base.solver.stall.unwrap_or(Stall::DEFAULT)
+            }),
+        };
+        StepSettings {
+            solver: Settings {
+                tolerance: self.tolerance,
+                max_iterations: self.max_iterations,
+                rho: match self.rho_scaling {
+                    RhoScaling::Compliance => Rho::PerPointCompliance {
+                        factor: self.rho_factor,
+                    },
+                    RhoScaling::Diagonal => Rho::PerPointDiagonal {
+                        factor: self.rho_factor,
+                    },
+                },
+                line_search: if self.line_search {
+                    base.solver.line_search.or(Some(Default::default()))
+                } else {
+                    None
+                },
+                stall,
+                ..base.solver
+            },
+            max_halvings: self.max_step_halvings,
+            ..base
+        }
+    }
+
+    /// A FEM scene's settings.
+    pub fn fem(&self) -> StepSettings {
+        self.step_settings(StepSettings::fem())
+    }
+
+    /// An MPM scene's settings (before `[mpm] predictor`).
+    pub fn mpm(&self) -> StepSettings {
+        self.step_settings(StepSettings::mpm())
+    }
+}
