@@ -1,19 +1,25 @@
 use nalgebra::{SMatrix, SVector};
 use talus_cone::{Projection, Projector, Region, SecondOrderCone, VonMisesCylinder};
 
-/// The elastic domain of one point: a Drucker-Prager cone or, at φ = 0, a von Mises cylinder.
+/// The elastic domain of one point: a Drucker-Prager cone or, at φ = 0, a von Mises
+/// cylinder; the whole space for a material that never yields.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum YieldSet<const D: usize> {
     Cone(SecondOrderCone<D>),
     Cylinder(VonMisesCylinder<D>),
+    /// No yield surface (an elastic material): the projection is the identity, so the
+    /// natural map `σ − P(σ − ρ y)` is `ρ z` and its root `z = 0`, no plastic flow.
+    Everywhere,
 }
 
 impl<const D: usize> YieldSet<D> {
-    /// The axis `n` of the set (pointing into compression for Drucker-Prager).
-    pub fn axis(&self) -> &SVector<f64, D> {
+    /// The axis `n` of the set (pointing into compression for Drucker-Prager); `None` for
+    /// the whole space.
+    pub fn axis(&self) -> Option<&SVector<f64, D>> {
         match self {
-            YieldSet::Cone(c) => c.axis(),
-            YieldSet::Cylinder(c) => c.axis(),
+            YieldSet::Cone(c) => Some(c.axis()),
+            YieldSet::Cylinder(c) => Some(c.axis()),
+            YieldSet::Everywhere => None,
         }
     }
 }
@@ -24,6 +30,10 @@ impl<const D: usize> Projector<D> for YieldSet<D> {
         match self {
             YieldSet::Cone(c) => c.project(x),
             YieldSet::Cylinder(c) => c.project(x),
+            YieldSet::Everywhere => Projection {
+                point: *x,
+                region: Region::Interior,
+            },
         }
     }
 
@@ -32,6 +42,7 @@ impl<const D: usize> Projector<D> for YieldSet<D> {
         match self {
             YieldSet::Cone(c) => c.project_with_jacobian(x),
             YieldSet::Cylinder(c) => c.project_with_jacobian(x),
+            YieldSet::Everywhere => (self.project(x), SMatrix::identity()),
         }
     }
 
@@ -39,6 +50,7 @@ impl<const D: usize> Projector<D> for YieldSet<D> {
         match self {
             YieldSet::Cone(c) => c.contains(x, tol),
             YieldSet::Cylinder(c) => c.contains(x, tol),
+            YieldSet::Everywhere => x.iter().all(|v| v.is_finite()),
         }
     }
 }
@@ -76,6 +88,14 @@ impl<const D: usize> FlowRule<D> {
         }
     }
 
+    /// An elastic point: no yield set, no plastic flow (`z = 0` at the root).
+    pub fn elastic() -> Self {
+        Self {
+            set: YieldSet::Everywhere,
+            kappa: 0.0,
+        }
+    }
+
     /// The von Mises rule: associative, plastically incompressible.
     pub fn cylinder(cylinder: VonMisesCylinder<D>) -> Self {
         Self {
@@ -99,10 +119,9 @@ impl<const D: usize> FlowRule<D> {
     /// `y(z) = z + κ ‖z_t‖ n` (eq. 20's `(z^h + α‖dev z‖, dev z)` in axis coordinates).
     #[inline]
     pub fn shifted(&self, z: &SVector<f64, D>) -> SVector<f64, D> {
-        if self.kappa == 0.0 {
+        let Some(n) = self.set.axis().filter(|_| self.kappa != 0.0) else {
             return *z;
-        }
-        let n = self.set.axis();
+        };
         let zt = z - n * z.dot(n);
         z + n * (self.kappa * zt.norm())
     }
@@ -128,15 +147,15 @@ impl<const D: usize> FlowRule<D> {
         z: &SVector<f64, D>,
         rho: f64,
     ) -> NaturalMapLinearization<D> {
-        let n = *self.set.axis();
-        let (y, jy) = if self.kappa == 0.0 {
-            (*z, None)
-        } else {
-            let zt = z - n * z.dot(&n);
-            let r = zt.norm();
-            let y = z + n * (self.kappa * r);
-            let jy = (r > 0.0).then(|| n * (zt / r).transpose() * self.kappa);
-            (y, jy)
+        let (y, jy) = match self.set.axis().filter(|_| self.kappa != 0.0) {
+            None => (*z, None),
+            Some(&n) => {
+                let zt = z - n * z.dot(&n);
+                let r = zt.norm();
+                let y = z + n * (self.kappa * r);
+                let jy = (r > 0.0).then(|| n * (zt / r).transpose() * self.kappa);
+                (y, jy)
+            }
         };
         let (p, d) = self.set.project_with_jacobian(&(sigma - y * rho));
         // G = D (I + κ n uᵀ) = D + (D n)(κ u)ᵀ.

@@ -21,12 +21,14 @@ mod drucker_prager;
 mod error;
 mod flow_rule;
 pub mod mandel;
+mod material;
 
 pub use cone_fit::ConeFit;
 pub use drucker_prager::{DruckerPrager, DruckerPragerParameters};
 pub use error::MaterialError;
 pub use flow_rule::{FlowRule, NaturalMapLinearization, YieldSet};
-pub use talus_cone::{Region, SMatrix, SVector};
+pub use material::{Elastic, Material};
+pub use talus_cone::{Projector, Region, SMatrix, SVector};
 
 // The README's example, compiled and run as a doctest (`cargo test --doc`).
 #[cfg(doctest)]

@@ -4,10 +4,10 @@
 //!
 //! [`Discretization`]: talus_engine::Discretization
 use nalgebra::SMatrix;
-use talus_bipotential::{DruckerPrager, FlowRule};
+use talus_bipotential::{FlowRule, Material};
 use talus_engine::Ramp;
 
-use crate::{Assembly, Mesh};
+use crate::{Assembly, FemError, Mesh};
 
 /// A load that follows a ramp: its nodal forces at multiplier 1 (N/m).
 #[derive(Debug, Clone, PartialEq)]
@@ -29,10 +29,15 @@ pub struct Loads {
 pub struct Model {
     pub mesh: Mesh,
     pub assembly: Assembly,
-    pub material: DruckerPrager,
-    pub flow_rule: FlowRule<4>,
-    /// Elastic compliance `S₀` (1/Pa, Mandel).
-    pub compliance: SMatrix<f64, 4, 4>,
+    /// The materials, and the one of each Gauss point (an index into them).
+    pub materials: Vec<Material>,
+    pub point_material: Vec<usize>,
+    /// Elastic compliance `S₀` of each material (1/Pa, Mandel).
+    pub compliances: Vec<SMatrix<f64, 4, 4>>,
+    /// Pore pressure at each Gauss point (Pa, compression positive; 0 when dry): yield
+    /// acts on the effective stress `σ + p_w I` (`Material::flow_rule`). A field the
+    /// mechanics reads, whoever fills it (a water table, a seepage solve).
+    pub pore_pressure: Vec<f64>,
     /// External forces without a ramp (gravity, tractions, pressures), N/m, on free and
     /// prescribed dofs: the whole load of a model without load programmes.
     pub force_free: Vec<f64>,
@@ -54,18 +59,59 @@ pub struct Model {
 }
 
 impl Model {
-    /// `material` on `mesh` with the operators of `assembly`, at rest: no load, every
-    /// prescribed velocity 0, no reported boundary. Loads are added with
+    /// `material` everywhere on `mesh` with the operators of `assembly`, dry and at rest:
+    /// no load, every prescribed velocity 0, no reported boundary. Loads are added with
     /// [`Model::add_load`], velocities set in [`Model::prescribed_velocity`].
-    pub fn new(mesh: Mesh, assembly: Assembly, material: DruckerPrager) -> Self {
+    pub fn new(mesh: Mesh, assembly: Assembly, material: impl Into<Material>) -> Self {
+        let n = assembly.n_points();
+        Self::build(mesh, assembly, vec![material.into()], vec![0; n])
+    }
+
+    /// [`Model::new`] with `materials`, point `p` made of `materials[point_material[p]]`.
+    pub fn with_materials(
+        mesh: Mesh,
+        assembly: Assembly,
+        materials: Vec<Material>,
+        point_material: Vec<usize>,
+    ) -> Result<Self, FemError> {
+        if point_material.len() != assembly.n_points() {
+            return Err(FemError::invalid(
+                "point_material",
+                format!(
+                    "has {} entries for {} Gauss points",
+                    point_material.len(),
+                    assembly.n_points()
+                ),
+            ));
+        }
+        if let Some((p, &m)) = point_material
+            .iter()
+            .enumerate()
+            .find(|(_, &m)| m >= materials.len())
+        {
+            return Err(FemError::invalid(
+                "point_material",
+                format!("point {p} names material {m} of {}", materials.len()),
+            ));
+        }
+        Ok(Self::build(mesh, assembly, materials, point_material))
+    }
+
+    fn build(
+        mesh: Mesh,
+        assembly: Assembly,
+        materials: Vec<Material>,
+        point_material: Vec<usize>,
+    ) -> Self {
         let dofs = assembly.dofs();
         let (n_free, n_prescribed) = (dofs.n_free(), dofs.n_prescribed());
         let (lo, hi) = bounding_box(&mesh.nodes);
         Self {
             size: (hi[0] - lo[0]).min(hi[1] - lo[1]),
-            compliance: material.compliance::<4>(),
-            flow_rule: material.flow_rule::<4>(),
-            material,
+            compliances: materials.iter().map(|m| m.compliance::<4>()).collect(),
+            pore_pressure: vec![0.0; point_material.len()],
+            materials,
+            point_material,
             mesh,
             assembly,
             force_free: vec![0.0; n_free],
@@ -80,6 +126,46 @@ impl Model {
 
     pub fn n_points(&self) -> usize {
         self.assembly.n_points()
+    }
+
+    /// The material of Gauss point `p`.
+    pub fn material_at(&self, p: usize) -> &Material {
+        &self.materials[self.point_material[p]]
+    }
+
+    /// Each element's material (that of its Gauss points).
+    pub fn element_materials(&self) -> Vec<usize> {
+        let mut m = vec![0; self.mesh.triangles.len()];
+        for (p, &e) in self.assembly.gauss_element.iter().enumerate() {
+            m[e] = self.point_material[p];
+        }
+        m
+    }
+
+    /// The elastic compliance `S₀` of Gauss point `p` (1/Pa).
+    pub fn compliance_at(&self, p: usize) -> &SMatrix<f64, 4, 4> {
+        &self.compliances[self.point_material[p]]
+    }
+
+    /// Each Gauss point's flow rule: its material's, under its pore pressure.
+    pub fn flow_rules(&self) -> Vec<FlowRule<4>> {
+        (0..self.n_points())
+            .map(|p| self.material_at(p).flow_rule::<4>(self.pore_pressure[p]))
+            .collect()
+    }
+
+    /// Sets the materials again (strength reduction: the same points, weaker materials);
+    /// the compliances follow.
+    pub fn set_materials(&mut self, materials: Vec<Material>) -> Result<(), FemError> {
+        if materials.len() != self.materials.len() {
+            return Err(FemError::invalid(
+                "materials",
+                format!("{} given for {}", materials.len(), self.materials.len()),
+            ));
+        }
+        self.compliances = materials.iter().map(|m| m.compliance::<4>()).collect();
+        self.materials = materials;
+        Ok(())
     }
 
     /// Adds the nodal forces `(free, prescribed)` (N/m, as the [`Assembly`]'s load

@@ -48,14 +48,16 @@ impl Model {
     /// [`reduced_rhs`](Self::reduced_rhs).
     pub fn reduced_system(&self, h: f64) -> Result<ReducedSystem<4>, SolveError> {
         let asm = &self.assembly;
+        let compliance = (0..asm.n_points())
+            .map(|p| self.compliance_at(p) * asm.gauss_volumes[p])
+            .collect();
         let operator = Operator::Structured(Structured {
-            compliance: asm.compliance_blocks(&self.compliance),
+            compliance,
             b: asm.b_free.clone(),
             lumped_mass: asm.lumped_mass_free.clone(),
             h,
         });
-        let rules = vec![self.flow_rule; asm.n_points()];
-        ReducedSystem::try_new(operator, vec![0.0; 4 * asm.n_points()], rules)
+        ReducedSystem::try_new(operator, vec![0.0; 4 * asm.n_points()], self.flow_rules())
     }
 
     /// `q` of eq. 16 for the step of length `h` after `state`:
@@ -71,7 +73,7 @@ impl Model {
         let asm = &self.assembly;
         let mut s_sigma = vec![0.0; 4 * asm.n_points()];
         for (p, v) in asm.gauss_volumes.iter().enumerate() {
-            let s = self.compliance
+            let s = self.compliance_at(p)
                 * SVector::<f64, 4>::from_column_slice(&state.sigma[4 * p..4 * p + 4])
                 * *v;
             s_sigma[4 * p..4 * p + 4].copy_from_slice(s.as_slice());

@@ -154,6 +154,7 @@ fn traction_on_slanted_edges_uses_true_length() {
             triangles: vec![tri],
             node_sets: Default::default(),
             edge_sets: Default::default(),
+            element_sets: Default::default(),
         };
         let dofs = DofMap::new(mesh.nodes.len(), &[]).unwrap();
         let asm = Assembly::new(&mesh, &dofs, 1.0).unwrap();

@@ -121,6 +121,7 @@ fn b_of_reference_p1_triangle_matches_hand_computation() {
         triangles: vec![vec![0, 1, 2]],
         node_sets: Default::default(),
         edge_sets: Default::default(),
+        element_sets: Default::default(),
     };
     let dofs = DofMap::new(3, &[]).unwrap();
     let asm = Assembly::new(&mesh, &dofs, 1.0).unwrap();

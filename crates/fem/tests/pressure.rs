@@ -95,6 +95,7 @@ fn quarter_annulus_p2(r_in: f64, r_out: f64, nr: usize, nt: usize) -> Mesh {
         triangles,
         node_sets: Default::default(),
         edge_sets: [("inner".to_string(), inner), ("outer".to_string(), outer)].into(),
+        element_sets: Default::default(),
     };
     mesh.validate().unwrap();
     mesh
@@ -178,6 +179,7 @@ fn curved_p2_edge_forces_match_closed_form() {
         triangles: vec![vec![0, 1, 2, 3, 4, 5]],
         node_sets: Default::default(),
         edge_sets: Default::default(),
+        element_sets: Default::default(),
     };
     mesh.validate().unwrap();
     let dofs = DofMap::new(mesh.nodes.len(), &[]).unwrap();

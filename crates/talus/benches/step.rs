@@ -65,7 +65,8 @@ fn main() {
 fn scene(cells: [usize; 2], associative: bool) -> Scene {
     let mut scene = builtin_footing_with_cells(cells);
     if associative {
-        scene.spec.material.dilatancy_angle = Some(scene.spec.material.friction_angle);
+        let m = scene.spec.material.single_mut().expect("one material");
+        m.dilatancy_angle = m.friction_angle;
     }
     scene
 }
@@ -114,7 +115,7 @@ fn run_case(cells: [usize; 2], associative: bool) {
         .zip(&previous)
         .map(|(s, p)| s + (s - p))
         .collect();
-    let compliance = asm.compliance_blocks(&model.compliance);
+    let compliance = asm.compliance_blocks(&model.compliances[0]);
     let lower = elastic_matrix(&model, &compliance, h, true);
     let full = elastic_matrix(&model, &compliance, h, false);
     let rhs: Vec<f64> = (0..full.nrows()).map(|i| 1.0 + (i % 7) as f64).collect();

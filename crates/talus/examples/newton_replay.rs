@@ -24,7 +24,8 @@ use talus_engine::{StepSettings, Stepper};
 fn scene(cells: [usize; 2], associative: bool) -> Scene {
     let mut scene = builtin_footing_with_cells(cells);
     if associative {
-        scene.spec.material.dilatancy_angle = Some(scene.spec.material.friction_angle);
+        let m = scene.spec.material.single_mut().expect("one material");
+        m.dilatancy_angle = m.friction_angle;
     }
     scene
 }

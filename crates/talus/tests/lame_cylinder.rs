@@ -30,7 +30,7 @@ fn lame_scene(edit: impl Fn(String) -> String) -> Scene {
 /// displacement relative to the radial one.
 fn inner_errors(scene: &Scene) -> Vec<(f64, f64, f64)> {
     let model = Model::from_scene(scene).expect("model");
-    let m = &scene.spec.material;
+    let m = scene.spec.material.single().unwrap();
     let (a, b) = (1.0, 2.0);
     let pressure = &scene.spec.pressure[0];
     let ramp = talus::scene::Ramp::try_new(pressure.ramp.as_deref().unwrap()).unwrap();

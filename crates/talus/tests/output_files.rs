@@ -44,6 +44,7 @@ fn vtu_p1_two_triangles_round_trips_exactly() {
         velocity: &velocity,
         stress: &stress,
         plastic_strain: &plastic,
+        material: None,
     };
     let path = out_dir("vtu").join("p1.vtu");
     write_vtu(&path, &s).unwrap();
@@ -107,6 +108,7 @@ fn vtu_p2_triangle_is_quadratic_and_pure_shear_gives_sqrt3_tau() {
         velocity: &zero,
         stress: &stress,
         plastic_strain: &[0.5],
+        material: None,
     };
     let path = out_dir("vtu").join("p2.vtu");
     write_vtu(&path, &s).unwrap();
@@ -363,6 +365,7 @@ fn bad_inputs_name_the_field_and_write_nothing() {
         velocity: &zero,
         stress: &[[0.0; 4]],
         plastic_strain: &[0.0],
+        material: None,
     };
     let vtu = dir.join("bad.vtu");
     let _ = std::fs::remove_file(&vtu);
@@ -400,6 +403,7 @@ fn bad_inputs_name_the_field_and_write_nothing() {
         (
             FieldSnapshot {
                 plastic_strain: &[f64::INFINITY],
+                material: None,
                 ..good
             },
             "plastic_strain",

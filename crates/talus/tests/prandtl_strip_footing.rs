@@ -69,10 +69,10 @@ fn check(name: &str, scene: Scene, phi_deg: f64, published_nc: f64) {
 
     // The scene is the case described: associative, weightless, plane-strain fit.
     let spec = &scene.spec;
-    let m = &spec.material;
-    assert_eq!(m.friction_angle, phi_deg);
-    assert_eq!(m.dilatancy_angle.unwrap_or(m.friction_angle), phi_deg);
-    assert_eq!(m.cone_fit, ConeFit::PlaneStrain);
+    let m = spec.material.single().unwrap();
+    assert_eq!(m.friction_angle, Some(phi_deg));
+    assert_eq!(m.dilatancy_angle.unwrap_or(m.friction_angle()), phi_deg);
+    assert_eq!(m.cone_fit, Some(ConeFit::PlaneStrain));
     assert!(spec.gravity.is_none() && spec.traction.is_empty());
     assert!(spec.initial_stress.is_none());
     let footing = spec
@@ -145,7 +145,7 @@ fn check(name: &str, scene: Scene, phi_deg: f64, published_nc: f64) {
     let n = force.len();
     assert_eq!(n, spec.time.steps);
     let q_u = force[n - 1] / b;
-    let nc_fe = q_u / m.cohesion;
+    let nc_fe = q_u / m.cohesion();
     let error = nc_fe / nc - 1.0;
     let at_90 = force[n - 1 - n / 10];
     let plateau = (force[n - 1] - at_90) / force[n - 1];

@@ -3,12 +3,29 @@
 //! and prescribed dofs like the columns of `B`. Forces on prescribed dofs do not move the
 //! solution but enter the reaction (`docs/derivations.md`, 'Prescribed velocities and the
 //! reaction').
+use super::mass::{check_densities, Zero};
 use super::Assembly;
 use crate::dofs::Dof;
 use crate::element::edge::shape_and_derivative;
 use crate::error::FemError;
 use crate::mesh::{BoundaryEdge, Mesh};
 use crate::quadrature::edge_rule;
+
+// 4-point Gauss-Legendre on [0, 1] (degree 7), for a pressure varying along the edge:
+// `p(x(s)) N_a(s) x′(s) r(s)` has degree 7 for a linear p on a curved P2 edge in
+// axisymmetry. Points 1/2 ∓ √(3/7 ± 2/7 √(6/5))/2, weights (18 ∓ √30)/72.
+const GL4_POINTS: [f64; 4] = [
+    0.5 - 0.430_568_155_797_026_3,
+    0.5 - 0.169_990_521_792_428_13,
+    0.5 + 0.169_990_521_792_428_13,
+    0.5 + 0.430_568_155_797_026_3,
+];
+const GL4_WEIGHTS: [f64; 4] = [
+    0.173_927_422_568_726_93,
+    0.326_072_577_431_273_07,
+    0.326_072_577_431_273_07,
+    0.173_927_422_568_726_93,
+];
 
 fn check_vector(field: &'static str, v: [f64; 2]) -> Result<(), FemError> {
     if v.iter().all(|x| x.is_finite()) {
@@ -31,16 +48,40 @@ impl Assembly {
             ));
         }
         check_vector("gravity", g)?;
+        Ok(self.weight(|_| density, g))
+    }
+
+    /// [`body_force`](Self::body_force) with a density per Gauss point (soil layers,
+    /// saturated soil below a water table): `f_a = Σ_p ρ_p V_p N_a(x_p) g`, `densities[p]`
+    /// (kg/m³) the density at `gauss_points[p]`, one per point. As in `body_force`, a
+    /// density may be 0 (a weightless layer; unlike the inertial densities of
+    /// [`with_point_densities`](Self::with_point_densities)), and with every entry equal to
+    /// `ρ` the forces are bit for bit those of `body_force(ρ, g)`. Errors name `densities`
+    /// (its expected length, or the first entry not finite and ≥ 0 with its index) or
+    /// `gravity`.
+    pub fn body_force_at_points(
+        &self,
+        densities: &[f64],
+        g: [f64; 2],
+    ) -> Result<(Vec<f64>, Vec<f64>), FemError> {
+        check_densities(densities, self.gauss.len(), Zero::Accepted)?;
+        check_vector("gravity", g)?;
+        Ok(self.weight(|p| densities[p], g))
+    }
+
+    /// `Σ_p density(p) V_p N_a(x_p) g` on every node `a` of point `p`'s element.
+    fn weight(&self, density: impl Fn(usize) -> f64, g: [f64; 2]) -> (Vec<f64>, Vec<f64>) {
         let mut out = self.zero_forces();
         for p in 0..self.gauss.len() {
+            let rho = density(p);
             let v = self.gauss.volumes[p];
             for (node, n, _) in self.gauss.point(p) {
                 for (comp, gc) in g.iter().enumerate() {
-                    self.add_force(&mut out, node, comp, density * v * n * gc);
+                    self.add_force(&mut out, node, comp, rho * v * n * gc);
                 }
             }
         }
-        Ok(out)
+        out
     }
 
     /// Traction `f_a = ∫ N_a t ds` over `edges` (nodes of `mesh`), `t` in Pa (N/m² in
@@ -87,14 +128,106 @@ impl Assembly {
         })
     }
 
+    /// Normal pressure varying in space, `f_a = −∫ p(x) N_a n ds` over `edges` (Pa,
+    /// positive pushing into the body, `n` the outward normal: the convention of
+    /// [`pressure`](Self::pressure), whose edge orientation it shares), e.g. water on a
+    /// wall, `p = γ_w (h − y)` below the free surface `y = h` (and `max(0, ·)` above it).
+    /// `p` is called at each quadrature point `x(s)` of each edge. A 4-point Gauss-Legendre
+    /// rule (degree 7) per edge makes it exact for a linear `p` on straight and curved (P2)
+    /// edges in both geometries (axisymmetric, per radian: `−∫ p N_a n r ds`, the integrand
+    /// one degree higher), and on straight edges for `p` of degree ≤ 4; a `p` with a kink
+    /// inside an edge (a water table crossing it) is integrated approximately, so put a node
+    /// there. With a constant `p` the forces equal those of `pressure` to rounding (not bit
+    /// for bit: the rules differ). A non-finite `p` is an error naming the edge (its index
+    /// in `edges` and its nodes) and the quadrature point.
+    pub fn pressure_with(
+        &self,
+        mesh: &Mesh,
+        edges: &[BoundaryEdge],
+        p: impl Fn([f64; 2]) -> f64,
+    ) -> Result<(Vec<f64>, Vec<f64>), FemError> {
+        let oriented = mesh.orient_boundary_edges(edges)?;
+        self.edge_integral_at(
+            mesh,
+            &oriented,
+            (&GL4_POINTS, &GL4_WEIGHTS),
+            |k, q, x| {
+                let value = p(x);
+                if value.is_finite() {
+                    Ok(value)
+                } else {
+                    Err(FemError::invalid(
+                        "pressure",
+                        format!(
+                            "p = {value} Pa at quadrature point {q} ({x:?}) of edge {k} \
+                             (nodes {:?}) must be finite",
+                            edges[k].nodes
+                        ),
+                    ))
+                }
+            },
+            |w, n, tangent, &pk| [-w * n * pk * tangent[1], w * n * pk * tangent[0]],
+        )
+    }
+
+    /// A force `[fx, fy]` (N) on one node, split into free and prescribed dofs like the
+    /// other loads (a component on a prescribed dof enters only the reaction). Plane
+    /// strain: N per metre of thickness (a line load along the out-of-plane direction).
+    /// Axisymmetric: N per radian, like every load there (`[F_r, F_y]`): a ring load of
+    /// `q` N per metre of circumference at radius `r` is `q r` per radian, and a total axial
+    /// force `P` on an axis node is `P / 2π` per radian (its radial component falls on the
+    /// prescribed `u_r = 0`). Errors name `node` (out of range) or `force` (not finite).
+    pub fn point_force(
+        &self,
+        node: usize,
+        force: [f64; 2],
+    ) -> Result<(Vec<f64>, Vec<f64>), FemError> {
+        if node >= self.dofs.n_nodes() {
+            return Err(FemError::invalid(
+                "node",
+                format!(
+                    "node {node} is out of range: the mesh has {} nodes",
+                    self.dofs.n_nodes()
+                ),
+            ));
+        }
+        check_vector("force", force)?;
+        let mut out = self.zero_forces();
+        for (comp, fc) in force.into_iter().enumerate() {
+            self.add_force(&mut out, node, comp, fc);
+        }
+        Ok(out)
+    }
+
     /// `Σ_edges Σ_gauss r load(w, N_a, x′(s))` added to every node `a` of each edge (`r`
     /// the geometry's weight at the point, 1 in plane strain), after checking the edges'
-    /// node counts against the mesh.
+    /// node counts against the mesh; the 3-point rule.
     fn edge_integral(
         &self,
         mesh: &Mesh,
         edges: &[BoundaryEdge],
         load: impl Fn(f64, f64, [f64; 2]) -> [f64; 2],
+    ) -> Result<(Vec<f64>, Vec<f64>), FemError> {
+        self.edge_integral_at(
+            mesh,
+            edges,
+            edge_rule(),
+            |_, _, _| Ok(()),
+            |w, n, tangent, _| load(w, n, tangent),
+        )
+    }
+
+    /// [`edge_integral`](Self::edge_integral) with the rule `(points, weights)` on
+    /// `[0, 1]` and a value `at(edge index, point index, x(s))` computed once per
+    /// quadrature point (before the nodes' loads, which receive it), whose error stops the
+    /// integral.
+    fn edge_integral_at<T>(
+        &self,
+        mesh: &Mesh,
+        edges: &[BoundaryEdge],
+        (points, weights): (&[f64], &[f64]),
+        at: impl Fn(usize, usize, [f64; 2]) -> Result<T, FemError>,
+        load: impl Fn(f64, f64, [f64; 2], &T) -> [f64; 2],
     ) -> Result<(Vec<f64>, Vec<f64>), FemError> {
         if mesh.nodes.len() != self.dofs.n_nodes() {
             return Err(FemError::invalid(
@@ -107,9 +240,8 @@ impl Assembly {
             ));
         }
         let npe = mesh.order.nodes_per_edge();
-        let (points, weights) = edge_rule();
         let mut out = self.zero_forces();
-        for edge in edges {
+        for (k, edge) in edges.iter().enumerate() {
             if edge.nodes.len() != npe || edge.nodes.iter().any(|&n| n >= mesh.nodes.len()) {
                 return Err(FemError::invalid(
                     "edges",
@@ -120,7 +252,7 @@ impl Assembly {
                     ),
                 ));
             }
-            for (s, w) in points.iter().zip(weights) {
+            for (q, (s, w)) in points.iter().zip(weights).enumerate() {
                 let (n, dn) = shape_and_derivative(npe, *s);
                 let mut tangent = [0.0; 2];
                 let mut position = [0.0; 2];
@@ -131,8 +263,9 @@ impl Assembly {
                     position[1] += n[a] * mesh.nodes[node][1];
                 }
                 let weight = self.geometry.weight(position);
+                let value = at(k, q, position)?;
                 for (a, &node) in edge.nodes.iter().enumerate() {
-                    let f = load(*w, n[a], tangent);
+                    let f = load(*w, n[a], tangent, &value);
                     for (comp, fc) in f.into_iter().enumerate() {
                         self.add_force(&mut out, node, comp, fc * weight);
                     }
@@ -155,5 +288,30 @@ impl Assembly {
             Some(Dof::Prescribed(j)) => out.1[j] += f,
             None => {}
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn four_point_rule_is_exact_to_degree_seven() {
+        for k in 0..=7 {
+            let q: f64 = GL4_POINTS
+                .iter()
+                .zip(GL4_WEIGHTS)
+                .map(|(s, w)| w * s.powi(k))
+                .sum();
+            let exact = 1.0 / f64::from(k as u32 + 1);
+            assert!((q - exact).abs() < 1e-15, "s^{k}: {q} vs {exact}");
+        }
+        // and not beyond
+        let q: f64 = GL4_POINTS
+            .iter()
+            .zip(GL4_WEIGHTS)
+            .map(|(s, w)| w * s.powi(8))
+            .sum();
+        assert!((q - 1.0 / 9.0).abs() > 1e-6);
     }
 }

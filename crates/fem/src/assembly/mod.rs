@@ -19,6 +19,13 @@ use crate::mesh::Mesh;
 use gauss::GaussData;
 use strain_operator::strain_operator;
 
+/// The mass density of an assembly: one value, or one per Gauss point (checked).
+#[derive(Clone, Copy)]
+enum Density<'a> {
+    Uniform(f64),
+    PerPoint(&'a [f64]),
+}
+
 /// Everything the solver needs from the mesh (feeds `talus_ssn::Structured`:
 /// `b = b_free`, `lumped_mass = lumped_mass_free`, `compliance = compliance_blocks(S₀)`).
 #[derive(Debug, Clone)]
@@ -67,6 +74,48 @@ impl Assembly {
                 format!("{density} kg/m³ must be finite and > 0 (the lumped mass is inverted)"),
             ));
         }
+        Self::build(mesh, dofs, Density::Uniform(density), geometry)
+    }
+
+    /// [`with_geometry`](Self::with_geometry) with a mass density per Gauss point (soil
+    /// layers, saturated soil below a water table): `densities[p]` (kg/m³, finite and > 0)
+    /// belongs to the point `gauss_points[p]`, one per point of the stiffness rule in the
+    /// order [`gauss_points`](Self::gauss_points) will have (element by element; P1 one
+    /// point per triangle, P2 three). The lumped mass is that of `mass.rs` with the density
+    /// inside the integral: P1 `m_a = Σ_p ρ_p V_p N_a(x_p)`; P2 the element mass
+    /// `m_e = Σ_p ρ_p V_p` over the element's points, spread by the unchanged HRZ weights.
+    /// With every entry equal to `ρ` the result is bit for bit that of `with_geometry(ρ)`.
+    /// The points are known only once the mesh is checked, so the mesh's errors come first;
+    /// then `densities` must have one entry per point (an error names the expected length)
+    /// and each must be finite and > 0 (an error names the first bad index and value).
+    pub fn with_point_densities(
+        mesh: &Mesh,
+        dofs: &DofMap,
+        densities: &[f64],
+        geometry: Geometry,
+    ) -> Result<Self, FemError> {
+        Self::build(mesh, dofs, Density::PerPoint(densities), geometry)
+    }
+
+    /// Where the Gauss points of `mesh` in `geometry` will be, before any assembly: each
+    /// point's element and position (m), in the order of `gauss_points`, so that a caller
+    /// can give each its density ([`Assembly::with_point_densities`]).
+    pub fn gauss_layout(
+        mesh: &Mesh,
+        geometry: Geometry,
+    ) -> Result<(Vec<usize>, Vec<[f64; 2]>), FemError> {
+        mesh.validate()?;
+        geometry.check_mesh(mesh)?;
+        let gauss = GaussData::new(mesh, geometry)?;
+        Ok((gauss.elements, gauss.positions))
+    }
+
+    fn build(
+        mesh: &Mesh,
+        dofs: &DofMap,
+        density: Density<'_>,
+        geometry: Geometry,
+    ) -> Result<Self, FemError> {
         if dofs.n_nodes() != mesh.nodes.len() {
             return Err(FemError::invalid(
                 "dofs",
@@ -94,8 +143,14 @@ impl Assembly {
             ));
         }
         let gauss = GaussData::new(mesh, geometry)?;
+        if let Density::PerPoint(densities) = density {
+            mass::check_densities(densities, gauss.len(), mass::Zero::Refused)?;
+        }
         let (b_free, b_prescribed) = strain_operator(&gauss, dofs)?;
-        let nodal = mass::nodal_masses(mesh, &gauss, density)?;
+        let nodal = match density {
+            Density::Uniform(rho) => mass::nodal_masses(mesh, &gauss, |_| rho)?,
+            Density::PerPoint(rho) => mass::nodal_masses(mesh, &gauss, |p| rho[p])?,
+        };
         let mut lumped_mass_free = vec![0.0; dofs.n_free()];
         let mut lumped_mass_prescribed = vec![0.0; dofs.n_prescribed()];
         for (node, m) in nodal.iter().enumerate() {

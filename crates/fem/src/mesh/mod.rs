@@ -1,5 +1,7 @@
 //! Triangle meshes in the plane (plane strain, thickness 1 m; coordinates in metres):
-//! a structured generator, a Gmsh reader, and named node and edge sets.
+//! a structured generator, a Gmsh reader, named node, edge and element sets, and the
+//! P1 → P2 conversion ([`Mesh::to_p2`]).
+mod elevate;
 mod graded;
 mod msh;
 mod quality;
@@ -33,6 +35,10 @@ pub struct Mesh {
     pub node_sets: BTreeMap<String, Vec<usize>>,
     /// Named edge sets, e.g. for tractions.
     pub edge_sets: BTreeMap<String, Vec<BoundaryEdge>>,
+    /// Named element sets (indices into `triangles`, sorted, no duplicates), e.g. the
+    /// soil layers of a Gmsh file's physical surfaces. A triangle may be in several sets,
+    /// or in none.
+    pub element_sets: BTreeMap<String, Vec<usize>>,
 }
 
 impl Mesh {

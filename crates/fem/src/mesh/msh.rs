@@ -3,8 +3,10 @@
 //! - `Tri3` elements make a P1 mesh, `Tri6` a P2 mesh (mixing them is an error); other
 //!   surface or volume elements are rejected.
 //! - Physical groups of dimension 0 and 1 become node sets, and those of dimension 1 also
-//!   edge sets (`Lin2` / `Lin3`), named from `$PhysicalNames` (`physical_<dim>_<tag>` if
-//!   unnamed). Dimension-2 groups are ignored: every triangle belongs to the mesh.
+//!   edge sets (`Lin2` / `Lin3`); physical groups of dimension 2 (physical surfaces) become
+//!   element sets (the indices of their triangles). All are named from `$PhysicalNames`
+//!   (`physical_<dim>_<tag>` if unnamed). Every triangle belongs to the mesh, whether in a
+//!   physical surface or not; a triangle in several physical surfaces is in each set.
 //! - Only nodes used by triangles are kept, numbered by increasing Gmsh tag.
 //! - The mesh must lie in the plane z = 0 (up to rounding) and its triangles must be
 //!   counter-clockwise; errors name the Gmsh element tag.
@@ -190,6 +192,9 @@ fn build(file: &MshFile<u64, i32, f64>, names: &Names) -> Result<Mesh, MeshError
         for c in &ent.curves {
             physical.insert((1, c.tag), c.physical_tags.clone());
         }
+        for s in &ent.surfaces {
+            physical.insert((2, s.tag), s.physical_tags.clone());
+        }
     }
 
     // Node coordinates by Gmsh tag.
@@ -228,7 +233,8 @@ fn build(file: &MshFile<u64, i32, f64>, names: &Names) -> Result<Mesh, MeshError
 
     // Elements by kind.
     let mut order: Option<(ElementOrder, u64)> = None;
-    let mut triangles: Vec<(u64, &[u64])> = Vec::new();
+    // (element tag, entity tag, nodes)
+    let mut triangles: Vec<(u64, i32, &[u64])> = Vec::new();
     let mut lines: Vec<(u64, i32, &[u64])> = Vec::new();
     let mut points: Vec<(u64, i32, &[u64])> = Vec::new();
     if let Some(elements) = &file.data.elements {
@@ -265,7 +271,7 @@ fn build(file: &MshFile<u64, i32, f64>, names: &Names) -> Result<Mesh, MeshError
                         }
                         _ => {}
                     }
-                    triangles.push((tag, &el.nodes));
+                    triangles.push((tag, block.entity_tag, &el.nodes));
                 }
             }
         }
@@ -276,7 +282,7 @@ fn build(file: &MshFile<u64, i32, f64>, names: &Names) -> Result<Mesh, MeshError
 
     // Keep the nodes of triangles, numbered by increasing tag.
     let mut used = BTreeSet::new();
-    for (tag, nodes) in &triangles {
+    for (tag, _, nodes) in &triangles {
         for n in *nodes {
             if !coords.contains_key(n) {
                 return Err(MeshError::element(
@@ -376,6 +382,17 @@ fn build(file: &MshFile<u64, i32, f64>, names: &Names) -> Result<Mesh, MeshError
         set.sort_unstable();
         set.dedup();
     }
+    // Triangles are indexed in file order, so each set comes out sorted; a physical tag
+    // listed twice by one surface would repeat a triangle, hence the dedup.
+    let mut element_sets: BTreeMap<String, Vec<usize>> = BTreeMap::new();
+    for (e, (_, entity, _)) in triangles.iter().enumerate() {
+        for &p in physical.get(&(2, *entity)).map_or(&[][..], Vec::as_slice) {
+            element_sets.entry(group_name(2, p)).or_default().push(e);
+        }
+    }
+    for set in element_sets.values_mut() {
+        set.dedup();
+    }
 
     let tags: Vec<u64> = triangles.iter().map(|t| t.0).collect();
     let mesh = Mesh {
@@ -383,10 +400,11 @@ fn build(file: &MshFile<u64, i32, f64>, names: &Names) -> Result<Mesh, MeshError
         nodes: xyz.iter().map(|p| [p[0], p[1]]).collect(),
         triangles: triangles
             .iter()
-            .map(|(tag, nodes)| nodes.iter().map(|&n| local(*tag, "triangle", n)).collect())
+            .map(|(tag, _, nodes)| nodes.iter().map(|&n| local(*tag, "triangle", n)).collect())
             .collect::<Result<_, _>>()?,
         node_sets,
         edge_sets,
+        element_sets,
     };
     mesh.validate_labelled(&|e| format!("Gmsh element {}", tags[e]))?;
     Ok(mesh)

@@ -1,7 +1,8 @@
 //! Consistency and quality checks: every triangle has the right node count, refers to
 //! existing nodes with finite coordinates, and has `det J > 0` at its vertices and at
 //! every stiffness and (P2) mass quadrature point (a P2 triangle with a misplaced mid node
-//! can fold over inside while its vertices stay counter-clockwise).
+//! can fold over inside while its vertices stay counter-clockwise); edge, node and element
+//! sets refer to existing nodes and triangles.
 use super::Mesh;
 use crate::element::jacobian_determinant;
 use crate::element::ElementOrder;
@@ -117,6 +118,17 @@ impl Mesh {
                     format!(
                         "node set \"{name}\" refers to node {n}, the mesh has {} nodes",
                         self.nodes.len()
+                    ),
+                ));
+            }
+        }
+        for (name, elements) in &self.element_sets {
+            if let Some(e) = elements.iter().find(|&&e| e >= self.triangles.len()) {
+                return Err(MeshError::invalid(
+                    "element_sets",
+                    format!(
+                        "element set \"{name}\" refers to triangle {e}, the mesh has {}",
+                        self.triangles.len()
                     ),
                 ));
             }

@@ -38,6 +38,7 @@ impl Mesh {
     ///
     /// Node sets and edge sets `"left"`, `"right"`, `"bottom"`, `"top"` hold the nodes and
     /// edges of each side (corners belong to two sides); edges run counter-clockwise.
+    /// There are no element sets.
     pub fn rectangle(xs: &[f64], ys: &[f64], order: ElementOrder) -> Result<Mesh, MeshError> {
         check_coordinates("xs", xs)?;
         check_coordinates("ys", ys)?;
@@ -134,6 +135,7 @@ impl Mesh {
             triangles,
             node_sets,
             edge_sets,
+            element_sets: BTreeMap::new(),
         })
     }
 }

@@ -4,7 +4,10 @@ use crate::scene::{InitialStressSpec, Locate, Scene, SceneError};
 
 use talus_fem::Model;
 
-/// The initial stress at every Gauss point (Mandel, flat), checked against the yield cone.
+/// The initial stress at every Gauss point (Mandel, flat), each checked against its
+/// material's yield cone (an elastic point has none). With layers of different densities
+/// the K₀ procedure's vertical stress is the weight of the elements above the point
+/// ([`super::layered_weight`]); else `γ (surface − y)` as for one material.
 pub fn initial_stress(
     scene: &Scene,
     model: &Model,
@@ -14,19 +17,46 @@ pub fn initial_stress(
     let ramp = crate::scene::check::ramp(scene, "gravity_ramp", &scene.spec.gravity_ramp)?;
     let g = scene.spec.gravity.map(|g| -g[1]).unwrap_or(0.0);
     let g = ramp.map_or(g, |r| g * r.at(0.0));
+    let materials = scene.spec.material.all();
     // Without gravity the density is not needed (and may be absent).
-    let gamma = if g == 0.0 {
-        0.0
-    } else {
-        scene.spec.material.density.unwrap_or(0.0) * g
+    let gammas: Vec<f64> = materials
+        .iter()
+        .map(|m| {
+            if g == 0.0 {
+                0.0
+            } else {
+                m.density.unwrap_or(0.0) * g
+            }
+        })
+        .collect();
+    let points = &model.assembly.gauss_points;
+    let layered = gammas.iter().any(|x| *x != gammas[0]) && spec.k0.is_some();
+    let weight = match (layered, spec.surface) {
+        (true, Some(surface)) => Some(super::layered_weight(model, &gammas, surface)),
+        _ => None,
     };
-    let sigma = initial_stress_at(
-        scene,
-        &model.material,
-        gamma,
-        spec,
-        &model.assembly.gauss_points,
-    )?;
+    let mut sigma = vec![[0.0; 4]; points.len()];
+    for (m, gamma) in gammas.iter().enumerate() {
+        let at: Vec<usize> = (0..points.len())
+            .filter(|&p| model.point_material[p] == m)
+            .collect();
+        if at.is_empty() {
+            continue;
+        }
+        let these: Vec<[f64; 2]> = at.iter().map(|&p| points[p]).collect();
+        let above: Option<Vec<f64>> = weight.as_ref().map(|w| at.iter().map(|&p| w[p]).collect());
+        let values = initial_stress_at(
+            scene,
+            model.materials[m].drucker_prager(),
+            *gamma,
+            spec,
+            &these,
+            above.as_deref(),
+        )?;
+        for (&p, v) in at.iter().zip(values) {
+            sigma[p] = v;
+        }
+    }
     Ok(sigma.into_iter().flatten().collect())
 }
 
@@ -36,10 +66,11 @@ pub fn initial_stress(
 /// the cone.
 pub fn initial_stress_at(
     scene: &impl Locate,
-    material: &DruckerPrager,
+    material: Option<&DruckerPrager>,
     gamma: f64,
     spec: &InitialStressSpec,
     points: &[[f64; 2]],
+    weight_above: Option<&[f64]>,
 ) -> Result<Vec<[f64; 4]>, SceneError> {
     let k0_fields = [
         ("k0", spec.k0.is_some()),
@@ -67,6 +98,7 @@ pub fn initial_stress_at(
             surface,
             spec.surcharge.unwrap_or(0.0),
             points,
+            weight_above,
         ),
         (None, None, _) => Err(scene.error(
             "initial_stress",
@@ -90,7 +122,7 @@ pub fn mandel_from_components(stress: [f64; 4]) -> [f64; 4] {
 /// `initial_stress.stress`) when not finite or outside the yield cone, with the distance.
 pub fn uniform_stress(
     scene: &impl Locate,
-    material: &DruckerPrager,
+    material: Option<&DruckerPrager>,
     stress: [f64; 4],
 ) -> Result<[f64; 4], SceneError> {
     if !stress.iter().all(|s| s.is_finite()) {
@@ -100,6 +132,9 @@ pub fn uniform_stress(
         ));
     }
     let m = mandel_from_components(stress);
+    let Some(material) = material else {
+        return Ok(m);
+    };
     let s = nalgebra::SVector::<f64, 4>::from(m);
     let f = material.yield_function(&s);
     if f > 1e-9 * s.norm().max(material.parameters().cohesion) {
@@ -124,16 +159,20 @@ fn deviator_norm(s: &nalgebra::SVector<f64, 4>) -> f64 {
 }
 
 /// The K₀ stress (Mandel, Pa) at each of `points` (m) under a ground of unit weight
-/// `gamma = ρ g` (N/m³): `σ_yy = −(surcharge + γ (surface − y))`, `σ_xx = σ_zz = K₀ σ_yy`.
-/// Errors name `initial_stress.*`: a point above the surface, a state outside the cone.
+/// `gamma = ρ g` (N/m³): `σ_yy = −(surcharge + γ (surface − y))`, or with
+/// `weight_above[i]` (Pa) in place of `γ (surface − y)` (layers), `σ_xx = σ_zz = K₀ σ_yy`.
+/// Errors name `initial_stress.*`: a point above the surface, a state outside the cone (of
+/// `material`; none for an elastic one).
+#[allow(clippy::too_many_arguments)]
 pub fn k0_stress_at(
     scene: &impl Locate,
-    material: &DruckerPrager,
+    material: Option<&DruckerPrager>,
     gamma: f64,
     k0: f64,
     surface: f64,
     surcharge: f64,
     points: &[[f64; 2]],
+    weight_above: Option<&[f64]>,
 ) -> Result<Vec<[f64; 4]>, SceneError> {
     if !(k0.is_finite() && k0 > 0.0) {
         return Err(scene.error("initial_stress.k0", format!("{k0} must be finite and > 0")));
@@ -148,7 +187,7 @@ pub fn k0_stress_at(
         ));
     }
     let mut sigma = Vec::with_capacity(points.len());
-    for x in points {
+    for (i, x) in points.iter().enumerate() {
         let depth = surface - x[1];
         if depth < -1e-9 * surface.abs().max(1.0) {
             return Err(scene.error(
@@ -159,7 +198,10 @@ pub fn k0_stress_at(
                 ),
             ));
         }
-        let vertical = -(surcharge + gamma * depth.max(0.0));
+        let vertical = match weight_above {
+            Some(w) => -(surcharge + w[i]),
+            None => -(surcharge + gamma * depth.max(0.0)),
+        };
         let s = nalgebra::SVector::<f64, 4>::new(k0 * vertical, vertical, k0 * vertical, 0.0);
         if !(k0 * vertical).is_finite() {
             // The cone test below cannot judge an infinite stress (its f is NaN).
@@ -170,6 +212,10 @@ pub fn k0_stress_at(
                 ),
             ));
         }
+        let Some(material) = material else {
+            sigma.push([s[0], s[1], s[2], s[3]]);
+            continue;
+        };
         let f = material.yield_function(&s);
         if f > 1e-9 * s.norm().max(material.parameters().cohesion) {
             let (lo, hi) = k0_bounds(material);
@@ -192,7 +238,10 @@ pub fn k0_stress_at(
 /// Jaky's `1 − sin φ` falls below it for φ ≳ 36° with the plane-strain fit, because the fit
 /// matches Mohr-Coulomb in plastic flow, not in this stress state.
 pub fn k0_bounds_without_cohesion(model: &Model) -> (f64, f64) {
-    k0_bounds(&model.material)
+    match model.materials.first().and_then(|m| m.drucker_prager()) {
+        Some(m) => k0_bounds(m),
+        None => (0.0, f64::INFINITY),
+    }
 }
 
 /// [`k0_bounds_without_cohesion`] of a material.

@@ -5,9 +5,11 @@ use talus_mpm::{
     WallCondition,
 };
 
+use talus_bipotential::{DruckerPrager, Material};
+
 use crate::scene::{
-    check, scales, scales::ramp_max, AnalysisKind, GeometryKind, MpmScene, PredictorSpec, Ramp,
-    SceneError, ShapeSpec, SideSpec, WallConditionSpec,
+    check, scales, scales::ramp_max, AnalysisKind, GeometryKind, MaterialSpec, MpmScene,
+    PredictorSpec, Ramp, SceneError, ShapeSpec, SideSpec, WallConditionSpec,
 };
 use talus_engine::{PredictorRule, StepSettings};
 use talus_mpm::{MpmLoadProgramme, ProgrammedMpm, RampedSurfaceLoad, RunoutReference};
@@ -46,7 +48,7 @@ impl MpmModel {
     pub fn from_scene(scene: &MpmScene) -> Result<Self, SceneError> {
         let spec = &scene.spec;
         let grid = grid(scene)?;
-        let material = check::material(scene, &spec.material)?;
+        let (mspec, material) = material(scene)?;
         if spec.analysis.kind == AnalysisKind::QuasiStatic {
             return Err(scene.error(
                 "analysis.kind",
@@ -67,7 +69,7 @@ impl MpmModel {
                 format!("{r} applies to quasi-static finite-element scenes only"),
             ));
         }
-        let density = spec.material.density.ok_or_else(|| {
+        let density = mspec.density.ok_or_else(|| {
             scene.error(
                 "material.density",
                 "is required by a material point scene (the mass)",
@@ -100,8 +102,14 @@ impl MpmModel {
                 Some(r) => -density * gravity[1] * r.at(0.0),
                 None => -density * gravity[1],
             };
-            particles.stress =
-                initial_stress_at(scene, &material, gamma, initial, &particles.position)?;
+            particles.stress = initial_stress_at(
+                scene,
+                Some(&material),
+                gamma,
+                initial,
+                &particles.position,
+                None,
+            )?;
         }
         check::time(scene, &spec.time)?;
         check::solver(scene, &spec.solver)?;
@@ -137,6 +145,28 @@ impl MpmModel {
     }
 }
 
+/// The scene's one material, Drucker-Prager.
+fn material(scene: &MpmScene) -> Result<(&MaterialSpec, DruckerPrager), SceneError> {
+    let materials = &scene.spec.material;
+    let Some(m) = materials.single() else {
+        return Err(scene.error(
+            "material[1]",
+            format!(
+                "a material point scene has one material today, this one {}",
+                materials.all().len()
+            ),
+        ));
+    };
+    let field = materials.field(0);
+    match check::material(scene, &field, m)? {
+        Material::DruckerPrager(dp) => Ok((m, dp)),
+        Material::Elastic(_) => Err(scene.error(
+            &format!("{field}.model"),
+            "\"elastic\": the material point method takes a Drucker-Prager material",
+        )),
+    }
+}
+
 /// The scene against its own scales (`scene::scales`): `h` against the wave time of a cell
 /// and the boxes' motion (at most a cell per step), the stresses against E.
 fn check_scales(scene: &MpmScene) -> Result<(), SceneError> {
@@ -161,7 +191,9 @@ fn check_scales(scene: &MpmScene) -> Result<(), SceneError> {
         (format!("prescribed[{k}].velocity"), v)
     });
     let imposed = scales::Imposed {
-        material: &spec.material,
+        materials: (spec.material.all().iter().enumerate())
+            .map(|(k, m)| (spec.material.field(k), m))
+            .collect(),
         time: &spec.time,
         gravity: spec.gravity,
         heights: [bottom, top],

@@ -82,10 +82,14 @@ impl SizeEstimate {
                 };
                 (2.0 * cells[0] as f64 * cells[1] as f64, order)
             }
-            MeshSpec::Gmsh { path } => {
+            MeshSpec::Gmsh { path, order } => {
                 let mesh = Mesh::from_msh(&scene.resolve(path))
                     .map_err(|e| scene.error("mesh.gmsh.path", e.to_string()))?;
-                (mesh.triangles.len() as f64, mesh.order)
+                let order = match order {
+                    Some(Order::P2) => ElementOrder::P2,
+                    _ => mesh.order,
+                };
+                (mesh.triangles.len() as f64, order)
             }
         };
         let points = triangles * stiffness_rule(order).points.len() as f64;

@@ -23,6 +23,8 @@ pub struct Results {
     steps: usize,
     time: f64,
     force_unit: &'static str,
+    /// What the run should say besides its numbers (`Summary::warnings`).
+    warnings: Vec<String>,
 }
 
 /// What [`Results`] recorded so far (its columns come from the scene): saved in a
@@ -92,11 +94,18 @@ impl Results {
             steps: 0,
             time: 0.0,
             force_unit: "N/m",
+            warnings: Vec::new(),
         })
     }
 
     /// The unit the summary gives the forces in (`N/m` unless set: axisymmetric runs
     /// report whole-circumference forces in `N`).
+    /// Adds a warning, logged now and kept for `summary.json`.
+    pub fn warn(&mut self, warning: String) {
+        tracing::warn!("{warning}");
+        self.warnings.push(warning);
+    }
+
     pub fn set_force_unit(&mut self, unit: &'static str) {
         self.force_unit = unit;
     }
@@ -255,6 +264,7 @@ impl Results {
             force_unit: self.force_unit.to_string(),
             factor_of_safety: None,
             collapse: None,
+            warnings: self.warnings.clone(),
         }
     }
 }

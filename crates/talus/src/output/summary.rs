@@ -135,6 +135,9 @@ pub struct Summary {
     /// Only when `status` is `collapsed`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub collapse: Option<CollapseTime>,
+    /// What the run warned of (e.g. plastic flow on locking P1 triangles).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 fn per_metre() -> String {

@@ -30,6 +30,8 @@ pub struct FieldSnapshot<'a> {
     pub stress: &'a [[f64; 4]],
     /// Per element, cumulative equivalent plastic strain `∫‖ε̇ᵖ‖ dt`.
     pub plastic_strain: &'a [f64],
+    /// Per element, its material's index in the scene's list (`material`, from 0).
+    pub material: Option<&'a [usize]>,
 }
 
 impl FieldSnapshot<'_> {
@@ -49,6 +51,9 @@ impl FieldSnapshot<'_> {
         check_finite("displacement", self.displacement)?;
         check_finite("velocity", self.velocity)?;
         check_finite("stress", self.stress)?;
+        if let Some(m) = self.material {
+            check_len("material", m.len(), n_elements, "element")?;
+        }
         check_finite_scalars("plastic_strain", self.plastic_strain)
     }
 }
@@ -95,6 +100,13 @@ fn vtu_string(s: &FieldSnapshot) -> String {
     );
     stress_and_invariants(&mut x, s.stress);
     scalars(&mut x, "plastic_strain", s.plastic_strain);
+    if let Some(material) = s.material {
+        open_array(&mut x, "Int32", "material", 1, 8);
+        for m in material {
+            let _ = writeln!(x, "{m}");
+        }
+        close_array(&mut x, 8);
+    }
     let _ = writeln!(x, "      </CellData>");
     points_and_cells(&mut x, mesh.nodes, mesh.triangles, |tri| {
         if tri.len() == 6 {

@@ -4,7 +4,7 @@
 //! `[analysis]` is read so that `kind = "quasi_static"` can be refused by name.
 use serde::{Deserialize, Serialize};
 
-use super::{AnalysisSpec, InitialStressSpec, MaterialSpec, SolverSpec, TimeSpec};
+use super::{AnalysisSpec, InitialStressSpec, Materials, SolverSpec, TimeSpec};
 
 /// The whole MPM scene (see docs/scenes.md, "MPM scenes").
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
@@ -22,7 +22,7 @@ pub struct MpmSceneSpec {
     /// Rectangles filled with particles, all of `material`.
     #[serde(default)]
     pub body: Vec<BodySpec>,
-    pub material: MaterialSpec,
+    pub material: Materials,
     #[serde(default)]
     pub wall: Vec<WallSpec>,
     #[serde(default)]

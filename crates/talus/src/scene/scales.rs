@@ -44,7 +44,9 @@ pub struct Scales {
 /// What a scene imposes, gathered by its method's model for [`check_scales`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Imposed<'a> {
-    pub material: &'a MaterialSpec,
+    /// Each material with its field (`material` or `material[k]`): each is checked as if
+    /// it filled the body.
+    pub materials: Vec<(String, &'a MaterialSpec)>,
     pub time: &'a TimeSpec,
     pub gravity: Option<[f64; 2]>,
     /// The body's lowest and highest y (m).
@@ -89,17 +91,18 @@ pub fn caps(scene: &impl Locate, time: &TimeSpec, halvings: usize) -> Result<(),
 /// (from `bottom` to `top`, m), the initial stress (the K₀ procedure's at `bottom`, whose
 /// `surface` may lie far above the body). The caller adds its loads.
 fn material_stresses(
+    field: &str,
     m: &MaterialSpec,
     gravity: Option<[f64; 2]>,
     [bottom, top]: [f64; 2],
     initial: Option<&InitialStressSpec>,
 ) -> Vec<(String, f64)> {
     let depth = top - bottom;
-    let mut s = vec![("material.cohesion".to_string(), m.cohesion.abs())];
+    let mut s = vec![(format!("{field}.cohesion"), m.cohesion().abs())];
     if let (Some(g), Some(rho)) = (gravity, m.density) {
         // Named as the user reads it: the weight of the body's height, from the density.
         s.push((
-            format!("ρ |g| H from material.density, H = {depth:.4e} m"),
+            format!("ρ |g| H from {field}.density, H = {depth:.4e} m"),
             rho * g[0].hypot(g[1]) * depth,
         ));
     }
@@ -132,9 +135,29 @@ fn material_stresses(
 /// The scene against its own scales, FEM and MPM alike: `h` against the wave time of the
 /// smallest cell and the fastest prescribed motion, the stresses against E.
 pub fn check_scales(scene: &impl Locate, imposed: &Imposed, s: &Scales) -> Result<(), SceneError> {
-    let (m, time) = (imposed.material, imposed.time);
-    let mut stresses =
-        material_stresses(m, imposed.gravity, imposed.heights, imposed.initial_stress);
+    for (field, m) in &imposed.materials {
+        check_material(scene, field, m, imposed, s)?;
+    }
+    Ok(())
+}
+
+/// [`check_scales`] for the material `m` at `prefix` (`material` or `material[k]`).
+fn check_material(
+    scene: &impl Locate,
+    prefix: &str,
+    m: &MaterialSpec,
+    imposed: &Imposed,
+    s: &Scales,
+) -> Result<(), SceneError> {
+    let time = imposed.time;
+    let cohesion_field = format!("{prefix}.cohesion");
+    let mut stresses = material_stresses(
+        prefix,
+        m,
+        imposed.gravity,
+        imposed.heights,
+        imposed.initial_stress,
+    );
     stresses.extend(imposed.loads.iter().cloned());
     let speed = imposed
         .speeds
@@ -147,7 +170,7 @@ pub fn check_scales(scene: &impl Locate, imposed: &Imposed, s: &Scales) -> Resul
         stresses
             .iter()
             // An infinite stress is an overflow to refuse, not a value to skip.
-            .filter(|(f, v)| !v.is_nan() && (cohesion || f != "material.cohesion"))
+            .filter(|(f, v)| !v.is_nan() && (cohesion || *f != cohesion_field))
             .max_by(|a, b| a.1.total_cmp(&b.1))
             .filter(|(_, v)| *v > 0.0)
     };
@@ -158,7 +181,7 @@ pub fn check_scales(scene: &impl Locate, imposed: &Imposed, s: &Scales) -> Resul
             (0.0, bound)
         };
         scene.error(
-            "material.young_modulus",
+            &format!("{prefix}.young_modulus"),
             format!(
                 "{e:e} Pa against {sigma:.4e} Pa ({field}): their ratio {:.3e} must be {} \
                  {:e}, i.e. E {} {:.3e} Pa",
@@ -189,14 +212,14 @@ pub fn check_scales(scene: &impl Locate, imposed: &Imposed, s: &Scales) -> Resul
             return Err(refuse(field, *sigma, MAX_STRESS_RATIO, false));
         }
     }
-    if !(m.cohesion / e <= MAX_COHESION_RATIO) {
+    if !(m.cohesion() / e <= MAX_COHESION_RATIO) {
         return Err(scene.error(
-            "material.cohesion",
+            &cohesion_field,
             format!(
-                "{:e} Pa is {:.3e} times material.young_modulus ({e:e} Pa): at most \
+                "{:e} Pa is {:.3e} times {prefix}.young_modulus ({e:e} Pa): at most \
                  {MAX_COHESION_RATIO:e} (a material that never yields needs no more)",
-                m.cohesion,
-                m.cohesion / e
+                m.cohesion(),
+                m.cohesion() / e
             ),
         ));
     }
@@ -209,8 +232,8 @@ pub fn check_scales(scene: &impl Locate, imposed: &Imposed, s: &Scales) -> Resul
                     "time.step",
                     format!(
                         "{h:e} s is {ratio:.3e} times the elastic wave time across the smallest \
-                         cell ({:.3e} m · √(ρ/E) = {wave:.3e} s, from material.density and \
-                         material.young_modulus): use h from {:.3e} to {:.3e} s",
+                         cell ({:.3e} m · √(ρ/E) = {wave:.3e} s, from {prefix}.density and \
+                         {prefix}.young_modulus): use h from {:.3e} to {:.3e} s",
                         s.cell,
                         MIN_STEP_RATIO * wave,
                         MAX_STEP_RATIO * wave

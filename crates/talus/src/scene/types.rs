@@ -1,7 +1,6 @@
 use serde::{Deserialize, Serialize};
 
-use super::SolverSpec;
-use talus_bipotential::ConeFit;
+use super::{Materials, RegionSpec, SolverSpec};
 
 /// The whole scene. Optional sections cost nothing when left out: no gravity, no
 /// tractions, default solver settings and outputs.
@@ -11,7 +10,11 @@ pub struct SceneSpec {
     #[serde(default)]
     pub title: Option<String>,
     pub mesh: MeshSpec,
-    pub material: MaterialSpec,
+    /// `[material]` or `[[material]]`.
+    pub material: Materials,
+    /// Named regions of the mesh by box (Gmsh physical surfaces are regions already).
+    #[serde(default)]
+    pub region: Vec<RegionSpec>,
     /// Body acceleration (m/s²), e.g. `[0.0, -9.81]`; absent means weightless.
     #[serde(default)]
     pub gravity: Option<[f64; 2]>,
@@ -24,6 +27,9 @@ pub struct SceneSpec {
     pub traction: Vec<TractionSpec>,
     #[serde(default)]
     pub pressure: Vec<PressureSpec>,
+    /// Forces at the nodes nearest given points.
+    #[serde(default)]
+    pub point_load: Vec<PointLoadSpec>,
     pub time: TimeSpec,
     /// Initial stress (default: stress free).
     #[serde(default)]
@@ -63,29 +69,17 @@ pub enum MeshSpec {
         #[serde(default = "uniform")]
         ratio: [f64; 2],
     },
-    /// A Gmsh `.msh` 4.1 file, relative to the scene file.
-    Gmsh { path: String },
+    /// A Gmsh `.msh` 4.1 file, relative to the scene file; `order = "P2"` turns a linear
+    /// (P1) mesh into P2, with mid-edge nodes on straight edges.
+    Gmsh {
+        path: String,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        order: Option<Order>,
+    },
 }
 
 fn uniform() -> [f64; 2] {
     [1.0, 1.0]
-}
-
-/// Drucker-Prager parameters (Pa, degrees) and the density (kg/m³): required for a
-/// dynamic analysis (the mass) and with `gravity` (the weight), otherwise unused.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct MaterialSpec {
-    pub young_modulus: f64,
-    pub poisson_ratio: f64,
-    pub friction_angle: f64,
-    pub cohesion: f64,
-    /// Default: associative (θ = φ).
-    #[serde(default)]
-    pub dilatancy_angle: Option<f64>,
-    pub cone_fit: ConeFit,
-    #[serde(default)]
-    pub density: Option<f64>,
 }
 
 /// Nodes by the name of a mesh set or by an axis-aligned box `[[xmin, ymin], [xmax, ymax]]`.
@@ -139,8 +133,25 @@ pub struct TractionSpec {
 #[serde(deny_unknown_fields)]
 pub struct PressureSpec {
     pub edges: Selection,
+    /// Pa; with `gradient`, the pressure at y = 0.
     pub value: f64,
+    /// dp/dy (Pa/m): the pressure is `value + gradient · y`, e.g. water on a wall,
+    /// `value = γ_w y_w, gradient = −γ_w` below a water level `y_w`. Default 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gradient: Option<f64>,
     /// Multiplier of `value` in time; default constant 1.
+    #[serde(default)]
+    pub ramp: Option<Vec<[f64; 2]>>,
+}
+
+/// A force (N per metre of thickness; axisymmetric: N per radian) on the node nearest
+/// `point` (m).
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointLoadSpec {
+    pub point: [f64; 2],
+    pub force: [f64; 2],
+    /// Multiplier of `force` in time; default constant 1.
     #[serde(default)]
     pub ramp: Option<Vec<[f64; 2]>>,
 }

@@ -12,7 +12,7 @@ pub mod trial;
 
 use std::time::Instant;
 
-use talus_bipotential::DruckerPragerParameters;
+use talus_bipotential::Material;
 
 use crate::model::fem::FromScene;
 use crate::model::fem::{Model, State};
@@ -47,7 +47,9 @@ pub struct Analysis {
     step_settings: StepSettings,
     h: f64,
     steps: usize,
-    scene_material: DruckerPragerParameters,
+    /// The scene's materials at factor 1, and whether strength reduction weakens each.
+    scene_materials: Vec<Material>,
+    reduce: Vec<bool>,
     /// The forces at factor 1 (gravity increase adds `(F − 1)` times the weight).
     force_free: Vec<f64>,
     force_prescribed: Vec<f64>,
@@ -67,11 +69,7 @@ impl Analysis {
         let end = h * steps as f64;
         let weight = match (settings.method, spec.gravity) {
             (StabilityMethod::GravityIncrease, Some(g)) => {
-                let density = spec.material.density.unwrap_or(0.0);
-                let (free, prescribed) = model
-                    .assembly
-                    .body_force(density, g)
-                    .map_err(|e| scene.error("gravity", e.to_string()))?;
+                let (free, prescribed) = crate::model::fem::weight(scene, &model, g)?;
                 let ramp = crate::scene::check::ramp(scene, "gravity_ramp", &spec.gravity_ramp)?;
                 let f = ramp.map_or(1.0, |r| r.at(end));
                 Some((
@@ -87,7 +85,8 @@ impl Analysis {
             step_settings: spec.solver.fem(),
             h,
             steps,
-            scene_material: *model.material.parameters(),
+            scene_materials: model.materials.clone(),
+            reduce: spec.material.all().iter().map(|m| m.reduced()).collect(),
             force_free: model.force_free.clone(),
             force_prescribed: model.force_prescribed.clone(),
             weight,
@@ -107,12 +106,24 @@ impl Analysis {
     pub fn set_factor(&mut self, f: f64) -> Result<(), String> {
         match self.settings.method {
             StabilityMethod::StrengthReduction => {
-                let reduced =
-                    Strength::of(&self.scene_material).reduced(f, self.settings.dilatancy);
-                let material = strength::drucker_prager(&self.scene_material, &reduced)
-                    .map_err(|e| format!("the strength reduced by F = {f}: {e}"))?;
-                self.model.flow_rule = material.flow_rule::<4>();
-                self.model.material = material;
+                let mut materials = self.scene_materials.clone();
+                for (m, reduce) in materials.iter_mut().zip(&self.reduce) {
+                    let Material::DruckerPrager(dp) = m else {
+                        continue;
+                    };
+                    if !reduce {
+                        continue;
+                    }
+                    let params = dp.parameters();
+                    let reduced = Strength::of(params).reduced(f, self.settings.dilatancy);
+                    *m = Material::DruckerPrager(
+                        strength::drucker_prager(params, &reduced)
+                            .map_err(|e| format!("the strength reduced by F = {f}: {e}"))?,
+                    );
+                }
+                self.model
+                    .set_materials(materials)
+                    .map_err(|e| e.to_string())?;
             }
             StabilityMethod::GravityIncrease => {
                 let (free, prescribed) = self.weight.as_ref().ok_or("no gravity")?;

@@ -148,6 +148,10 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<StabilityRun, RunError
         ));
     }
     summary.factor_of_safety = Some(factor_of_safety.clone());
+    summary.warnings = crate::model::fem::warnings(scene, &analysis.model);
+    for w in &summary.warnings {
+        tracing::warn!("{w}");
+    }
     summary.write(&summary_path)?;
     tracing::info!("{}", summary.sentence());
     if interrupted {
@@ -178,6 +182,7 @@ fn empty_summary(status: RunStatus, steps: usize, requested: usize, time: f64) -
         force_unit: "N/m".to_string(),
         factor_of_safety: None,
         collapse: None,
+        warnings: Vec::new(),
     }
 }
 
@@ -261,6 +266,7 @@ fn write_mechanism(
             velocity: &velocity,
             stress: &stress,
             plastic_strain: &plastic,
+            material: Some(&model.element_materials()),
         },
     )?;
     if scene.spec.output.plots {

@@ -128,7 +128,7 @@ pub fn elastic_step_identity() -> Vec<CaseResult> {
             .ok()?;
 
         let (bf, bp) = (dense(&asm.b_free), dense(&asm.b_prescribed));
-        let c0: SMatrix<f64, 4, 4> = model.compliance.try_inverse()?;
+        let c0: SMatrix<f64, 4, 4> = model.compliances[0].try_inverse()?;
         let n_s = 4 * asm.n_points();
         let mut s_inv = DMatrix::zeros(n_s, n_s);
         for (p, v) in asm.gauss_volumes.iter().enumerate() {

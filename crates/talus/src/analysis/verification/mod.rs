@@ -5,6 +5,7 @@
 mod axisymmetric_elastic;
 mod convergence_order;
 mod elastic;
+mod layered_footing;
 mod material_point;
 mod prandtl;
 mod stability;
@@ -18,6 +19,11 @@ pub use axisymmetric_elastic::{
 };
 pub use convergence_order::newton_convergence_order;
 pub use elastic::{elastic_patch_test, elastic_step_identity};
+pub use layered_footing::{
+    equal_strengths_case, layered_footing, layered_footing_cases, layered_scene,
+    strong_over_weak_cases, tresca_nc, LayeredRun, DISCRETIZATION, SCENE_STRENGTH_RATIO,
+    THICKNESS_OVER_WIDTH,
+};
 pub use material_point::{apex_return, associative_normality, dilatancy_ratio};
 pub use prandtl::{prandtl, prandtl_refinement, PrandtlRun};
 pub use stability::{
@@ -86,8 +92,9 @@ pub(crate) fn timed(f: impl FnOnce() -> Vec<CaseResult>) -> Vec<CaseResult> {
     results
 }
 
-/// Every case; `quick` keeps the coarser Prandtl meshes only. With `figures`, the PNGs
-/// of the cases are written there (`verification_*.png`).
+/// Every case; `quick` keeps the coarser Prandtl meshes only (and the layered footing's
+/// two coarse runs). With `figures`, the PNGs of the cases are written there
+/// (`verification_*.png`).
 pub fn all_cases(quick: bool, figures: Option<&std::path::Path>) -> Vec<CaseResult> {
     let mut out = Vec::new();
     out.extend(timed(dilatancy_ratio));
@@ -99,6 +106,8 @@ pub fn all_cases(quick: bool, figures: Option<&std::path::Path>) -> Vec<CaseResu
     out.extend(timed(lame_axisymmetric));
     out.extend(timed(circular_punch));
     out.extend(prandtl::all_prandtl_cases(quick, figures));
+    // Rows stamp their own runs' seconds; `quick` keeps c2/c1 = 0.5 and 1 on the coarse mesh.
+    out.extend(layered_footing_cases(quick));
     out.extend(timed(|| newton_convergence_order(figures)));
     // Each stamps its own seconds (the slope's by-hand runs apart from its search).
     out.extend(slope_cases());

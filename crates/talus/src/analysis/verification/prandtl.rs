@@ -59,7 +59,7 @@ pub fn prandtl(phi_deg: f64, order: &str, cells: [usize; 2]) -> Option<PrandtlRu
     ));
     let summary = run_scene(&scene, &RunOptions::new(out)).ok()?;
     let b = 1.0;
-    let c = scene.spec.material.cohesion;
+    let c = scene.spec.material.single()?.cohesion();
     let force = 2.0 * summary.records.last()?.reaction_force();
     Some(PrandtlRun {
         nc: force / (b * c),

@@ -182,8 +182,9 @@ pub fn vertical_cut_case() -> Vec<CaseResult> {
         .ok()
         .and_then(|scene| {
             let spec = &scene.spec;
-            let gamma = spec.material.density? * spec.gravity?[1].abs();
-            let (h, c) = (10.0, spec.material.cohesion);
+            let material = spec.material.single()?;
+            let gamma = material.density? * spec.gravity?[1].abs();
+            let (h, c) = (10.0, material.cohesion());
             let run = crate::analysis::stability::run(&scene, &options("vertical-cut")).ok()?;
             Some(run.factor_of_safety.value? * gamma * h / c)
         });

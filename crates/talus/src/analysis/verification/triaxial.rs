@@ -97,7 +97,7 @@ pub fn run_triaxial(scene: &Scene) -> Option<TriaxialRun> {
     Some(TriaxialRun {
         q: reaction / (std::f64::consts::PI * RADIUS * RADIUS),
         dilatancy_ratio: (d1 + 2.0 * dr) / d1,
-        k_d: model.material.k_d(),
+        k_d: model.materials[0].drucker_prager()?.k_d(),
     })
 }
 

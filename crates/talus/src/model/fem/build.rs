@@ -22,8 +22,7 @@ impl FromScene for Model {
     fn from_scene(scene: &Scene) -> Result<Self, SceneError> {
         let spec = &scene.spec;
         let mesh = build_mesh(scene)?;
-        let m = &spec.material;
-        let material = check::material(scene, m)?;
+        let ground = super::materials::ground(scene, &mesh)?;
         check::time(scene, &spec.time)?;
         check::solver(scene, &spec.solver)?;
         check_scales(scene, &mesh)?;
@@ -73,8 +72,24 @@ impl FromScene for Model {
         if dofs.n_free() == 0 {
             return Err(scene.error("boundary", "every degree of freedom is prescribed"));
         }
-        let density = required_density(scene)?;
-        let assembly = Assembly::with_geometry(&mesh, &dofs, density, geometry).map_err(|e| {
+        let densities = required_densities(scene)?;
+        // One density everywhere: the scalar assembly (a layered scene of one material
+        // gives the one-material model bit for bit); else each point's.
+        let uniform = densities.iter().all(|d| *d == densities[0]);
+        let point_density: Vec<f64>;
+        let assembly = if uniform {
+            point_density = Vec::new();
+            Assembly::with_geometry(&mesh, &dofs, densities[0], geometry)
+        } else {
+            let (elements, _) = Assembly::gauss_layout(&mesh, geometry)
+                .map_err(|e| scene.error("mesh", e.to_string()))?;
+            point_density = elements
+                .iter()
+                .map(|&e| densities[ground.element_material[e]])
+                .collect();
+            Assembly::with_point_densities(&mesh, &dofs, &point_density, geometry)
+        }
+        .map_err(|e| {
             let field = match &e {
                 FemError::InvalidInput {
                     field: "density", ..
@@ -84,6 +99,11 @@ impl FromScene for Model {
             };
             scene.error(field, e.to_string())
         })?;
+        let point_material: Vec<usize> = assembly
+            .gauss_element
+            .iter()
+            .map(|&e| ground.element_material[e])
+            .collect();
 
         // Prescribed velocities: later conditions win where sets overlap.
         let mut prescribed_velocity = vec![0.0; dofs.n_prescribed()];
@@ -134,9 +154,7 @@ impl FromScene for Model {
         let gravity_ramp = check::ramp(scene, "gravity_ramp", &spec.gravity_ramp)?;
         match spec.gravity {
             Some(g) => add_load(
-                assembly
-                    .body_force(density, g)
-                    .map_err(|e| scene.error("gravity", e.to_string()))?,
+                point_weight(scene, &assembly, &densities, &point_density, g)?,
                 gravity_ramp,
             ),
             None if gravity_ramp.is_some() => {
@@ -165,18 +183,52 @@ impl FromScene for Model {
                     format!("{} Pa must be finite", p.value),
                 ));
             }
+            let forces = match p.gradient {
+                None => assembly.pressure(&mesh, &edges, p.value),
+                Some(gradient) if gradient.is_finite() => {
+                    assembly.pressure_with(&mesh, &edges, |x| p.value + gradient * x[1])
+                }
+                Some(gradient) => {
+                    return Err(scene.error(
+                        &format!("pressure[{k}].gradient"),
+                        format!("{gradient} Pa/m must be finite"),
+                    ))
+                }
+            };
             add_load(
-                assembly
-                    .pressure(&mesh, &edges, p.value)
-                    .map_err(|e| scene.error(&field, e.to_string()))?,
+                forces.map_err(|e| scene.error(&field, e.to_string()))?,
                 ramp,
             );
         }
-        let mut model = Model::new(mesh, assembly, material);
+        for (k, l) in spec.point_load.iter().enumerate() {
+            let field = format!("point_load[{k}]");
+            if !l.point.iter().all(|v| v.is_finite()) {
+                return Err(scene.error(
+                    &format!("{field}.point"),
+                    format!("{:?} m must be finite", l.point),
+                ));
+            }
+            if !l.force.iter().all(|v| v.is_finite()) {
+                return Err(scene.error(
+                    &format!("{field}.force"),
+                    format!("{:?} N/m must be finite", l.force),
+                ));
+            }
+            let ramp = check::ramp(scene, &format!("{field}.ramp"), &l.ramp)?;
+            let node = nearest_node(&mesh, l.point);
+            add_load(
+                assembly
+                    .point_force(node, l.force)
+                    .map_err(|e| scene.error(&format!("{field}.force"), e.to_string()))?,
+                ramp,
+            );
+        }
+        let mut model = Model::with_materials(mesh, assembly, ground.materials, point_material)
+            .map_err(|e| scene.error("material", e.to_string()))?;
         for (forces, ramp) in loads {
             model.add_load(forces, ramp);
         }
-        super::quasi_static::scale_masses(scene, &mut model.assembly, &model.compliance)?;
+        super::quasi_static::scale_masses(scene, &mut model)?;
         model.prescribed_velocity = prescribed_velocity;
         model.velocity_ramps = velocity_ramps;
         model.reaction_dofs = reaction_dofs;
@@ -199,24 +251,86 @@ impl FromScene for Model {
     }
 }
 
-/// The density (kg/m³) the assembly takes: the scene's, required by a dynamic analysis (the
-/// mass) and by gravity (the weight); a weightless quasi-static scene may leave it out (its
-/// masses are scaled from the stiffness, `super::quasi_static`).
-fn required_density(scene: &Scene) -> Result<f64, SceneError> {
-    let spec = &scene.spec;
-    match spec.material.density {
-        Some(d) => Ok(d),
-        None if spec.gravity.is_some() => Err(scene.error(
-            "material.density",
-            "is required with `gravity` (the weight of the ground)",
-        )),
-        None if spec.analysis.kind == AnalysisKind::Dynamic => Err(scene.error(
-            "material.density",
-            "is required by a dynamic analysis (the mass); a quasi-static one \
-             ([analysis] kind = \"quasi_static\") without gravity does not need it",
-        )),
-        None => Ok(1.0),
+/// What a run of `model` should be told (`summary.json`'s `warnings`): plastic flow on
+/// P1 triangles, which lock (Prandtl's N_c 6.0–6.8% too high on 40×28 cells against 0.6–1.3%
+/// with P2, `docs/verification.md`).
+pub fn warnings(scene: &Scene, model: &Model) -> Vec<String> {
+    let plastic = model.materials.iter().any(|m| m.drucker_prager().is_some());
+    let gmsh = matches!(scene.spec.mesh, MeshSpec::Gmsh { .. });
+    if plastic && model.mesh.order == ElementOrder::P1 {
+        vec![format!(
+            "plastic flow on P1 (3-node) triangles: they lock and overestimate limit loads \
+             (Prandtl's N_c by 6.0–6.8% on 40×28 cells, against 0.6–1.3% with P2; \
+             docs/verification.md); use {}",
+            if gmsh {
+                "[mesh.gmsh] order = \"P2\", which adds mid-edge nodes to a linear mesh"
+            } else {
+                "order = \"P2\""
+            }
+        )]
+    } else {
+        Vec::new()
     }
+}
+
+/// The weight of gravity `g` (m/s²) on the body (N/m), with one density (`densities[0]`)
+/// when `point_density` is empty, else each point's.
+fn point_weight(
+    scene: &Scene,
+    assembly: &Assembly,
+    densities: &[f64],
+    point_density: &[f64],
+    g: [f64; 2],
+) -> Result<(Vec<f64>, Vec<f64>), SceneError> {
+    if point_density.is_empty() {
+        assembly.body_force(densities[0], g)
+    } else {
+        assembly.body_force_at_points(point_density, g)
+    }
+    .map_err(|e| scene.error("gravity", e.to_string()))
+}
+
+/// The weight of gravity `g` (m/s²) on `model` built from `scene`, each point with its
+/// material's density (N/m, free and prescribed dofs).
+pub fn weight(
+    scene: &Scene,
+    model: &Model,
+    g: [f64; 2],
+) -> Result<(Vec<f64>, Vec<f64>), SceneError> {
+    let densities = required_densities(scene)?;
+    let point_density: Vec<f64> = if densities.iter().all(|d| *d == densities[0]) {
+        Vec::new()
+    } else {
+        model.point_material.iter().map(|&m| densities[m]).collect()
+    };
+    point_weight(scene, &model.assembly, &densities, &point_density, g)
+}
+
+/// The density (kg/m³) of each material: required by a dynamic analysis (the mass) and by
+/// gravity (the weight); a weightless quasi-static scene may leave it out (its masses are
+/// scaled from the stiffness, `super::quasi_static`).
+fn required_densities(scene: &Scene) -> Result<Vec<f64>, SceneError> {
+    let spec = &scene.spec;
+    let materials = &spec.material;
+    let field = |k: usize| format!("{}.density", materials.field(k));
+    materials
+        .all()
+        .iter()
+        .enumerate()
+        .map(|(k, m)| match m.density {
+            Some(d) => Ok(d),
+            None if spec.gravity.is_some() => Err(scene.error(
+                &field(k),
+                "is required with `gravity` (the weight of the ground)",
+            )),
+            None if spec.analysis.kind == AnalysisKind::Dynamic => Err(scene.error(
+                &field(k),
+                "is required by a dynamic analysis (the mass); a quasi-static one \
+                 ([analysis] kind = \"quasi_static\") without gravity does not need it",
+            )),
+            None => Ok(1.0),
+        })
+        .collect()
 }
 
 /// The scene against its own scales (`scene::scales`): caps, `h` against the wave time of
@@ -240,20 +354,29 @@ fn check_scales(scene: &Scene, mesh: &Mesh) -> Result<(), SceneError> {
         (format!("traction[{k}].value"), v)
     });
     let pressures = spec.pressure.iter().enumerate().map(|(k, p)| {
-        let v = p.value.abs() * ramp_max(&p.ramp);
+        // Linear in y: largest at the body's top or bottom.
+        let at = |y: f64| (p.value + p.gradient.unwrap_or(0.0) * y).abs();
+        let v = at(lo[1]).max(at(hi[1])) * ramp_max(&p.ramp);
         (format!("pressure[{k}].value"), v)
+    });
+    // A point force spread over the smallest cell, as a stress.
+    let points = spec.point_load.iter().enumerate().map(|(k, l)| {
+        let v = l.force[0].hypot(l.force[1]) * ramp_max(&l.ramp) / cell;
+        (format!("point_load[{k}].force"), v)
     });
     let speeds = spec.boundary.iter().enumerate().map(|(k, b)| {
         let v = b.velocity[0].hypot(b.velocity[1]) * ramp_max(&b.ramp);
         (format!("boundary[{k}].velocity"), v)
     });
     let imposed = scales::Imposed {
-        material: &spec.material,
+        materials: (spec.material.all().iter().enumerate())
+            .map(|(k, m)| (spec.material.field(k), m))
+            .collect(),
         time: &spec.time,
         gravity: spec.gravity,
         heights: [lo[1], hi[1]],
         initial_stress: spec.initial_stress.as_ref(),
-        loads: tractions.chain(pressures).collect(),
+        loads: tractions.chain(pressures).chain(points).collect(),
         speeds: speeds.collect(),
     };
     let body = scales::Scales {
@@ -295,13 +418,35 @@ fn build_mesh(scene: &Scene) -> Result<Mesh, SceneError> {
             Mesh::rectangle(&xs, &ys, order)
                 .map_err(|e| scene.error("mesh.rectangle", e.to_string()))
         }
-        MeshSpec::Gmsh { path } => {
+        MeshSpec::Gmsh { path, order } => {
             // The .msh file named as well as the scene's line: the error is in it.
             let file = scene.resolve(path);
-            Mesh::from_msh(&file)
-                .map_err(|e| scene.error("mesh.gmsh.path", format!("{}: {e}", file.display())))
+            let mesh = Mesh::from_msh(&file)
+                .map_err(|e| scene.error("mesh.gmsh.path", format!("{}: {e}", file.display())))?;
+            match (order, mesh.order) {
+                (Some(Order::P2), ElementOrder::P1) => mesh
+                    .to_p2()
+                    .map_err(|e| scene.error("mesh.gmsh.order", e.to_string())),
+                (Some(Order::P1), ElementOrder::P2) => Err(scene.error(
+                    "mesh.gmsh.order",
+                    format!(
+                        "\"P1\": {} holds P2 (6-node) triangles; a P2 mesh is not lowered \
+                         (mesh it with order 1, or leave `order` out)",
+                        file.display()
+                    ),
+                )),
+                _ => Ok(mesh),
+            }
         }
     }
+}
+
+/// The node nearest `point` (the first of equally near ones).
+fn nearest_node(mesh: &Mesh, point: [f64; 2]) -> usize {
+    let d = |n: &[f64; 2]| (n[0] - point[0]).powi(2) + (n[1] - point[1]).powi(2);
+    (0..mesh.nodes.len())
+        .min_by(|&a, &b| d(&mesh.nodes[a]).total_cmp(&d(&mesh.nodes[b])))
+        .unwrap_or(0)
 }
 
 fn select_nodes(

@@ -2,11 +2,12 @@
 //! scene, its initial state, the quasi-static masses, and the named boundaries and
 //! monitors a run reports.
 mod build;
+mod materials;
 mod monitors;
 mod quasi_static;
 mod reaction_groups;
 
-pub use build::FromScene;
+pub use build::{warnings, weight, FromScene};
 pub use monitors::NodeMonitors;
 pub use quasi_static::{quasi_static_masses, DEFAULT_INERTIA_RATIO};
 pub use reaction_groups::ReactionGroups;

@@ -5,7 +5,7 @@
 //! (`docs/derivations.md`, 'The quasi-static limit').
 use nalgebra::{SMatrix, SVector};
 use talus_fem::assembly::MANDEL;
-use talus_fem::Assembly;
+use talus_fem::Model;
 
 use crate::scene::{AnalysisKind, Scene, SceneError};
 
@@ -16,14 +16,24 @@ pub const DEFAULT_INERTIA_RATIO: f64 = 1e-7;
 
 /// The quasi-static lumped masses `r h² K_jj` of the free and of the prescribed dofs, with
 /// `K_jj = Σ_p b_pjᵀ S_p⁻¹ b_pj` (`b_pj` point `p`'s rows of column `j` of `B`, and
-/// `S_p = V_p S₀`); `None` if a dof strains nothing (no stiffness to scale by).
+/// `S_p = V_p S₀` with the point's material); `None` if a dof strains nothing (no
+/// stiffness to scale by).
 pub fn quasi_static_masses(
-    assembly: &Assembly,
-    compliance: &SMatrix<f64, 4, 4>,
+    model: &Model,
     h: f64,
     inertia_ratio: f64,
 ) -> Option<(Vec<f64>, Vec<f64>)> {
-    let stiffness = compliance.try_inverse()?;
+    let per_material: Vec<SMatrix<f64, 4, 4>> = model
+        .compliances
+        .iter()
+        .map(|c| c.try_inverse())
+        .collect::<Option<_>>()?;
+    let stiffness: Vec<&SMatrix<f64, 4, 4>> = model
+        .point_material
+        .iter()
+        .map(|&m| &per_material[m])
+        .collect();
+    let assembly = &model.assembly;
     let (volumes, scale) = (&assembly.gauss_volumes, h * h * inertia_ratio);
     let (f, p) = (&assembly.b_free, &assembly.b_prescribed);
     Some((
@@ -46,7 +56,7 @@ pub fn quasi_static_masses(
 fn column_masses(
     (cp, ri, val): (&[usize], &[usize], &[f64]),
     volumes: &[f64],
-    stiffness: &SMatrix<f64, 4, 4>,
+    stiffness: &[&SMatrix<f64, 4, 4>],
     scale: f64,
 ) -> Option<Vec<f64>> {
     (0..cp.len() - 1)
@@ -57,7 +67,7 @@ fn column_masses(
             let mut bp = SVector::<f64, 4>::zeros();
             let mut flush = |p: usize, bp: &SVector<f64, 4>| {
                 if p != usize::MAX {
-                    k_jj += bp.dot(&(stiffness * bp)) / volumes[p];
+                    k_jj += bp.dot(&(stiffness[p] * bp)) / volumes[p];
                 }
             };
             for k in cp[j]..cp[j + 1] {
@@ -78,11 +88,7 @@ fn column_masses(
 /// For a quasi-static scene, replaces the assembly's lumped masses by the scaled ones of
 /// [`quasi_static_masses`] (the weight keeps the material's density: it was assembled
 /// before). A dynamic scene keeps its masses; `inertia_ratio` is then refused.
-pub fn scale_masses(
-    scene: &Scene,
-    assembly: &mut Assembly,
-    compliance: &SMatrix<f64, 4, 4>,
-) -> Result<(), SceneError> {
+pub fn scale_masses(scene: &Scene, model: &mut Model) -> Result<(), SceneError> {
     let analysis = &scene.spec.analysis;
     if analysis.kind == AnalysisKind::Dynamic {
         if let Some(r) = analysis.inertia_ratio {
@@ -101,13 +107,13 @@ pub fn scale_masses(
         ));
     }
     let h = scene.spec.time.step;
-    let (free, prescribed) = quasi_static_masses(assembly, compliance, h, r).ok_or_else(|| {
+    let (free, prescribed) = quasi_static_masses(model, h, r).ok_or_else(|| {
         scene.error(
             "analysis.kind",
             "a degree of freedom strains no Gauss point: no stiffness to scale its mass by",
         )
     })?;
-    assembly.lumped_mass_free = free;
-    assembly.lumped_mass_prescribed = prescribed;
+    model.assembly.lumped_mass_free = free;
+    model.assembly.lumped_mass_prescribed = prescribed;
     Ok(())
 }

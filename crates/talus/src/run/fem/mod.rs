@@ -80,8 +80,7 @@ fn run_scene_from(
         points = asm.n_points(),
         free_dofs = dofs.n_free(),
         elements = model.mesh.triangles.len(),
-        cone_fit = model.material.parameters().cone_fit.name(),
-        k_d = model.material.k_d(),
+        materials = model.materials.len(),
         "model built"
     );
     let results = FemResults::new(
@@ -314,6 +313,7 @@ fn element_fields(model: &Model, state: &State) -> (Vec<[f64; 4]>, Vec<f64>) {
 
 fn write_snapshot(model: &Model, state: &State, path: &Path) -> Result<(), RunError> {
     let (stress, plastic) = element_fields(model, state);
+    let material = model.element_materials();
     let velocity = model
         .assembly
         .dofs()
@@ -336,6 +336,7 @@ fn write_snapshot(model: &Model, state: &State, path: &Path) -> Result<(), RunEr
             velocity: &velocity,
             stress: &stress,
             plastic_strain: &plastic,
+            material: Some(&material),
         },
     )?;
     Ok(())

@@ -30,6 +30,9 @@ impl FemResults {
         )
         .map_err(|e| scene.error(&e.field, e.message))?;
         results.set_force_unit(scene.spec.analysis.geometry.force_unit());
+        for w in crate::model::fem::warnings(scene, model) {
+            results.warn(w);
+        }
         Ok(Self {
             groups,
             monitors,
