@@ -1,6 +1,7 @@
 //! What the stepping engine asks of a discretization (FEM, MPM): per sub-step, the reduced
 //! problem of eqs. 15–16 (`B`, `M`, `S`, loads), and the update once the solve converged.
 //! The engine runs the Newton solves; a discretization never does.
+use talus_bipotential::FlowRule;
 use talus_ssn::{ReducedSystem, SolveError};
 
 use crate::Motion;
@@ -10,6 +11,9 @@ pub enum Problem {
     /// `q` for the operator [`Discretization::fixed_system`] gave for this `h` (FEM: `W`
     /// does not depend on the state under small strains, only `q` changes).
     Rhs(Vec<f64>),
+    /// `q` and the points' flow rules for the fixed operator (FEM under a pore pressure
+    /// that changes in time: the cones moved, `W` did not).
+    RhsAndRules(Vec<f64>, Vec<FlowRule<4>>),
     /// A whole system (MPM: the particles moved, so `B` and `M` changed).
     System(ReducedSystem<4>),
 }

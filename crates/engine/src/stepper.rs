@@ -241,6 +241,13 @@ impl<D: Discretization> Stepper<D> {
                 solver.set_q(q).map_err(fatal_solver)?;
                 solver
             }
+            Problem::RhsAndRules(q, rules) => {
+                let p = self.fixed_solver(h)?;
+                let solver = &mut self.fixed[p].1;
+                solver.set_q(q).map_err(fatal_solver)?;
+                solver.set_rules(rules).map_err(fatal_solver)?;
+                solver
+            }
             Problem::System(system) => {
                 own.insert(Solver::new(system, self.settings.solver).map_err(fatal_solver)?)
             }
@@ -307,6 +314,10 @@ impl<D: Discretization> Stepper<D> {
             {
                 None => break r,
                 Some(Problem::Rhs(q)) => solver.set_q(q).map_err(fatal_solver)?,
+                Some(Problem::RhsAndRules(q, rules)) => {
+                    solver.set_q(q).map_err(fatal_solver)?;
+                    solver.set_rules(rules).map_err(fatal_solver)?;
+                }
                 Some(Problem::System(system)) if self.settings.reuse_analysis => {
                     reused += solver.replace_problem(system).map_err(fatal_solver)? as usize;
                 }

@@ -38,6 +38,9 @@ pub struct Model {
     /// acts on the effective stress `σ + p_w I` (`Material::flow_rule`). A field the
     /// mechanics reads, whoever fills it (a water table, a seepage solve).
     pub pore_pressure: Vec<f64>,
+    /// The multiplier of `pore_pressure` in time (the water follows the weight's ramp);
+    /// `None`: constant.
+    pub pore_pressure_ramp: Option<Ramp>,
     /// External forces without a ramp (gravity, tractions, pressures), N/m, on free and
     /// prescribed dofs: the whole load of a model without load programmes.
     pub force_free: Vec<f64>,
@@ -110,6 +113,7 @@ impl Model {
             size: (hi[0] - lo[0]).min(hi[1] - lo[1]),
             compliances: materials.iter().map(|m| m.compliance::<4>()).collect(),
             pore_pressure: vec![0.0; point_material.len()],
+            pore_pressure_ramp: None,
             materials,
             point_material,
             mesh,
@@ -152,6 +156,17 @@ impl Model {
         (0..self.n_points())
             .map(|p| self.material_at(p).flow_rule::<4>(self.pore_pressure[p]))
             .collect()
+    }
+
+    /// [`Model::flow_rules`] at time `t` (s) when the pore pressure follows a ramp; `None`
+    /// when it is constant (the rules of [`Model::reduced_system`] hold).
+    pub fn flow_rules_at(&self, t: f64) -> Option<Vec<FlowRule<4>>> {
+        let f = self.pore_pressure_ramp.as_ref()?.at(t);
+        Some(
+            (0..self.n_points())
+                .map(|p| self.material_at(p).flow_rule::<4>(f * self.pore_pressure[p]))
+                .collect(),
+        )
     }
 
     /// Sets the materials again (strength reduction: the same points, weaker materials);

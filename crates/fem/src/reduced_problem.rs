@@ -176,7 +176,11 @@ impl Discretization for Model {
     fn begin(&self, state: &State, h: f64) -> Result<(Loads, Problem), Self::Error> {
         let loads = self.loads_at(state.time + h);
         let q = self.reduced_rhs_with(state, h, &loads);
-        Ok((loads, Problem::Rhs(q)))
+        let problem = match self.flow_rules_at(state.time + h) {
+            Some(rules) => Problem::RhsAndRules(q, rules),
+            None => Problem::Rhs(q),
+        };
+        Ok((loads, problem))
     }
 
     fn after_solve(

@@ -63,6 +63,29 @@ impl<const D: usize> ReducedSystem<D> {
         Ok(())
     }
 
+    /// Replaces the flow rules (a new time step whose yield sets moved, e.g. under a
+    /// changing pore pressure): the same number of points and the same symmetry, so that
+    /// the Newton system keeps its pattern and factorization kind.
+    pub fn set_rules(&mut self, rules: Vec<FlowRule<D>>) -> Result<(), SolveError> {
+        if rules.len() != self.rules.len() {
+            return Err(invalid(
+                "rules",
+                format!("{} flow rules for {} points", rules.len(), self.rules.len()),
+            ));
+        }
+        let associative = rules.iter().all(|r| r.is_associative());
+        if associative != self.is_associative() {
+            return Err(invalid(
+                "rules",
+                "the new rules change whether the flow is associative (the Newton system's \
+                 symmetry): build a new solver"
+                    .to_string(),
+            ));
+        }
+        self.rules = rules;
+        Ok(())
+    }
+
     pub fn operator(&self) -> &Operator<D> {
         &self.operator
     }

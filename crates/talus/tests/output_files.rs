@@ -45,6 +45,7 @@ fn vtu_p1_two_triangles_round_trips_exactly() {
         stress: &stress,
         plastic_strain: &plastic,
         material: None,
+        pore_pressure: None,
     };
     let path = out_dir("vtu").join("p1.vtu");
     write_vtu(&path, &s).unwrap();
@@ -109,6 +110,7 @@ fn vtu_p2_triangle_is_quadratic_and_pure_shear_gives_sqrt3_tau() {
         stress: &stress,
         plastic_strain: &[0.5],
         material: None,
+        pore_pressure: None,
     };
     let path = out_dir("vtu").join("p2.vtu");
     write_vtu(&path, &s).unwrap();
@@ -366,6 +368,7 @@ fn bad_inputs_name_the_field_and_write_nothing() {
         stress: &[[0.0; 4]],
         plastic_strain: &[0.0],
         material: None,
+        pore_pressure: None,
     };
     let vtu = dir.join("bad.vtu");
     let _ = std::fs::remove_file(&vtu);
@@ -404,6 +407,7 @@ fn bad_inputs_name_the_field_and_write_nothing() {
             FieldSnapshot {
                 plastic_strain: &[f64::INFINITY],
                 material: None,
+                pore_pressure: None,
                 ..good
             },
             "plastic_strain",

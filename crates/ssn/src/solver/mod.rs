@@ -7,7 +7,7 @@ mod replace;
 mod rho;
 
 use rho::{choose_rho, RESIDUAL_RHO};
-use talus_bipotential::NaturalMapLinearization;
+use talus_bipotential::{FlowRule, NaturalMapLinearization};
 
 use crate::error::invalid;
 use crate::newton::{DenseSystem, SchurSystem, StressSizedSystem};
@@ -178,6 +178,12 @@ impl<const D: usize> Solver<D> {
     /// Replaces `q`, keeping the operator, its analysis and ρ.
     pub fn set_q(&mut self, q: Vec<f64>) -> Result<(), SolveError> {
         self.problem.set_q(q)
+    }
+
+    /// Replaces the flow rules, with the same number of points and symmetry
+    /// ([`ReducedSystem::set_rules`]); the factorizations stay valid.
+    pub fn set_rules(&mut self, rules: Vec<FlowRule<D>>) -> Result<(), SolveError> {
+        self.problem.set_rules(rules)
     }
 
     /// `z = Wσ + q` at the last iterate of the last solve.

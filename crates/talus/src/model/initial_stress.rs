@@ -6,8 +6,10 @@ use talus_fem::Model;
 
 /// The initial stress at every Gauss point (Mandel, flat), each checked against its
 /// material's yield cone (an elastic point has none). With layers of different densities
-/// the K₀ procedure's vertical stress is the weight of the elements above the point
-/// ([`super::layered_weight`]); else `γ (surface − y)` as for one material.
+/// or under a water table the K₀ procedure's vertical effective stress is the (buoyant,
+/// below the table) weight of the elements above the point ([`super::layered_weight`]);
+/// else `γ (surface − y)` as for one dry material. The total stress subtracts the pore
+/// pressure from the normal components.
 pub fn initial_stress(
     scene: &Scene,
     model: &Model,
@@ -16,23 +18,33 @@ pub fn initial_stress(
     // In equilibrium with the gravity of the start, t = 0 (`gravity_ramp` scales it).
     let ramp = crate::scene::check::ramp(scene, "gravity_ramp", &scene.spec.gravity_ramp)?;
     let g = scene.spec.gravity.map(|g| -g[1]).unwrap_or(0.0);
+    let ramp0 = ramp.as_ref().map_or(1.0, |r| r.at(0.0));
     let g = ramp.map_or(g, |r| g * r.at(0.0));
     let materials = scene.spec.material.all();
     // Without gravity the density is not needed (and may be absent).
     let gammas: Vec<f64> = materials
         .iter()
-        .map(|m| {
-            if g == 0.0 {
-                0.0
-            } else {
-                m.density.unwrap_or(0.0) * g
-            }
-        })
+        .map(|m| if g == 0.0 { 0.0 } else { m.density.unwrap_or(0.0) * g })
         .collect();
     let points = &model.assembly.gauss_points;
-    let layered = gammas.iter().any(|x| *x != gammas[0]) && spec.k0.is_some();
-    let weight = match (layered, spec.surface) {
-        (true, Some(surface)) => Some(super::layered_weight(model, &gammas, surface)),
+    // The water: its pressure at t = 0 and the buoyant (effective) unit weight below it.
+    let water = crate::model::fem::water_table(scene)?;
+    let buoyant: Vec<f64> = materials
+        .iter()
+        .map(|m| {
+            let sat = m.saturated_density.or(m.density).unwrap_or(0.0);
+            let gamma_w = water.as_ref().map_or(0.0, |w| w.unit_weight * ramp0);
+            if g == 0.0 { 0.0 } else { sat * g - gamma_w }
+        })
+        .collect();
+    let layered = gammas.iter().any(|x| *x != gammas[0]);
+    let weight = match (spec.k0, spec.surface) {
+        (Some(_), Some(surface)) if layered || water.is_some() => Some(super::layered_weight(
+            model,
+            &gammas,
+            water.as_ref().map(|w| (&buoyant[..], w)),
+            surface,
+        )),
         _ => None,
     };
     let mut sigma = vec![[0.0; 4]; points.len()];
@@ -55,6 +67,16 @@ pub fn initial_stress(
         )?;
         for (&p, v) in at.iter().zip(values) {
             sigma[p] = v;
+        }
+    }
+    // The K₀ procedure and the cone act on the effective stress; the total stress carries
+    // the pore pressure: σ = σ' − p_w I (tension positive).
+    if let Some(w) = &water {
+        for (s, &x) in sigma.iter_mut().zip(points) {
+            let p = ramp0 * w.pore_pressure(x);
+            for c in &mut s[..3] {
+                *c -= p;
+            }
         }
     }
     Ok(sigma.into_iter().flatten().collect())

@@ -27,10 +27,16 @@ fn crossing(t: [[f64; 2]; 3], x: f64) -> Option<(f64, f64)> {
 }
 
 /// Per Gauss point, the weight (Pa) of the elements above it up to `surface` (m), each with
-/// the unit weight `gammas[m]` (N/m³) of its material `m`: exact for straight-sided
-/// elements. The ground between the mesh's top and a higher `surface` weighs nothing here
-/// (a surcharge stands for it).
-pub fn layered_weight(model: &Model, gammas: &[f64], surface: f64) -> Vec<f64> {
+/// the unit weight `gammas[m]` (N/m³) of its material `m`, and below the water table
+/// `below = (buoyant, table)` the buoyant one `buoyant[m]` (`γ_sat − γ_w`: the effective
+/// weight): exact for straight-sided elements. The ground between the mesh's top and a
+/// higher `surface` weighs nothing here (a surcharge stands for it).
+pub fn layered_weight(
+    model: &Model,
+    gammas: &[f64],
+    below: Option<(&[f64], &crate::scene::WaterTable)>,
+    surface: f64,
+) -> Vec<f64> {
     let mesh = &model.mesh;
     let asm = &model.assembly;
     let n_e = mesh.triangles.len();
@@ -39,10 +45,10 @@ pub fn layered_weight(model: &Model, gammas: &[f64], surface: f64) -> Vec<f64> {
         .iter()
         .map(|t| [mesh.nodes[t[0]], mesh.nodes[t[1]], mesh.nodes[t[2]]])
         .collect();
-    // Each element's unit weight: the material of its points.
-    let mut gamma = vec![0.0; n_e];
+    // Each element's material: that of its points.
+    let mut material = vec![0; n_e];
     for (p, &e) in asm.gauss_element.iter().enumerate() {
-        gamma[e] = gammas[model.point_material[p]];
+        material[e] = model.point_material[p];
     }
     // Elements binned by their x-range, so that a vertical meets only its bin's elements.
     let (x0, x1) = triangles
@@ -69,8 +75,16 @@ pub fn layered_weight(model: &Model, gammas: &[f64], surface: f64) -> Vec<f64> {
                 .iter()
                 .filter_map(|&e| {
                     let (lo, hi) = crossing(triangles[e], x)?;
-                    let length = (hi.min(surface) - lo.max(y)).max(0.0);
-                    Some(gamma[e] * length)
+                    let (lo, hi) = (lo.max(y), hi.min(surface));
+                    let m = material[e];
+                    Some(match below {
+                        None => gammas[m] * (hi - lo).max(0.0),
+                        Some((buoyant, table)) => {
+                            let h = table.height(x);
+                            buoyant[m] * (hi.min(h) - lo).max(0.0)
+                                + gammas[m] * (hi - lo.max(h)).max(0.0)
+                        }
+                    })
                 })
                 .sum()
         })

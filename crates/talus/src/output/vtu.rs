@@ -32,6 +32,9 @@ pub struct FieldSnapshot<'a> {
     pub plastic_strain: &'a [f64],
     /// Per element, its material's index in the scene's list (`material`, from 0).
     pub material: Option<&'a [usize]>,
+    /// Per element, the pore pressure (Pa, compression positive); with it the VTU also
+    /// holds `effective_stress = stress + p_w I` (tension positive).
+    pub pore_pressure: Option<&'a [f64]>,
 }
 
 impl FieldSnapshot<'_> {
@@ -53,6 +56,10 @@ impl FieldSnapshot<'_> {
         check_finite("stress", self.stress)?;
         if let Some(m) = self.material {
             check_len("material", m.len(), n_elements, "element")?;
+        }
+        if let Some(p) = self.pore_pressure {
+            check_len("pore_pressure", p.len(), n_elements, "element")?;
+            check_finite_scalars("pore_pressure", p)?;
         }
         check_finite_scalars("plastic_strain", self.plastic_strain)
     }
@@ -100,6 +107,16 @@ fn vtu_string(s: &FieldSnapshot) -> String {
     );
     stress_and_invariants(&mut x, s.stress);
     scalars(&mut x, "plastic_strain", s.plastic_strain);
+    if let Some(p_w) = s.pore_pressure {
+        scalars(&mut x, "pore_pressure", p_w);
+        let effective: Vec<[f64; 4]> = s
+            .stress
+            .iter()
+            .zip(p_w)
+            .map(|(m, p)| [m[0] + p, m[1] + p, m[2] + p, m[3]])
+            .collect();
+        tensor(&mut x, "effective_stress", &effective);
+    }
     if let Some(material) = s.material {
         open_array(&mut x, "Int32", "material", 1, 8);
         for m in material {
@@ -168,9 +185,22 @@ pub(super) fn scalars(x: &mut String, name: &str, data: &[f64]) {
 /// `stress` as a symmetric tensor in plain components (VTK order `XX, YY, ZZ, XY, YZ, XZ`,
 /// σxy = m₃/√2, YZ = XZ = 0), then its `von_mises` and `pressure`.
 pub(super) fn stress_and_invariants(x: &mut String, stress: &[[f64; 4]]) {
+    tensor(x, "stress", stress);
+    let derived: [(&str, StressInvariant); 2] = [("von_mises", von_mises), ("pressure", pressure)];
+    for (name, f) in derived {
+        open_array(x, "Float64", name, 1, 8);
+        for m in stress {
+            let _ = writeln!(x, "{:e}", f(m));
+        }
+        close_array(x, 8);
+    }
+}
+
+/// A Mandel stress field as a symmetric tensor in plain components.
+fn tensor(x: &mut String, name: &str, stress: &[[f64; 4]]) {
     let _ = writeln!(
         x,
-        r#"        <DataArray type="Float64" Name="stress" NumberOfComponents="6" ComponentName0="XX" ComponentName1="YY" ComponentName2="ZZ" ComponentName3="XY" ComponentName4="YZ" ComponentName5="XZ" format="ascii">"#
+        r#"        <DataArray type="Float64" Name="{name}" NumberOfComponents="6" ComponentName0="XX" ComponentName1="YY" ComponentName2="ZZ" ComponentName3="XY" ComponentName4="YZ" ComponentName5="XZ" format="ascii">"#
     );
     for m in stress {
         let _ = writeln!(
@@ -183,14 +213,6 @@ pub(super) fn stress_and_invariants(x: &mut String, stress: &[[f64; 4]]) {
         );
     }
     close_array(x, 8);
-    let derived: [(&str, StressInvariant); 2] = [("von_mises", von_mises), ("pressure", pressure)];
-    for (name, f) in derived {
-        open_array(x, "Float64", name, 1, 8);
-        for m in stress {
-            let _ = writeln!(x, "{:e}", f(m));
-        }
-        close_array(x, 8);
-    }
 }
 
 /// `<Points>` (z = 0) and `<Cells>`: each cell's point ids, running offsets, VTK types.

@@ -16,6 +16,7 @@ mod solver;
 mod source;
 mod stability;
 mod types;
+mod water;
 
 pub use error::SceneError;
 pub use file::SceneFile;
@@ -29,3 +30,4 @@ pub use source::{Locate, SceneDocument};
 pub use stability::{DilatancyRule, StabilityMethod, StabilitySpec};
 pub use talus_engine::{Ramp, RampError};
 pub use types::*;
+pub use water::{WaterSpec, WaterTable, WATER_UNIT_WEIGHT};

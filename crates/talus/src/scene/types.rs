@@ -1,6 +1,6 @@
 use serde::{Deserialize, Serialize};
 
-use super::{Materials, RegionSpec, SolverSpec};
+use super::{Materials, RegionSpec, SolverSpec, WaterSpec};
 
 /// The whole scene. Optional sections cost nothing when left out: no gravity, no
 /// tractions, default solver settings and outputs.
@@ -15,6 +15,9 @@ pub struct SceneSpec {
     /// Named regions of the mesh by box (Gmsh physical surfaces are regions already).
     #[serde(default)]
     pub region: Vec<RegionSpec>,
+    /// A drained water table (default: dry).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub water: Option<WaterSpec>,
     /// Body acceleration (m/s²), e.g. `[0.0, -9.81]`; absent means weightless.
     #[serde(default)]
     pub gravity: Option<[f64; 2]>,

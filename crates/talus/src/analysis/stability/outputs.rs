@@ -267,6 +267,7 @@ fn write_mechanism(
             stress: &stress,
             plastic_strain: &plastic,
             material: Some(&model.element_materials()),
+            pore_pressure: None,
         },
     )?;
     if scene.spec.output.plots {

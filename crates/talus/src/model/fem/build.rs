@@ -6,7 +6,7 @@ use talus_fem::{
 };
 
 use crate::scene::{
-    check, scales, scales::ramp_max, AnalysisKind, Fix, MeshSpec, Order, Ramp, Scene, SceneError,
+    check, scales, scales::ramp_max, AnalysisKind, WaterTable, Fix, MeshSpec, Order, Ramp, Scene, SceneError,
     Selection,
 };
 
@@ -72,22 +72,19 @@ impl FromScene for Model {
         if dofs.n_free() == 0 {
             return Err(scene.error("boundary", "every degree of freedom is prescribed"));
         }
-        let densities = required_densities(scene)?;
+        let water = water_table(scene)?;
+        let (elements, positions) = Assembly::gauss_layout(&mesh, geometry)
+            .map_err(|e| scene.error("mesh", e.to_string()))?;
+        let point_material: Vec<usize> =
+            elements.iter().map(|&e| ground.element_material[e]).collect();
+        let densities = point_densities(scene, water.as_ref(), &point_material, &positions)?;
         // One density everywhere: the scalar assembly (a layered scene of one material
         // gives the one-material model bit for bit); else each point's.
         let uniform = densities.iter().all(|d| *d == densities[0]);
-        let point_density: Vec<f64>;
         let assembly = if uniform {
-            point_density = Vec::new();
             Assembly::with_geometry(&mesh, &dofs, densities[0], geometry)
         } else {
-            let (elements, _) = Assembly::gauss_layout(&mesh, geometry)
-                .map_err(|e| scene.error("mesh", e.to_string()))?;
-            point_density = elements
-                .iter()
-                .map(|&e| densities[ground.element_material[e]])
-                .collect();
-            Assembly::with_point_densities(&mesh, &dofs, &point_density, geometry)
+            Assembly::with_point_densities(&mesh, &dofs, &densities, geometry)
         }
         .map_err(|e| {
             let field = match &e {
@@ -99,11 +96,6 @@ impl FromScene for Model {
             };
             scene.error(field, e.to_string())
         })?;
-        let point_material: Vec<usize> = assembly
-            .gauss_element
-            .iter()
-            .map(|&e| ground.element_material[e])
-            .collect();
 
         // Prescribed velocities: later conditions win where sets overlap.
         let mut prescribed_velocity = vec![0.0; dofs.n_prescribed()];
@@ -154,13 +146,26 @@ impl FromScene for Model {
         let gravity_ramp = check::ramp(scene, "gravity_ramp", &spec.gravity_ramp)?;
         match spec.gravity {
             Some(g) => add_load(
-                point_weight(scene, &assembly, &densities, &point_density, g)?,
-                gravity_ramp,
+                point_weight(scene, &assembly, &densities, g)?,
+                gravity_ramp.clone(),
             ),
             None if gravity_ramp.is_some() => {
                 return Err(scene.error("gravity_ramp", "multiplies `gravity`, which is not given"))
             }
             None => {}
+        }
+        // The water's push on the free boundary below the table (`water_loads`), following
+        // the weight's ramp as the pore pressure does.
+        if let Some(w) = &water {
+            let edges = free_edges_below(&mesh, &dofs, w);
+            if !edges.is_empty() {
+                add_load(
+                    assembly
+                        .pressure_with(&mesh, &edges, |x| w.pore_pressure(x))
+                        .map_err(|e| scene.error("water", e.to_string()))?,
+                    gravity_ramp.clone(),
+                );
+            }
         }
         for (k, t) in spec.traction.iter().enumerate() {
             let field = format!("traction[{k}].edges");
@@ -225,6 +230,10 @@ impl FromScene for Model {
         }
         let mut model = Model::with_materials(mesh, assembly, ground.materials, point_material)
             .map_err(|e| scene.error("material", e.to_string()))?;
+        if let Some(w) = &water {
+            model.pore_pressure = positions.iter().map(|&x| w.pore_pressure(x)).collect();
+            model.pore_pressure_ramp = gravity_ramp;
+        }
         for (forces, ramp) in loads {
             model.add_load(forces, ramp);
         }
@@ -273,37 +282,82 @@ pub fn warnings(scene: &Scene, model: &Model) -> Vec<String> {
     }
 }
 
-/// The weight of gravity `g` (m/s²) on the body (N/m), with one density (`densities[0]`)
-/// when `point_density` is empty, else each point's.
+/// The weight of gravity `g` (m/s²) on the body (N/m) with each Gauss point's density:
+/// the scalar integration when they are all one (the weight of a one-material scene, bit
+/// for bit).
 fn point_weight(
     scene: &Scene,
     assembly: &Assembly,
     densities: &[f64],
-    point_density: &[f64],
     g: [f64; 2],
 ) -> Result<(Vec<f64>, Vec<f64>), SceneError> {
-    if point_density.is_empty() {
+    if densities.iter().all(|d| *d == densities[0]) {
         assembly.body_force(densities[0], g)
     } else {
-        assembly.body_force_at_points(point_density, g)
+        assembly.body_force_at_points(densities, g)
     }
     .map_err(|e| scene.error("gravity", e.to_string()))
 }
 
 /// The weight of gravity `g` (m/s²) on `model` built from `scene`, each point with its
-/// material's density (N/m, free and prescribed dofs).
+/// density (N/m, free and prescribed dofs).
 pub fn weight(
     scene: &Scene,
     model: &Model,
     g: [f64; 2],
 ) -> Result<(Vec<f64>, Vec<f64>), SceneError> {
-    let densities = required_densities(scene)?;
-    let point_density: Vec<f64> = if densities.iter().all(|d| *d == densities[0]) {
-        Vec::new()
-    } else {
-        model.point_material.iter().map(|&m| densities[m]).collect()
-    };
-    point_weight(scene, &model.assembly, &densities, &point_density, g)
+    let water = water_table(scene)?;
+    let densities = point_densities(
+        scene,
+        water.as_ref(),
+        &model.point_material,
+        &model.assembly.gauss_points,
+    )?;
+    point_weight(scene, &model.assembly, &densities, g)
+}
+
+/// The boundary edges the water pushes on: those with a node below the table that are
+/// free, i.e. not every node of theirs has a prescribed component (a slope face, the floor
+/// of a flooded cut; not a fixed base or a side on rollers, whose supports would carry the
+/// push into their reaction alone).
+fn free_edges_below(mesh: &Mesh, dofs: &DofMap, water: &WaterTable) -> Vec<BoundaryEdge> {
+    let held = |n: usize| dofs.prescribed(n, 0).is_some() || dofs.prescribed(n, 1).is_some();
+    mesh.boundary_edges()
+        .into_iter()
+        .filter(|e| {
+            e.nodes.iter().any(|&n| water.pore_pressure(mesh.nodes[n]) > 0.0)
+                && !e.nodes.iter().all(|&n| held(n))
+        })
+        .collect()
+}
+
+/// The scene's water table, checked (`None`: dry).
+pub fn water_table(scene: &Scene) -> Result<Option<WaterTable>, SceneError> {
+    scene
+        .spec
+        .water
+        .as_ref()
+        .map(|w| WaterTable::try_new(scene, "water", w))
+        .transpose()
+}
+
+/// Each Gauss point's density (kg/m³): its material's, saturated below the water table.
+fn point_densities(
+    scene: &Scene,
+    water: Option<&WaterTable>,
+    point_material: &[usize],
+    points: &[[f64; 2]],
+) -> Result<Vec<f64>, SceneError> {
+    let dry = required_densities(scene)?;
+    let all = scene.spec.material.all();
+    Ok(point_material
+        .iter()
+        .zip(points)
+        .map(|(&m, &x)| match water {
+            Some(w) if w.pore_pressure(x) > 0.0 => all[m].saturated_density.unwrap_or(dry[m]),
+            _ => dry[m],
+        })
+        .collect())
 }
 
 /// The density (kg/m³) of each material: required by a dynamic analysis (the mass) and by

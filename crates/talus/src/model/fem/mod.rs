@@ -7,7 +7,7 @@ mod monitors;
 mod quasi_static;
 mod reaction_groups;
 
-pub use build::{warnings, weight, FromScene};
+pub use build::{warnings, water_table, weight, FromScene};
 pub use monitors::NodeMonitors;
 pub use quasi_static::{quasi_static_masses, DEFAULT_INERTIA_RATIO};
 pub use reaction_groups::ReactionGroups;

@@ -314,6 +314,20 @@ fn element_fields(model: &Model, state: &State) -> (Vec<[f64; 4]>, Vec<f64>) {
 fn write_snapshot(model: &Model, state: &State, path: &Path) -> Result<(), RunError> {
     let (stress, plastic) = element_fields(model, state);
     let material = model.element_materials();
+    // The pore pressure at the state's time, per element (its points' mean).
+    let pore_pressure = model.pore_pressure.iter().any(|p| *p != 0.0).then(|| {
+        let f = model
+            .pore_pressure_ramp
+            .as_ref()
+            .map_or(1.0, |r| r.at(state.time));
+        let mut sum = vec![0.0; model.mesh.triangles.len()];
+        let mut count = vec![0usize; sum.len()];
+        for (p, &e) in model.assembly.gauss_element.iter().enumerate() {
+            sum[e] += f * model.pore_pressure[p];
+            count[e] += 1;
+        }
+        sum.iter().zip(&count).map(|(s, &c)| s / c.max(1) as f64).collect::<Vec<f64>>()
+    });
     let velocity = model
         .assembly
         .dofs()
@@ -337,6 +351,7 @@ fn write_snapshot(model: &Model, state: &State, path: &Path) -> Result<(), RunEr
             stress: &stress,
             plastic_strain: &plastic,
             material: Some(&material),
+            pore_pressure: pore_pressure.as_deref(),
         },
     )?;
     Ok(())
