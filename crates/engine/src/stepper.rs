@@ -182,7 +182,9 @@ impl<D: Discretization> Stepper<D> {
                         residual: r.residual / r.scale,
                     });
                 }
-                tracing::warn!(
+                // Halving is the step control at work, not a fault: a step that fails after
+                // its halvings is the error.
+                tracing::debug!(
                     time = self.discretization.time(state),
                     h,
                     status = %r.status,

@@ -26,6 +26,9 @@ use cli::{interrupt, reduced};
     after_help = exit::TABLE
 )]
 struct Cli {
+    /// Log every step (and every halving), not one line per tenth of the run.
+    #[arg(short, long, global = true)]
+    verbose: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -73,10 +76,15 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    // On a terminal a progress bar reports the run; elsewhere (CI, files) step logs do,
-    // without colour codes.
+    // On a terminal a progress bar reports the run; elsewhere (CI, files) a line per tenth
+    // of the run does, without colour codes; `-v`: a line per step.
+    let cli = Cli::parse();
     let terminal = std::io::stderr().is_terminal();
-    let default_filter = if terminal { "warn" } else { "info" };
+    let default_filter = match (cli.verbose, terminal) {
+        (true, _) => "info,talus=debug,talus_engine=debug",
+        (false, true) => "warn",
+        (false, false) => "info",
+    };
     let (filter, bad_filter) = log_filter(default_filter);
     tracing_subscriber::fmt()
         .with_env_filter(filter)
@@ -86,7 +94,6 @@ fn main() -> ExitCode {
     if let Some(why) = bad_filter {
         tracing::warn!("{why}");
     }
-    let cli = Cli::parse();
     if let Err(e) = interrupt::install() {
         tracing::warn!("no SIGINT/SIGTERM handler ({e}): an interrupted run leaves no summary");
     }

@@ -69,3 +69,35 @@ fn version_names_the_commit() {
         "{version} against {head}"
     );
 }
+
+/// A 300-step run piped to a file prints a line per tenth of the run and its summary, not a
+/// line per step (at most 40 lines); `-v` gives every step.
+#[test]
+fn a_piped_run_prints_a_line_per_tenth() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join("cli_logs")
+        .join("tenths");
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |verbose: bool| {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_talus"));
+        cmd.arg("run").arg("--out").arg(dir.join("out"));
+        if verbose {
+            cmd.arg("-v");
+        }
+        cmd.env_remove("TALUS_LOG").output().unwrap()
+    };
+    let out = run(false);
+    assert!(out.status.success());
+    let lines = String::from_utf8_lossy(&out.stderr).lines().count()
+        + String::from_utf8_lossy(&out.stdout).lines().count();
+    assert!(lines <= 40, "{lines} lines");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("step 300/300 (100%)"), "{err}");
+    assert!(err.contains("step 30/300 (10%)"), "{err}");
+    let verbose = run(true);
+    let steps = String::from_utf8_lossy(&verbose.stderr)
+        .lines()
+        .filter(|l| l.contains(" step ") && l.contains("iterations="))
+        .count();
+    assert_eq!(steps, 300, "-v logs every step");
+}

@@ -175,6 +175,7 @@ where
         Ok(())
     };
     let mut interrupted = None;
+    let mut iterations_so_far = 0;
     for step in first..=steps {
         let (report, collapsed) = match run.step(&mut state, step, h) {
             Ok(r) => r,
@@ -193,7 +194,9 @@ where
         history
             .row(step, report.time, Some(&report), &row)
             .map_err(failed)?;
-        tracing::info!(
+        // A line per step at debug level (`talus run -v`, `TALUS_LOG=debug`); at info, one
+        // per tenth of the run, with the cost so far, so that a piped log stays readable.
+        tracing::debug!(
             step,
             time = report.time,
             iterations = report.newton_iterations,
@@ -201,6 +204,17 @@ where
             residual = report.relative_residual,
             "step"
         );
+        iterations_so_far += report.total_newton_iterations();
+        if step == steps || step % steps.div_ceil(10).max(1) == 0 {
+            tracing::info!(
+                "step {step}/{steps} ({}%), t = {:.6e} s, {} Newton iterations so far, last \
+                 relative residual {:.2e}",
+                100 * step / steps.max(1),
+                report.time,
+                iterations_so_far,
+                report.relative_residual
+            );
+        }
         if let Some(bar) = &bar {
             bar.set_message(outputs.message(&report, &state));
             bar.inc(1);
