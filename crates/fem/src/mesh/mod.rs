@@ -7,6 +7,7 @@ mod msh;
 mod quality;
 mod rectangle;
 mod sets;
+mod submesh;
 
 use std::collections::BTreeMap;
 
