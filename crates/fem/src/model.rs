@@ -164,7 +164,10 @@ impl Model {
         let f = self.pore_pressure_ramp.as_ref()?.at(t);
         Some(
             (0..self.n_points())
-                .map(|p| self.material_at(p).flow_rule::<4>(f * self.pore_pressure[p]))
+                .map(|p| {
+                    self.material_at(p)
+                        .flow_rule::<4>(f * self.pore_pressure[p])
+                })
                 .collect(),
         )
     }

@@ -1,8 +1,9 @@
 //! The implicit material point method of Guillet et al. (2024), §3, on the same
 //! semi-smooth Newton core as the finite elements: particles carry mass, momentum, volume,
-//! stress and plastic strain; each step transfers mass and momentum to a background grid
-//! (eq. 11), builds `B` at the particles (rows weighted by the particle volume), the lumped
-//! grid mass `M` and `S = V_p S₀`, solves `h z = Wσ + q` with talus-ssn (eqs. 12, 15–16),
+//! stress, plastic strain and a material index ([`Mpm::with_materials`]); each step
+//! transfers mass and momentum to a background grid (eq. 11), builds `B` at the particles
+//! (rows weighted by the particle volume), the lumped grid mass `M` and `S = V_p S₀` (`S₀`
+//! of the particle's material), solves `h z = Wσ + q` with talus-ssn (eqs. 12, 15–16),
 //! then updates the particles with the PIC/FLIP blend of eqs. 13–14.
 //!
 //! Plane strain, SI units, Mandel stresses `(xx, yy, zz, √2 xy)`, tension positive.

@@ -1,7 +1,8 @@
-//! The implicit MPM's fixed data: a grid with its boundary conditions, one Drucker-Prager
-//! material, gravity, and the settings of the transfers.
+//! The implicit MPM's fixed data: a grid with its boundary conditions, the materials
+//! (Drucker-Prager or elastic; each particle names its own), gravity, and the settings of
+//! the transfers.
 use nalgebra::SMatrix;
-use talus_bipotential::{DruckerPrager, FlowRule};
+use talus_bipotential::{DruckerPrager, FlowRule, Material};
 
 use crate::boundary::{GridBoundary, NodeCondition};
 use crate::error::MpmError;
@@ -16,14 +17,15 @@ pub struct Mpm {
     grid: Grid,
     boundary: GridBoundary,
     conditions: Vec<NodeCondition>,
-    flow_rule: FlowRule<4>,
-    compliance: SMatrix<f64, 4, 4>,
+    materials: Vec<Material>,
+    /// Each material's flow rule and compliance `S₀` (1/Pa), built once.
+    rules: Vec<(FlowRule<4>, SMatrix<f64, 4, 4>)>,
     gravity: [f64; 2],
     settings: MpmSettings,
 }
 
 impl Mpm {
-    /// `gravity` in m/s².
+    /// One Drucker-Prager material for every particle; `gravity` in m/s².
     pub fn try_new(
         grid: Grid,
         boundary: GridBoundary,
@@ -31,6 +33,30 @@ impl Mpm {
         gravity: [f64; 2],
         settings: MpmSettings,
     ) -> Result<Self, MpmError> {
+        Self::with_materials(
+            grid,
+            boundary,
+            &[Material::DruckerPrager(*material)],
+            gravity,
+            settings,
+        )
+    }
+
+    /// Several materials: particle `p` is of `materials[particles.material[p]]`
+    /// ([`Particles::material`](crate::Particles::material)); `gravity` in m/s².
+    pub fn with_materials(
+        grid: Grid,
+        boundary: GridBoundary,
+        materials: &[Material],
+        gravity: [f64; 2],
+        settings: MpmSettings,
+    ) -> Result<Self, MpmError> {
+        if materials.is_empty() {
+            return Err(MpmError::invalid(
+                "materials",
+                "none given: a material point model needs at least one",
+            ));
+        }
         boundary.validate()?;
         if !gravity.iter().all(|g| g.is_finite()) {
             return Err(MpmError::invalid(
@@ -59,8 +85,11 @@ impl Mpm {
             conditions: boundary.node_conditions(&grid),
             grid,
             boundary,
-            flow_rule: material.flow_rule::<4>(),
-            compliance: material.compliance::<4>(),
+            rules: materials
+                .iter()
+                .map(|m| (m.flow_rule::<4>(0.0), m.compliance::<4>()))
+                .collect(),
+            materials: materials.to_vec(),
             gravity,
             settings,
         })
@@ -86,11 +115,34 @@ impl Mpm {
         &self.conditions
     }
 
-    pub(crate) fn flow_rule(&self) -> &FlowRule<4> {
-        &self.flow_rule
+    /// The materials, indexed by [`Particles::material`](crate::Particles::material).
+    pub fn materials(&self) -> &[Material] {
+        &self.materials
     }
 
-    pub(crate) fn compliance(&self) -> &SMatrix<f64, 4, 4> {
-        &self.compliance
+    /// Each material's flow rule and compliance `S₀`.
+    pub(crate) fn rules(&self) -> &[(FlowRule<4>, SMatrix<f64, 4, 4>)] {
+        &self.rules
+    }
+
+    /// Every particle's material index within [`Mpm::materials`]: an error names the
+    /// first particle that is out of range and its index.
+    pub(crate) fn check_material_indices(
+        &self,
+        particles: &crate::Particles,
+    ) -> Result<(), MpmError> {
+        let n = self.materials.len();
+        match particles.material.iter().position(|&m| m >= n) {
+            None => Ok(()),
+            Some(p) => Err(MpmError::invalid(
+                format!("particles.material[{p}]"),
+                format!(
+                    "particle {p} is of material {}, but the model has {n} material{} \
+                     (indices 0..{n})",
+                    particles.material[p],
+                    if n == 1 { "" } else { "s" }
+                ),
+            )),
+        }
     }
 }

@@ -17,6 +17,11 @@ pub struct Particles {
     /// Constant external force on the particle besides gravity (N/m), e.g. a surcharge
     /// carried by the surface particles.
     pub external_force: Vec<[f64; 2]>,
+    /// Each particle's index into the [`Mpm`](crate::Mpm)'s materials
+    /// ([`Mpm::with_materials`](crate::Mpm::with_materials)). Empty: every particle is of
+    /// material 0 (a set built without materials, or a checkpoint written before them).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub material: Vec<usize>,
 }
 
 impl Particles {
@@ -80,8 +85,23 @@ impl Particles {
         Ok(p)
     }
 
-    /// Appends a particle at rest, stress free.
+    /// The same particles, all of material `material` (an index into the
+    /// [`Mpm`](crate::Mpm)'s materials).
+    pub fn with_material(mut self, material: usize) -> Self {
+        self.material = vec![material; self.len()];
+        self
+    }
+
+    /// The material index of particle `p` (0 when [`Particles::material`] is empty).
+    pub fn material_of(&self, p: usize) -> usize {
+        self.material.get(p).copied().unwrap_or(0)
+    }
+
+    /// Appends a particle at rest, stress free, of material 0.
     pub fn push(&mut self, position: [f64; 2], mass: f64, volume: f64) {
+        if !self.material.is_empty() {
+            self.material.push(0);
+        }
         self.position.push(position);
         self.velocity.push([0.0; 2]);
         self.mass.push(mass);
@@ -91,8 +111,19 @@ impl Particles {
         self.external_force.push([0.0; 2]);
     }
 
-    /// Appends every particle of `other`.
+    /// Appends every particle of `other`, with its material.
     pub fn extend(&mut self, other: &Particles) {
+        // Both without material indices: all of material 0, the list stays empty.
+        if !(self.material.is_empty() && other.material.is_empty()) {
+            if self.material.is_empty() {
+                self.material = vec![0; self.len()];
+            }
+            if other.material.is_empty() {
+                self.material.extend(std::iter::repeat_n(0, other.len()));
+            } else {
+                self.material.extend_from_slice(&other.material);
+            }
+        }
         self.position.extend_from_slice(&other.position);
         self.velocity.extend_from_slice(&other.velocity);
         self.mass.extend_from_slice(&other.mass);
@@ -102,7 +133,7 @@ impl Particles {
         self.external_force.extend_from_slice(&other.external_force);
     }
 
-    /// Equal lengths, finite values, positive mass and volume.
+    /// Equal lengths (`material` may be empty), finite values, positive mass and volume.
     pub fn validate(&self) -> Result<(), MpmError> {
         let n = self.len();
         let lens = [
@@ -113,6 +144,15 @@ impl Particles {
             ("plastic_strain", self.plastic_strain.len()),
             ("external_force", self.external_force.len()),
         ];
+        if !(self.material.is_empty() || self.material.len() == n) {
+            return Err(MpmError::invalid(
+                "particles.material",
+                format!(
+                    "{} entries for {n} particles (empty: all of material 0)",
+                    self.material.len()
+                ),
+            ));
+        }
         for (field, len) in lens {
             if len != n {
                 return Err(MpmError::invalid(

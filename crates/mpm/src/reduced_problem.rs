@@ -88,12 +88,12 @@ pub(crate) fn numbering(
 /// Eqs. 15–16 with the walls' conditions and the friction nodes' contact states. A stuck
 /// tangential velocity stays a free velocity of the numbering but its column of `B` is
 /// zeroed: it then strains nothing, exactly as the prescribed velocity 0 it is, and the
-/// Newton matrix keeps the pattern of the sub-step (the engine keeps its analysis).
-#[allow(clippy::too_many_arguments)]
+/// Newton matrix keeps the pattern of the sub-step (the engine keeps its analysis). Each
+/// particle takes the flow rule and `S_p = V_p S₀` of its material (`rules`, indexed by
+/// `Particles::material`, checked when the sub-step began).
 pub(crate) fn pass_system(
     conditions: &[NodeCondition],
-    flow_rule: &FlowRule<4>,
-    compliance: &SMatrix<f64, 4, 4>,
+    rules: &[(FlowRule<4>, SMatrix<f64, 4, 4>)],
     particles: &Particles,
     prep: &Prepared,
     contact: &[Contact],
@@ -128,11 +128,14 @@ pub(crate) fn pass_system(
     // rest adds nothing).
     let mut s_sigma = vec![0.0; 4 * n_p];
     let mut compliance_blocks = Vec::with_capacity(n_p);
+    let mut flow_rules = Vec::with_capacity(n_p);
     for p in 0..n_p {
+        let (flow_rule, compliance) = &rules[particles.material_of(p)];
         let s_p = compliance * particles.volume[p];
         let s = s_p * SVector::<f64, 4>::from(particles.stress[p]);
         s_sigma[4 * p..4 * p + 4].copy_from_slice(s.as_slice());
         compliance_blocks.push(s_p);
+        flow_rules.push(*flow_rule);
     }
     let mut v_free = vec![0.0; prep.mass_free.len()];
     let mut f_free = vec![0.0; prep.mass_free.len()];
@@ -180,8 +183,7 @@ pub(crate) fn pass_system(
         lumped_mass: prep.mass_free.clone(),
         h,
     });
-    let system =
-        ReducedSystem::try_new(operator, q, vec![*flow_rule; n_p]).map_err(MpmError::Solver)?;
+    let system = ReducedSystem::try_new(operator, q, flow_rules).map_err(MpmError::Solver)?;
     Ok((system, PassView { dofs, force }))
 }
 

@@ -67,6 +67,7 @@ impl Mpm {
             ));
         }
         particles.validate()?;
+        self.check_material_indices(particles)?;
         loads.validate(self.boundary().prescribed.len(), particles.len())?;
         let grid = self.grid();
         let conditions = self.conditions();
@@ -95,15 +96,7 @@ impl Mpm {
             .filter(|&i| prep.active[i] && conditions[i].friction.is_some())
             .collect();
         let contact = vec![Contact::Stick; prep.mass.len()];
-        let (system, view) = pass_system(
-            conditions,
-            self.flow_rule(),
-            self.compliance(),
-            particles,
-            &prep,
-            &contact,
-            h,
-        )?;
+        let (system, view) = pass_system(conditions, self.rules(), particles, &prep, &contact, h)?;
         Ok((
             Substep {
                 h,
@@ -152,8 +145,7 @@ impl Substep {
         }
         let (system, view) = pass_system(
             mpm.conditions(),
-            mpm.flow_rule(),
-            mpm.compliance(),
+            mpm.rules(),
             particles,
             &self.prep,
             &self.contact,

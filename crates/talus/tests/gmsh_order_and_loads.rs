@@ -2,10 +2,10 @@
 //! warns, in the log and in `summary.json`); `[[pressure]]` with a `gradient` gives a
 //! hydrostatic load; `[[point_load]]` a force at the node nearest a point. Checked by
 //! equilibrium: at rest, the supports carry exactly the load (½ γ_w H² for water on a wall).
+mod common;
 #[allow(dead_code)]
 #[path = "../../fem/tests/common/gmsh_square.rs"]
 mod gmsh_square;
-mod common;
 
 use talus::model::fem::{FromScene, Model};
 use talus::output::Summary;
@@ -54,7 +54,10 @@ fn order_p2_turns_a_linear_gmsh_mesh_into_p2() {
         .collect();
     edges.sort();
     edges.dedup();
-    assert_eq!(model.mesh.nodes.len(), linear.mesh.nodes.len() + edges.len());
+    assert_eq!(
+        model.mesh.nodes.len(),
+        linear.mesh.nodes.len() + edges.len()
+    );
     assert_eq!(
         model.mesh.node_sets["bottom"].len(),
         2 * linear.mesh.node_sets["bottom"].len() - 1,
@@ -78,9 +81,16 @@ fn a_plastic_run_on_p1_warns_in_its_summary() {
     };
     let w = warnings("", PLASTIC, "p1_plastic");
     assert_eq!(w.len(), 1, "{w:?}");
-    assert!(w[0].contains("P1") && w[0].contains("order = \"P2\""), "{}", w[0]);
+    assert!(
+        w[0].contains("P1") && w[0].contains("order = \"P2\""),
+        "{}",
+        w[0]
+    );
     assert!(warnings("order = \"P2\"", PLASTIC, "p2_plastic").is_empty());
-    assert!(warnings("", ELASTIC, "p1_elastic").is_empty(), "no flow, no locking");
+    assert!(
+        warnings("", ELASTIC, "p1_elastic").is_empty(),
+        "no flow, no locking"
+    );
 }
 
 /// An elastic 1 m × 1 m block on rollers (left: x fixed, bottom: y fixed), quasi-static.
@@ -118,7 +128,10 @@ fn a_hydrostatic_pressure_is_carried_by_the_supports() {
     assert!((fx - exact).abs() <= 1e-6 * exact, "{fx} against {exact}");
     assert!(s.boundaries["bottom"].last[1].abs() <= 1e-6 * exact);
     // Without the gradient the same value is a uniform pressure: twice the thrust.
-    let s = run_block(&format!("[[pressure]]\nedges = \"right\"\nvalue = {gamma:?}\n"), "uniform");
+    let s = run_block(
+        &format!("[[pressure]]\nedges = \"right\"\nvalue = {gamma:?}\n"),
+        "uniform",
+    );
     assert!((s.boundaries["left"].last[0] - 2.0 * exact).abs() <= 1e-6 * exact);
 }
 

@@ -42,7 +42,10 @@ fn check_level_ground(y_w: f64) {
     if y_w > 0.0 {
         // A flooded surface: the surcharge is the water's, on the top as the water load.
         text = text
-            .replace("[[traction]]\nedges = \"top\"\nvalue = [0.0, -1.0e4]\n\n", "")
+            .replace(
+                "[[traction]]\nedges = \"top\"\nvalue = [0.0, -1.0e4]\n\n",
+                "",
+            )
             .replace("surcharge = 1.0e4", &format!("surcharge = {:?}", 0.0));
     }
     let scene = Scene::parse(&text, None).unwrap();
@@ -57,8 +60,15 @@ fn check_level_ground(y_w: f64) {
         let p_w = GAMMA_W * (y_w - y).max(0.0);
         let s = &state.sigma[4 * p..4 * p + 4];
         let tol = 1e-10 * sv.abs().max(p_w);
-        assert!((model.pore_pressure[p] - p_w).abs() <= tol, "p_w at y = {y}");
-        assert!((s[1] + p_w - sv).abs() <= tol, "σ'_v at y = {y}: {} vs {sv}", s[1] + p_w);
+        assert!(
+            (model.pore_pressure[p] - p_w).abs() <= tol,
+            "p_w at y = {y}"
+        );
+        assert!(
+            (s[1] + p_w - sv).abs() <= tol,
+            "σ'_v at y = {y}: {} vs {sv}",
+            s[1] + p_w
+        );
         assert!((s[0] + p_w - 0.5 * sv).abs() <= tol, "σ'_h at y = {y}");
         assert!((s[2] + p_w - 0.5 * sv).abs() <= tol, "σ'_zz at y = {y}");
         assert_eq!(s[3], 0.0);
@@ -104,13 +114,24 @@ fn a_table_below_the_ground_changes_nothing() {
     };
     let relative = |a: &[f64], b: &[f64]| {
         let scale = a.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs())) / scale
+        a.iter()
+            .zip(b)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+            / scale
     };
     let ((a0, a1), (b0, b1)) = (run(&dry), run(&deep));
-    assert!(relative(&a0, &b0) <= 1e-14, "K₀ states differ by {:e}", relative(&a0, &b0));
+    assert!(
+        relative(&a0, &b0) <= 1e-14,
+        "K₀ states differ by {:e}",
+        relative(&a0, &b0)
+    );
     // After a solve to the tolerance 1e-12 (relative residual): the solutions agree to
     // what that tolerance resolves.
-    assert!(relative(&a1, &b1) <= 1e-9, "steps differ by {:e}", relative(&a1, &b1));
+    assert!(
+        relative(&a1, &b1) <= 1e-9,
+        "steps differ by {:e}",
+        relative(&a1, &b1)
+    );
 }
 
 /// Griffiths & Lane's slope (`scenes/slope.toml`) fully submerged (level 20 m, above its
@@ -135,7 +156,10 @@ fn a_submerged_slope_has_the_factor_of_safety_of_the_buoyant_dry_slope() {
     let (dl, du) = factor(&dry, "dry");
     let (wl, wu) = factor(&wet, "submerged");
     eprintln!("dry [{dl}, {du}], submerged [{wl}, {wu}]");
-    assert!(dl <= wu && wl <= du, "brackets [{dl}, {du}] and [{wl}, {wu}] must overlap");
+    assert!(
+        dl <= wu && wl <= du,
+        "brackets [{dl}, {du}] and [{wl}, {wu}] must overlap"
+    );
     // And differ from the dry slope of full weight, whose factor is lower (the witness).
     let (fl, _) = factor(&text, "full_weight");
     assert!(fl < dl, "full weight {fl} below buoyant {dl}");
@@ -181,11 +205,18 @@ fn the_vtu_has_pore_pressure_and_effective_stress() {
         let points: Vec<usize> = (0..model.n_points())
             .filter(|&p| model.assembly.gauss_element[p] == e)
             .collect();
-        let mean = points.iter().map(|&p| model.pore_pressure[p]).sum::<f64>() / points.len() as f64;
-        assert!((p_w[e] - mean).abs() <= 1e-12 * mean.max(1.0), "element {e}");
+        let mean =
+            points.iter().map(|&p| model.pore_pressure[p]).sum::<f64>() / points.len() as f64;
+        assert!(
+            (p_w[e] - mean).abs() <= 1e-12 * mean.max(1.0),
+            "element {e}"
+        );
         for c in 0..3 {
             let (s, eff) = (stress[6 * e + c], effective[6 * e + c]);
-            assert!((eff - (s + p_w[e])).abs() <= 1e-9 * s.abs().max(1.0), "element {e}");
+            assert!(
+                (eff - (s + p_w[e])).abs() <= 1e-9 * s.abs().max(1.0),
+                "element {e}"
+            );
         }
         assert_eq!(effective[6 * e + 3], stress[6 * e + 3]);
     }

@@ -24,7 +24,13 @@ pub fn initial_stress(
     // Without gravity the density is not needed (and may be absent).
     let gammas: Vec<f64> = materials
         .iter()
-        .map(|m| if g == 0.0 { 0.0 } else { m.density.unwrap_or(0.0) * g })
+        .map(|m| {
+            if g == 0.0 {
+                0.0
+            } else {
+                m.density.unwrap_or(0.0) * g
+            }
+        })
         .collect();
     let points = &model.assembly.gauss_points;
     // The water: its pressure at t = 0 and the buoyant (effective) unit weight below it.
@@ -34,7 +40,11 @@ pub fn initial_stress(
         .map(|m| {
             let sat = m.saturated_density.or(m.density).unwrap_or(0.0);
             let gamma_w = water.as_ref().map_or(0.0, |w| w.unit_weight * ramp0);
-            if g == 0.0 { 0.0 } else { sat * g - gamma_w }
+            if g == 0.0 {
+                0.0
+            } else {
+                sat * g - gamma_w
+            }
         })
         .collect();
     let layered = gammas.iter().any(|x| *x != gammas[0]);

@@ -5,11 +5,11 @@ use talus_mpm::{
     WallCondition,
 };
 
-use talus_bipotential::{DruckerPrager, Material};
+use talus_bipotential::Material;
 
 use crate::scene::{
-    check, scales, scales::ramp_max, AnalysisKind, GeometryKind, MaterialSpec, MpmScene,
-    PredictorSpec, Ramp, SceneError, ShapeSpec, SideSpec, WallConditionSpec,
+    check, scales, scales::ramp_max, AnalysisKind, GeometryKind, InitialStressSpec, Materials,
+    MpmScene, PredictorSpec, Ramp, SceneError, ShapeSpec, SideSpec, WallConditionSpec,
 };
 use talus_engine::{PredictorRule, StepSettings};
 use talus_mpm::{MpmLoadProgramme, ProgrammedMpm, RampedSurfaceLoad, RunoutReference};
@@ -48,7 +48,7 @@ impl MpmModel {
     pub fn from_scene(scene: &MpmScene) -> Result<Self, SceneError> {
         let spec = &scene.spec;
         let grid = grid(scene)?;
-        let (mspec, material) = material(scene)?;
+        let materials = materials(scene)?;
         if spec.analysis.kind == AnalysisKind::QuasiStatic {
             return Err(scene.error(
                 "analysis.kind",
@@ -69,18 +69,7 @@ impl MpmModel {
                 format!("{r} applies to quasi-static finite-element scenes only"),
             ));
         }
-        let density = mspec.density.ok_or_else(|| {
-            scene.error(
-                "material.density",
-                "is required by a material point scene (the mass)",
-            )
-        })?;
-        if !(density.is_finite() && density > 0.0) {
-            return Err(scene.error(
-                "material.density",
-                format!("{density} kg/m³ must be finite and > 0"),
-            ));
-        }
+        let densities = densities(scene)?;
         let gravity = spec.gravity.unwrap_or([0.0; 2]);
         if !gravity.iter().all(|g| g.is_finite()) {
             return Err(scene.error("gravity", format!("{gravity:?} m/s² must be finite")));
@@ -91,25 +80,22 @@ impl MpmModel {
         }
         check::time(scene, &spec.time)?;
         scales::caps(scene, &spec.time, spec.solver.max_step_halvings)?;
-        let mut particles = bodies(scene, &grid, density)?;
+        let mut particles = bodies(scene, &grid, &materials, &densities)?;
         let walls = walls(scene)?;
         let (prescribed, prescribed_ramps) = prescribed(scene, &grid)?;
         let reaction = reaction(scene, walls.len(), &prescribed)?;
         let ramped_surface_loads = surface_loads(scene, &mut particles)?;
         if let Some(initial) = &spec.initial_stress {
             // In equilibrium with the gravity of the start, t = 0 (`gravity_ramp` scales it).
-            let gamma = match &gravity_ramp {
-                Some(r) => -density * gravity[1] * r.at(0.0),
-                None => -density * gravity[1],
-            };
-            particles.stress = initial_stress_at(
-                scene,
-                Some(&material),
-                gamma,
-                initial,
-                &particles.position,
-                None,
-            )?;
+            let gammas: Vec<f64> = densities
+                .iter()
+                .map(|density| match &gravity_ramp {
+                    Some(r) => -density * gravity[1] * r.at(0.0),
+                    None => -density * gravity[1],
+                })
+                .collect();
+            particles.stress =
+                initial_stress(scene, initial, &materials, &gammas, &densities, &particles)?;
         }
         check::time(scene, &spec.time)?;
         check::solver(scene, &spec.solver)?;
@@ -126,7 +112,7 @@ impl MpmModel {
         );
         let bounds = [grid.origin(), grid.end()];
         let boundary = GridBoundary { walls, prescribed };
-        let mpm = Mpm::try_new(grid, boundary, &material, gravity, settings)
+        let mpm = Mpm::with_materials(grid, boundary, &materials.materials, gravity, settings)
             .map_err(|e| scene.error("grid", e.to_string()))?;
         let programme = MpmLoadProgramme {
             gravity: gravity_ramp,
@@ -145,26 +131,195 @@ impl MpmModel {
     }
 }
 
-/// The scene's one material, Drucker-Prager.
-fn material(scene: &MpmScene) -> Result<(&MaterialSpec, DruckerPrager), SceneError> {
+/// The scene's materials, checked, and the material of each body.
+struct BodyMaterials {
+    /// In file order: the particles' material indices point into it.
+    materials: Vec<Material>,
+    /// Each `[[body]]`'s index into `materials`.
+    body: Vec<usize>,
+    /// A `[[material]]` list: the particles carry their indices (a single `[material]`
+    /// leaves them empty, all of material 0, as before there were several).
+    list: bool,
+}
+
+/// `[material]` (every body of it) or a `[[material]]` list whose every material has a
+/// `name`, is used by a body, and names no `regions` (the bodies place the materials);
+/// each `[[body]]` names its `material` (optional with a single one).
+fn materials(scene: &MpmScene) -> Result<BodyMaterials, SceneError> {
+    let spec = &scene.spec;
+    let all = spec.material.all();
+    let list = matches!(spec.material, Materials::Many(_));
+    let mut materials = Vec::with_capacity(all.len());
+    // The materials' names, in order (a single `[material]` may have none).
+    let mut names: Vec<&str> = Vec::with_capacity(all.len());
+    for (k, m) in all.iter().enumerate() {
+        let field = spec.material.field(k);
+        if !m.regions.is_empty() {
+            return Err(scene.error(
+                &format!("{field}.regions"),
+                format!(
+                    "{:?}: regions place materials in finite-element scenes ([mesh]); in a \
+                     material point scene ([grid]) each [[body]] names its material \
+                     (material = \"name\")",
+                    m.regions
+                ),
+            ));
+        }
+        materials.push(check::material(scene, &field, m)?);
+        match &m.name {
+            Some(name) => {
+                if let Some(j) = names.iter().position(|n| n == name) {
+                    return Err(scene.error(
+                        &format!("{field}.name"),
+                        format!("\"{name}\" is also the name of material[{j}]"),
+                    ));
+                }
+                names.push(name);
+            }
+            None if list => {
+                return Err(scene.error(
+                    &format!("{field}.name"),
+                    "is required in a [[material]] list (each [[body]] names its material)",
+                ));
+            }
+            None => {}
+        }
+    }
+    let known = || {
+        if names.is_empty() {
+            "the one [material] has no name".to_string()
+        } else {
+            let quoted: Vec<String> = names.iter().map(|n| format!("\"{n}\"")).collect();
+            format!("materials: {}", quoted.join(", "))
+        }
+    };
+    let mut body = Vec::with_capacity(spec.body.len());
+    for (k, b) in spec.body.iter().enumerate() {
+        let field = format!("body[{k}].material");
+        let index = match &b.material {
+            None if list => {
+                return Err(scene.error(
+                    &field,
+                    format!(
+                        "missing: with a [[material]] list every [[body]] names its material \
+                         (material = \"name\"; {})",
+                        known()
+                    ),
+                ));
+            }
+            None => 0,
+            Some(name) => names.iter().position(|n| n == name).ok_or_else(|| {
+                scene.error(
+                    &field,
+                    format!("\"{name}\" is no material of the scene ({})", known()),
+                )
+            })?,
+        };
+        body.push(index);
+    }
+    // Without bodies, `bodies` says so.
+    if list && !body.is_empty() {
+        if let Some(k) = (0..all.len()).find(|k| !body.contains(k)) {
+            return Err(scene.error(
+                &format!("{}.name", spec.material.field(k)),
+                format!(
+                    "\"{}\" is the material of no [[body]]: give a body material = \"{0}\", \
+                     or remove it",
+                    names[k]
+                ),
+            ));
+        }
+    }
+    Ok(BodyMaterials {
+        materials,
+        body,
+        list,
+    })
+}
+
+/// Each material's density (kg/m³): required, the particles' mass.
+fn densities(scene: &MpmScene) -> Result<Vec<f64>, SceneError> {
     let materials = &scene.spec.material;
-    let Some(m) = materials.single() else {
+    let mut densities = Vec::with_capacity(materials.all().len());
+    for (k, m) in materials.all().iter().enumerate() {
+        let field = format!("{}.density", materials.field(k));
+        let density = m.density.ok_or_else(|| {
+            scene.error(&field, "is required by a material point scene (the mass)")
+        })?;
+        if !(density.is_finite() && density > 0.0) {
+            return Err(scene.error(&field, format!("{density} kg/m³ must be finite and > 0")));
+        }
+        densities.push(density);
+    }
+    Ok(densities)
+}
+
+/// `[initial_stress]` at every particle, each checked against its own material's cone (an
+/// elastic material has none). `gammas`: each material's unit weight at t = 0 (N/m³). The
+/// K₀ procedure takes one unit weight: bodies of different densities under gravity are
+/// refused (the weight of the layers above a particle is not known to MPM yet).
+fn initial_stress(
+    scene: &MpmScene,
+    initial: &InitialStressSpec,
+    materials: &BodyMaterials,
+    gammas: &[f64],
+    densities: &[f64],
+    particles: &Particles,
+) -> Result<Vec<[f64; 4]>, SceneError> {
+    let spec = &scene.spec;
+    // The form and the numbers first (no point, no cone): the errors below are a
+    // material's, at its particles.
+    initial_stress_at(scene, None, gammas[0], initial, &[], None)?;
+    if initial.k0.is_some() && gammas.iter().any(|g| *g != gammas[0]) {
+        let all = spec.material.all();
+        let listed: Vec<String> = (densities.iter().enumerate())
+            .map(|(k, d)| match &all[k].name {
+                Some(name) => format!("{} (\"{name}\") {d} kg/m³", spec.material.field(k)),
+                None => format!("{} {d} kg/m³", spec.material.field(k)),
+            })
+            .collect();
         return Err(scene.error(
-            "material[1]",
+            "initial_stress.k0",
             format!(
-                "a material point scene has one material today, this one {}",
-                materials.all().len()
+                "the K₀ procedure of a material point scene takes one density, but the \
+                 bodies' materials have {}: give them equal densities, or a uniform `stress` \
+                 (layers of different densities are for finite-element scenes today)",
+                listed.join(", ")
             ),
         ));
-    };
-    let field = materials.field(0);
-    match check::material(scene, &field, m)? {
-        Material::DruckerPrager(dp) => Ok((m, dp)),
-        Material::Elastic(_) => Err(scene.error(
-            &format!("{field}.model"),
-            "\"elastic\": the material point method takes a Drucker-Prager material",
-        )),
     }
+    let mut stress = vec![[0.0; 4]; particles.len()];
+    for (k, material) in materials.materials.iter().enumerate() {
+        let members: Vec<usize> = (0..particles.len())
+            .filter(|&p| particles.material_of(p) == k)
+            .collect();
+        if members.is_empty() {
+            continue;
+        }
+        let points: Vec<[f64; 2]> = members.iter().map(|&p| particles.position[p]).collect();
+        let at = initial_stress_at(
+            scene,
+            material.drucker_prager(),
+            gammas[k],
+            initial,
+            &points,
+            None,
+        )
+        .map_err(|mut e| {
+            if materials.list {
+                let name = spec.material.all()[k].name.as_deref().unwrap_or_default();
+                e.message.push_str(&format!(
+                    " (at the particles of {} \"{name}\")",
+                    spec.material.field(k)
+                ));
+            }
+            e
+        })?;
+        for (&p, s) in members.iter().zip(at) {
+            stress[p] = s;
+        }
+    }
+    Ok(stress)
 }
 
 /// The scene against its own scales (`scene::scales`): `h` against the wave time of a cell
@@ -254,7 +409,14 @@ fn check_rectangle(
     Ok(())
 }
 
-fn bodies(scene: &MpmScene, grid: &Grid, density: f64) -> Result<Particles, SceneError> {
+/// The bodies' particles, each body of its material's density; with a `[[material]]` list
+/// they carry their material's index.
+fn bodies(
+    scene: &MpmScene,
+    grid: &Grid,
+    materials: &BodyMaterials,
+    densities: &[f64],
+) -> Result<Particles, SceneError> {
     let spec = &scene.spec;
     if spec.body.is_empty() {
         return Err(scene.error("body", "no [[body]]: an MPM scene needs at least one"));
@@ -302,8 +464,12 @@ fn bodies(scene: &MpmScene, grid: &Grid, density: f64) -> Result<Particles, Scen
                 ),
             ));
         }
-        let body = Particles::fill_rectangle(r, dx, per_cell, density)
+        let material = materials.body[k];
+        let mut body = Particles::fill_rectangle(r, dx, per_cell, densities[material])
             .map_err(|e| scene.error(&field, e.to_string()))?;
+        if materials.list {
+            body = body.with_material(material);
+        }
         particles.extend(&body);
     }
     Ok(particles)

@@ -19,7 +19,8 @@ pub struct MpmSceneSpec {
     #[serde(default)]
     pub gravity_ramp: Option<Vec<[f64; 2]>>,
     pub grid: GridSpec,
-    /// Rectangles filled with particles, all of `material`.
+    /// Rectangles filled with particles, each of its own `material` (of a `[[material]]`
+    /// list) or all of the single `[material]`.
     #[serde(default)]
     pub body: Vec<BodySpec>,
     pub material: Materials,
@@ -67,14 +68,19 @@ pub enum ShapeSpec {
     Quadratic,
 }
 
-/// `[[xmin, ymin], [xmax, ymax]]` filled with `particles_per_cell²` particles per cell.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+/// `[[xmin, ymin], [xmax, ymax]]` filled with `particles_per_cell²` particles per cell, of
+/// the material `material` names.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct BodySpec {
     pub rectangle: [[f64; 2]; 2],
     /// Per axis; default 2.
     #[serde(default = "two")]
     pub particles_per_cell: usize,
+    /// The `name` of a `[[material]]` (required with a list); with a single `[material]`
+    /// it may be left out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
 }
 
 fn two() -> usize {

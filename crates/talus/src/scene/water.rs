@@ -122,6 +122,10 @@ mod tests {
         assert_eq!(t.height(4.0), 4.0);
         assert_eq!(t.height(20.0), 7.0);
         assert_eq!(t.pore_pressure([4.0, 1.0]), 30.0);
-        assert_eq!(t.pore_pressure([4.0, 5.0]), 0.0, "no suction above the line");
+        assert_eq!(
+            t.pore_pressure([4.0, 5.0]),
+            0.0,
+            "no suction above the line"
+        );
     }
 }

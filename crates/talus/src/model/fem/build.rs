@@ -6,8 +6,8 @@ use talus_fem::{
 };
 
 use crate::scene::{
-    check, scales, scales::ramp_max, AnalysisKind, WaterTable, Fix, MeshSpec, Order, Ramp, Scene, SceneError,
-    Selection,
+    check, scales, scales::ramp_max, AnalysisKind, Fix, MeshSpec, Order, Ramp, Scene, SceneError,
+    Selection, WaterTable,
 };
 
 /// A [`Model`] built from a scene, and the state a run of it starts from.
@@ -75,8 +75,10 @@ impl FromScene for Model {
         let water = water_table(scene)?;
         let (elements, positions) = Assembly::gauss_layout(&mesh, geometry)
             .map_err(|e| scene.error("mesh", e.to_string()))?;
-        let point_material: Vec<usize> =
-            elements.iter().map(|&e| ground.element_material[e]).collect();
+        let point_material: Vec<usize> = elements
+            .iter()
+            .map(|&e| ground.element_material[e])
+            .collect();
         let densities = point_densities(scene, water.as_ref(), &point_material, &positions)?;
         // One density everywhere: the scalar assembly (a layered scene of one material
         // gives the one-material model bit for bit); else each point's.
@@ -325,7 +327,9 @@ fn free_edges_below(mesh: &Mesh, dofs: &DofMap, water: &WaterTable) -> Vec<Bound
     mesh.boundary_edges()
         .into_iter()
         .filter(|e| {
-            e.nodes.iter().any(|&n| water.pore_pressure(mesh.nodes[n]) > 0.0)
+            e.nodes
+                .iter()
+                .any(|&n| water.pore_pressure(mesh.nodes[n]) > 0.0)
                 && !e.nodes.iter().all(|&n| held(n))
         })
         .collect()

@@ -326,7 +326,10 @@ fn write_snapshot(model: &Model, state: &State, path: &Path) -> Result<(), RunEr
             sum[e] += f * model.pore_pressure[p];
             count[e] += 1;
         }
-        sum.iter().zip(&count).map(|(s, &c)| s / c.max(1) as f64).collect::<Vec<f64>>()
+        sum.iter()
+            .zip(&count)
+            .map(|(s, &c)| s / c.max(1) as f64)
+            .collect::<Vec<f64>>()
     });
     let velocity = model
         .assembly
