@@ -24,6 +24,12 @@ pub struct StabilitySettings {
     pub trial_steps: usize,
 }
 
+/// The factors a bracket or a first guess may reach: a strength divided or a weight
+/// multiplied by more than 100 is no longer a soil near failure (and overflows the scales of
+/// `docs/scenes.md`, 'Limits', long before 1e300).
+pub const MIN_FACTOR: f64 = 1e-2;
+pub const MAX_FACTOR: f64 = 1e2;
+
 impl StabilitySettings {
     /// `None` for a scene without `[stability]`.
     pub fn of(scene: &Scene, model: &Model) -> Result<Option<Self>, SceneError> {
@@ -55,11 +61,32 @@ impl StabilitySettings {
                 "\"gravity_increase\" multiplies `gravity`, which is not given",
             ));
         }
+        if let (StabilityMethod::GravityIncrease, Some([gx, gy])) =
+            (spec.method, scene.spec.gravity)
+        {
+            // Zero weight times any factor is zero: the search would never end.
+            if gx == 0.0 && gy == 0.0 {
+                return Err(scene.error(
+                    "gravity",
+                    "[0, 0] m/s²: \"gravity_increase\" has no weight to increase",
+                ));
+            }
+        }
         if let Some([lo, hi]) = spec.bracket {
             if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && hi > lo) {
                 return Err(scene.error(
                     "stability.bracket",
                     format!("[{lo}, {hi}] must be finite with 0 < lo < hi"),
+                ));
+            }
+            if lo < MIN_FACTOR || hi > MAX_FACTOR {
+                return Err(scene.error(
+                    "stability.bracket",
+                    format!(
+                        "[{lo:e}, {hi:e}] must lie within [{MIN_FACTOR}, {MAX_FACTOR}]: a factor \
+                         beyond divides or multiplies the strength or weight into what no \
+                         soil has"
+                    ),
                 ));
             }
             if spec.first_guess.is_some() {
@@ -70,10 +97,10 @@ impl StabilitySettings {
             }
         }
         let first_guess = spec.first_guess.unwrap_or(1.0);
-        if !(first_guess.is_finite() && first_guess > 0.0) {
+        if !(first_guess.is_finite() && (MIN_FACTOR..=MAX_FACTOR).contains(&first_guess)) {
             return Err(scene.error(
                 "stability.first_guess",
-                format!("{first_guess} must be finite and > 0"),
+                format!("{first_guess:e} must be finite and in [{MIN_FACTOR}, {MAX_FACTOR}]"),
             ));
         }
         let max_trials = spec.max_trials.unwrap_or(DEFAULT_MAX_TRIALS);
@@ -116,7 +143,19 @@ impl StabilitySettings {
                             ),
                         )
                     })?;
-                Some((monitors.nodes[k], name.clone()))
+                let node = monitors.nodes[k];
+                let dofs = model.assembly.dofs();
+                if dofs.free(node, 0).is_none() && dofs.free(node, 1).is_none() {
+                    return Err(scene.error(
+                        "stability.monitor",
+                        format!(
+                            "\"{name}\" sits on node {node}, which every boundary condition \
+                             holds still: its displacement cannot tell a mechanism; \
+                             monitor a free point (the crest of a slope, the top of a cut)"
+                        ),
+                    ));
+                }
+                Some((node, name.clone()))
             }
         };
         check_loading_settles(scene, model)?;

@@ -172,6 +172,7 @@ impl FromScene for Model {
         for (k, t) in spec.traction.iter().enumerate() {
             let field = format!("traction[{k}].edges");
             let edges = select_edges(scene, &mesh, &t.edges, &field)?;
+            check_off_axis(scene, &mesh, &edges, &field, geometry)?;
             let ramp = check::ramp(scene, &format!("traction[{k}].ramp"), &t.ramp)?;
             add_load(
                 assembly
@@ -183,6 +184,7 @@ impl FromScene for Model {
         for (k, p) in spec.pressure.iter().enumerate() {
             let field = format!("pressure[{k}].edges");
             let edges = select_edges(scene, &mesh, &p.edges, &field)?;
+            check_off_axis(scene, &mesh, &edges, &field, geometry)?;
             let ramp = check::ramp(scene, &format!("pressure[{k}].ramp"), &p.ramp)?;
             if !p.value.is_finite() {
                 return Err(scene.error(
@@ -497,6 +499,35 @@ fn build_mesh(scene: &Scene) -> Result<Mesh, SceneError> {
             }
         }
     }
+}
+
+/// In axisymmetry an edge on the axis r = 0 has no area (`2π r ds`): a load there applies
+/// nothing, so selecting one is a mistake to name, not a load to drop silently.
+fn check_off_axis(
+    scene: &Scene,
+    mesh: &Mesh,
+    edges: &[BoundaryEdge],
+    field: &str,
+    geometry: Geometry,
+) -> Result<(), SceneError> {
+    if geometry != Geometry::Axisymmetric {
+        return Ok(());
+    }
+    let axis = geometry.axis_nodes(mesh);
+    let on_axis = |n: &usize| axis.binary_search(n).is_ok();
+    if let Some(e) = edges.iter().find(|e| e.nodes.iter().all(on_axis)) {
+        let [a, b] = [mesh.nodes[e.nodes[0]], mesh.nodes[e.nodes[1]]];
+        return Err(scene.error(
+            field,
+            format!(
+                "selects the edge ({:.4}, {:.4})–({:.4}, {:.4}) on the axis r = 0, where an \
+                 axisymmetric load acts on no area and applies nothing: select edges off the \
+                 axis",
+                a[0], a[1], b[0], b[1]
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The node nearest `point` (the first of equally near ones).
