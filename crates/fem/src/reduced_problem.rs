@@ -48,16 +48,22 @@ impl Model {
     /// [`reduced_rhs`](Self::reduced_rhs).
     pub fn reduced_system(&self, h: f64) -> Result<ReducedSystem<4>, SolveError> {
         let asm = &self.assembly;
-        let compliance = (0..asm.n_points())
-            .map(|p| self.compliance_at(p) * asm.gauss_volumes[p])
-            .collect();
         let operator = Operator::Structured(Structured {
-            compliance,
+            compliance: self.compliance_blocks(),
             b: asm.b_free.clone(),
             lumped_mass: asm.lumped_mass_free.clone(),
             h,
         });
         ReducedSystem::try_new(operator, vec![0.0; 4 * asm.n_points()], self.flow_rules())
+    }
+
+    /// `S_p = V_p S₀` of each Gauss point with its material's compliance: the `S` of
+    /// eq. 15 (one material: [`Assembly::compliance_blocks`](crate::Assembly::compliance_blocks)).
+    pub fn compliance_blocks(&self) -> Vec<nalgebra::SMatrix<f64, 4, 4>> {
+        let volumes = &self.assembly.gauss_volumes;
+        (0..volumes.len())
+            .map(|p| self.compliance_at(p) * volumes[p])
+            .collect()
     }
 
     /// `q` of eq. 16 for the step of length `h` after `state`:

@@ -8,7 +8,10 @@
 //!   at round-off, ≤ 1e-9 of the same block's as cohesionless sand, which slumps), while a
 //!   sand column beside it flows.
 //! - A particle whose index names no material is an error naming the particle and index.
-use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters, Elastic, Material};
+mod sand_column;
+
+use sand_column::sand;
+use talus_bipotential::{Elastic, Material};
 use talus_mpm::{
     Grid, GridBoundary, Mpm, MpmError, MpmSettings, MpmStepReport, MpmStepper, Particles,
     ShapeFunction, Side, Wall, WallCondition,
@@ -16,19 +19,6 @@ use talus_mpm::{
 
 const DX: f64 = 0.05;
 const RHO: f64 = 1800.0;
-
-/// φ = 30°, c = 0, ψ = 0, E = 10 MPa, ν = 0.3: built anew on each call.
-fn sand() -> DruckerPrager {
-    DruckerPrager::try_new(DruckerPragerParameters {
-        young_modulus: 1e7,
-        poisson_ratio: 0.3,
-        friction_angle: 30.0,
-        cohesion: 0.0,
-        dilatancy_angle: 0.0,
-        cone_fit: ConeFit::PlaneStrain,
-    })
-    .unwrap()
-}
 
 /// A 1.5 m × 0.6 m grid with a floor (`floor`) and a slip left wall.
 fn grid_and_walls(floor: WallCondition) -> (Grid, GridBoundary) {

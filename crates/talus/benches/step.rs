@@ -115,7 +115,7 @@ fn run_case(cells: [usize; 2], associative: bool) {
         .zip(&previous)
         .map(|(s, p)| s + (s - p))
         .collect();
-    let compliance = asm.compliance_blocks(&model.compliances[0]);
+    let compliance = model.compliance_blocks();
     let lower = elastic_matrix(&model, &compliance, h, true);
     let full = elastic_matrix(&model, &compliance, h, false);
     let rhs: Vec<f64> = (0..full.nrows()).map(|i| 1.0 + (i % 7) as f64).collect();

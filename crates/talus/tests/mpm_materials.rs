@@ -92,13 +92,6 @@ fn with(from: &str, to: &str) -> String {
     BLOCK_AND_COLUMN.replacen(from, to, 1)
 }
 
-fn line_of(text: &str, needle: &str) -> usize {
-    text.lines()
-        .position(|l| l.contains(needle))
-        .expect("needle in text")
-        + 1
-}
-
 fn scene(text: &str) -> MpmScene {
     match SceneFile::parse(text, None) {
         Ok(SceneFile::Mpm(scene)) => scene,
@@ -247,7 +240,10 @@ fn a_list_needs_every_body_to_name_a_known_material() {
     let text = with("material = \"sand\"", "material = \"gravel\"");
     let err = build_error(&text);
     assert_eq!(err.field, "body[1].material", "{err}");
-    assert_eq!(err.line, Some(line_of(&text, "material = \"gravel\"")));
+    assert_eq!(
+        err.line,
+        Some(common::line_of(&text, "material = \"gravel\""))
+    );
     let msg = err.to_string();
     assert!(
         msg.contains("gravel") && msg.contains("\"block\", \"sand\""),
@@ -272,13 +268,13 @@ fn list_materials_need_a_name_used_by_a_body_and_no_regions() {
     );
     let err = build_error(&text);
     assert_eq!(err.field, "material[2].name", "{err}");
-    assert_eq!(err.line, Some(line_of(&text, "name = \"clay\"")));
+    assert_eq!(err.line, Some(common::line_of(&text, "name = \"clay\"")));
     assert!(err.to_string().contains("clay"), "{err}");
     // Regions, in a list and in a single [material].
     let text = with("name = \"sand\"", "name = \"sand\"\nregions = [\"right\"]");
     let err = build_error(&text);
     assert_eq!(err.field, "material[1].regions", "{err}");
-    assert_eq!(err.line, Some(line_of(&text, "regions = ")));
+    assert_eq!(err.line, Some(common::line_of(&text, "regions = ")));
     assert!(err.to_string().contains("[[body]]"), "{err}");
     let err = build_error(&single_material("regions = [\"all\"]\n", ""));
     assert_eq!(err.field, "material.regions", "{err}");
@@ -341,7 +337,7 @@ fn initial_stress_is_checked_against_each_particles_material() {
     let text = with("[time]", k0);
     let err = build_error(&text);
     assert_eq!(err.field, "initial_stress.k0", "{err}");
-    assert_eq!(err.line, Some(line_of(&text, "k0 = 0.5")));
+    assert_eq!(err.line, Some(common::line_of(&text, "k0 = 0.5")));
     let msg = err.to_string();
     assert!(msg.contains("2400") && msg.contains("1800"), "{msg}");
     // The form comes first, no material's: both forms given.

@@ -18,6 +18,14 @@ pub fn signal(child: std::process::Child, signal: &str) -> std::process::Output 
     child.wait_with_output().unwrap()
 }
 
+/// The 1-based line of `text` holding `needle`.
+pub fn line_of(text: &str, needle: &str) -> usize {
+    text.lines()
+        .position(|l| l.contains(needle))
+        .expect("needle in text")
+        + 1
+}
+
 /// `target/tmp/<test>/<name>`, created.
 pub fn target_tmp_dir(test: &str, name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(test).join(name);
