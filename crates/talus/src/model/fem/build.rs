@@ -73,18 +73,32 @@ impl FromScene for Model {
             return Err(scene.error("boundary", "every degree of freedom is prescribed"));
         }
         let water = water_table(scene)?;
-        let (elements, positions) = Assembly::gauss_layout(&mesh, geometry)
-            .map_err(|e| scene.error("mesh", e.to_string()))?;
-        let point_material: Vec<usize> = elements
-            .iter()
-            .map(|&e| ground.element_material[e])
-            .collect();
-        let densities = point_densities(scene, water.as_ref(), &point_material, &positions)?;
+        // Each Gauss point's density; the points' layout is mapped ahead of the assembly
+        // only when the densities vary (layers, saturated below a water table).
+        let dry = required_densities(scene)?;
+        let densities = if water.is_none() && dry.iter().all(|d| *d == dry[0]) {
+            Vec::new()
+        } else {
+            let (elements, positions) = Assembly::gauss_layout(&mesh, geometry)
+                .map_err(|e| scene.error("mesh", e.to_string()))?;
+            let point_material: Vec<usize> = elements
+                .iter()
+                .map(|&e| ground.element_material[e])
+                .collect();
+            point_densities(scene, water.as_ref(), &point_material, &positions)?
+        };
         // One density everywhere: the scalar assembly (a layered scene of one material
         // gives the one-material model bit for bit); else each point's.
-        let uniform = densities.iter().all(|d| *d == densities[0]);
+        let uniform = densities
+            .iter()
+            .all(|d| *d == densities.first().copied().unwrap_or(dry[0]));
         let assembly = if uniform {
-            Assembly::with_geometry(&mesh, &dofs, densities[0], geometry)
+            Assembly::with_geometry(
+                &mesh,
+                &dofs,
+                densities.first().copied().unwrap_or(dry[0]),
+                geometry,
+            )
         } else {
             Assembly::with_point_densities(&mesh, &dofs, &densities, geometry)
         }
@@ -98,6 +112,16 @@ impl FromScene for Model {
             };
             scene.error(field, e.to_string())
         })?;
+        let point_material: Vec<usize> = assembly
+            .gauss_element
+            .iter()
+            .map(|&e| ground.element_material[e])
+            .collect();
+        let densities = if densities.is_empty() {
+            vec![dry[0]; assembly.n_points()]
+        } else {
+            densities
+        };
 
         // Prescribed velocities: later conditions win where sets overlap.
         let mut prescribed_velocity = vec![0.0; dofs.n_prescribed()];
@@ -235,7 +259,9 @@ impl FromScene for Model {
         let mut model = Model::with_materials(mesh, assembly, ground.materials, point_material)
             .map_err(|e| scene.error("material", e.to_string()))?;
         if let Some(w) = &water {
-            model.pore_pressure = positions.iter().map(|&x| w.pore_pressure(x)).collect();
+            model.pore_pressure = (model.assembly.gauss_points.iter())
+                .map(|&x| w.pore_pressure(x))
+                .collect();
             model.pore_pressure_ramp = gravity_ramp;
         }
         for (forces, ramp) in loads {
