@@ -1,5 +1,7 @@
 //! A finite-element scene run by the run loop: the reported boundary's reaction and
 //! settlement, element VTUs and the PNG plots.
+mod fields;
+mod plots;
 mod results;
 
 use std::path::Path;
@@ -10,9 +12,11 @@ use talus_engine::Stepper;
 use super::checkpoint::{self, Checkpoint, CheckpointError};
 use super::{io_err, RunError, RunOptions, RunOutputs, Shape, HISTORY_COLUMNS};
 use crate::model::fem::{FromScene, Model, ReactionForce, State, StepRecord};
-use crate::output::{self, FieldSnapshot, MeshView, OutputError};
+use crate::output;
 use crate::output::{Results, ResultsProgress};
 use crate::scene::Scene;
+use fields::write_snapshot;
+use plots::write_plots;
 pub use results::FemResults;
 
 /// What a finished run measured.
@@ -290,110 +294,3 @@ impl FemOutputs<'_> {
     }
 }
 
-/// Per-element averages of the Gauss-point stress and plastic strain.
-fn element_fields(model: &Model, state: &State) -> (Vec<[f64; 4]>, Vec<f64>) {
-    let n_el = model.mesh.triangles.len();
-    let mut stress = vec![[0.0; 4]; n_el];
-    let mut plastic = vec![0.0; n_el];
-    let mut count = vec![0usize; n_el];
-    for (p, &e) in model.assembly.gauss_element.iter().enumerate() {
-        for (s, v) in stress[e].iter_mut().zip(&state.sigma[4 * p..4 * p + 4]) {
-            *s += v;
-        }
-        plastic[e] += state.plastic_strain[p];
-        count[e] += 1;
-    }
-    for e in 0..n_el {
-        let c = count[e].max(1) as f64;
-        stress[e].iter_mut().for_each(|s| *s /= c);
-        plastic[e] /= c;
-    }
-    (stress, plastic)
-}
-
-fn write_snapshot(model: &Model, state: &State, path: &Path) -> Result<(), RunError> {
-    let (stress, plastic) = element_fields(model, state);
-    let material = model.element_materials();
-    // The pore pressure at the state's time, per element (its points' mean).
-    let pore_pressure = model.pore_pressure.iter().any(|p| *p != 0.0).then(|| {
-        let f = model
-            .pore_pressure_ramp
-            .as_ref()
-            .map_or(1.0, |r| r.at(state.time));
-        let mut sum = vec![0.0; model.mesh.triangles.len()];
-        let mut count = vec![0usize; sum.len()];
-        for (p, &e) in model.assembly.gauss_element.iter().enumerate() {
-            sum[e] += f * model.pore_pressure[p];
-            count[e] += 1;
-        }
-        sum.iter()
-            .zip(&count)
-            .map(|(s, &c)| s / c.max(1) as f64)
-            .collect::<Vec<f64>>()
-    });
-    let velocity = model
-        .assembly
-        .dofs()
-        .scatter(&state.velocity_free, &state.velocity_prescribed)
-        .map_err(|e| {
-            RunError::Output(OutputError::Invalid {
-                field: "velocity",
-                message: e.to_string(),
-            })
-        })?;
-    output::write_vtu(
-        path,
-        &FieldSnapshot {
-            mesh: MeshView {
-                nodes: &model.mesh.nodes,
-                triangles: &model.mesh.triangles,
-            },
-            time: state.time,
-            displacement: &state.displacement,
-            velocity: &velocity,
-            stress: &stress,
-            plastic_strain: &plastic,
-            material: Some(&material),
-            pore_pressure: pore_pressure.as_deref(),
-        },
-    )?;
-    Ok(())
-}
-
-fn write_plots(
-    scene: &Scene,
-    model: &Model,
-    state: &State,
-    histories: &[(usize, Vec<f64>)],
-    curve: &[(f64, f64)],
-    out: &Path,
-) -> Result<(), RunError> {
-    let title = scene
-        .spec
-        .title
-        .clone()
-        .unwrap_or_else(|| "talus run".into());
-    if !model.reaction_dofs.is_empty() {
-        output::plot_force_displacement(&out.join("force_displacement.png"), curve, &title)?;
-    }
-    if !histories.is_empty() {
-        output::plot_newton_residuals(
-            &out.join("newton_residuals.png"),
-            histories,
-            scene.spec.solver.tolerance,
-        )?;
-    }
-    let (_, plastic) = element_fields(model, state);
-    output::plot_field_on_mesh(
-        &out.join("plastic_strain.png"),
-        &MeshView {
-            nodes: &model.mesh.nodes,
-            triangles: &model.mesh.triangles,
-        },
-        None,
-        &plastic,
-        &format!("cumulative plastic strain at t = {:.4} s", state.time),
-        "∫‖ε̇ᵖ‖dt (-)",
-    )?;
-    Ok(())
-}
