@@ -6,7 +6,6 @@ use std::path::PathBuf;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
-use talus::model::fem::{FromScene, Model};
 use talus::model::mpm::MpmModel;
 use talus::scene::{SceneError, SceneFile};
 
@@ -24,10 +23,7 @@ pub struct Scene {
 pub fn validate(source: &str, path: Option<PathBuf>) -> Result<SceneFile, SceneError> {
     let file = SceneFile::parse(source, path)?;
     match &file {
-        SceneFile::Fem(scene) => {
-            let model = Model::from_scene(scene)?;
-            model.initial_state(scene)?;
-        }
+        SceneFile::Fem(scene) => talus::model::fem::stages::check_before_run(scene)?,
         SceneFile::Mpm(scene) => {
             MpmModel::from_scene(scene)?;
         }

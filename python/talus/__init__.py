@@ -11,7 +11,7 @@ import io
 import json
 import os
 import sys
-from typing import Any, Callable, Dict, Optional, Tuple, Union
+from typing import Any, Callable, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 
@@ -54,13 +54,17 @@ class Result:
     ``history``: one float64 array per ``history.csv`` column, in the file's order, with
     the file's values (row 0 is the initial state). ``summary``: the content of
     ``summary.json``. ``state``: the final state's arrays (see ``talus.run``).
-    ``kind``: ``"fem"`` or ``"mpm"``."""
+    ``kind``: ``"fem"`` or ``"mpm"``. ``stages``: a staged scene's stages, in order, each
+    a dict of ``summary.json``'s entry (``name``, ``first_step``, ``last_step``, ``time``,
+    ``elements``, ``deactivated``, ``activated``, ``reaction``, ``factor_of_safety``);
+    ``history["stage"]`` is each row's stage index. Empty for an unstaged scene."""
 
     def __init__(self, raw: Dict[str, Any]) -> None:
         self.kind: str = raw["kind"]
         self.history: Dict[str, np.ndarray] = dict(raw["history"])
         self.summary: Dict[str, Any] = json.loads(raw["summary_json"])
         self.state: Dict[str, np.ndarray] = dict(raw["state"])
+        self.stages: List[Dict[str, Any]] = list(self.summary.get("stages", []))
 
     def to_pandas(self) -> Any:
         """The history as a pandas DataFrame (pandas must be installed)."""
@@ -144,7 +148,7 @@ def run(
     step does not converge after its halvings, ``Collapsed`` when the load passes the
     body's capacity, ``Interrupted`` when the callback stops the run (each with
     ``.report``: the partial ``history`` and ``summary``), ``RunError`` otherwise."""
-    if _has(scene, "stability"):
+    if _has(scene, "stability") and not _has(scene, "stage"):
         raise SceneError(
             "stability", None, "a factor-of-safety scene: call talus.factor_of_safety(scene)",
             None, scene.path,

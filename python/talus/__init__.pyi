@@ -1,6 +1,6 @@
 """Talus: implicit elasto-plasticity of geomaterials by semi-smooth Newton, from Python."""
 import os
-from typing import Any, Callable, Dict, Literal, Optional, Tuple, Union
+from typing import Any, Callable, Dict, List, Literal, Optional, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -60,6 +60,8 @@ class Result:
     """The content of ``summary.json``."""
     state: Dict[str, np.ndarray]
     """The final state's arrays (see ``run``)."""
+    stages: List[Dict[str, Any]]
+    """A staged scene's ``summary.json`` stage entries, in order (empty otherwise)."""
     def to_pandas(self) -> Any:
         """The history as a pandas DataFrame (needs pandas)."""
 

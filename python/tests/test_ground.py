@@ -34,3 +34,33 @@ def test_a_bad_water_table_names_its_field():
     with pytest.raises(talus.SceneError) as e:
         talus.run(scene.set("water", {"phreatic": [[0.0, -0.5], [-1.0, -0.4]]}))
     assert "water.phreatic" in str(e.value)
+
+
+def test_stages_run_through_scene_and_result_lists_them():
+    # Without the factor of safety (and so without [stability]): the stages alone.
+    d = talus.Scene.load(REPO / "scenes" / "embankment_two_lifts.toml").to_dict()
+    del d["stability"]
+    d["stage"][2]["factor_of_safety"] = False
+    scene = talus.Scene.from_dict(d)
+    assert scene.get("stage[1].activate") == ["lift 1"]
+    result = talus.run(scene)
+    assert [s["name"] for s in result.stages] == ["clay at rest", "lift 1", "lift 2"]
+    assert [s["last_step"] for s in result.stages] == [1, 7, 13]
+    stage = result.history["stage"]
+    assert stage.shape == (14,)
+    assert list(stage[[0, 1, 2, 7, 8, 13]]) == [0, 0, 1, 1, 2, 2]
+    # The base carries the clay, then the clay and both lifts: ρ g A per metre.
+    g = 9.81
+    clay, fill = 1.7e3 * g * 30.0 * 10.0, 1.9e3 * g * (10.0 * 2.0 + 7.0 * 2.0)
+    base = result.history["base_fy"]
+    assert abs(base[1] - clay) < 1e-6 * clay
+    assert abs(base[13] - (clay + fill)) < 1e-4 * (clay + fill)
+
+
+def test_a_stage_that_removes_a_region_twice_names_its_field():
+    scene = talus.Scene.load(REPO / "scenes" / "cut_in_lifts.toml")
+    # Refused when set: a Scene is checked as `talus run` checks it before stepping.
+    with pytest.raises(talus.SceneError) as e:
+        scene.set("stage[2].deactivate", ["lift 1"])
+    assert "stage[2].deactivate[0]" in str(e.value)
+    assert "removed already" in str(e.value)

@@ -1,11 +1,13 @@
 //! Project chores: `cargo xtask test` (every test: crates, verification, Python),
-//! `cargo xtask verify` (verification suites), `cargo xtask bench` and `cargo xtask fuzz`
-//! (the readers' fuzz tests, longer than in CI).
+//! `cargo xtask verify` (verification suites), `cargo xtask bench`, `cargo xtask fuzz`
+//! (the readers' fuzz tests, longer than in CI) and `cargo xtask docs` (the pictures of
+//! docs/img drawn again).
 //! Few dependencies on purpose: it drives the release `talus` binary and `cargo bench`.
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
 mod bench;
+mod docs;
 mod fuzz;
 mod test;
 mod verify;
@@ -31,13 +33,14 @@ fn main() -> ExitCode {
         ("test", None) => test::run(&workspace_root(), !has("--no-python")),
         ("verify", None) => verify::run(&workspace_root(), has("--quick")),
         ("bench", None) => bench::run(&workspace_root()),
+        ("docs", None) => docs::run(&workspace_root()),
         ("fuzz", None) => fuzz::run(&workspace_root(), flags),
         (_, unknown) => {
             if let Some(flag) = unknown {
                 eprintln!("xtask {task}: unknown argument {flag:?}");
             }
             eprintln!(
-                "usage: cargo xtask <test [--no-python]|verify [--quick]|bench|fuzz [--cases N]>"
+                "usage: cargo xtask <test [--no-python]|verify [--quick]|bench|fuzz [--cases N]|docs>"
             );
             return ExitCode::from(2);
         }

@@ -17,6 +17,7 @@
 //! ```
 
 mod cone_fit;
+mod davis;
 mod drucker_prager;
 mod error;
 mod flow_rule;
@@ -24,6 +25,7 @@ pub mod mandel;
 mod material;
 
 pub use cone_fit::ConeFit;
+pub use davis::{davis_beta, davis_equivalent};
 pub use drucker_prager::{DruckerPrager, DruckerPragerParameters};
 pub use error::MaterialError;
 pub use flow_rule::{FlowRule, NaturalMapLinearization, YieldSet};

@@ -235,11 +235,6 @@ pub fn restrict_state(
             ),
         ));
     }
-    let velocity = full
-        .assembly
-        .dofs()
-        .scatter(&state.velocity_free, &state.velocity_prescribed)
-        .map_err(|e| FemError::invalid("state", format!("velocities: {e}")))?;
     if node_map.len() != n_nodes {
         return Err(FemError::invalid(
             "node_map",
@@ -276,26 +271,120 @@ pub fn restrict_state(
         ));
     }
 
-    let dofs = kept.assembly.dofs();
+    let whole_elements: Vec<usize> = (0..full.mesh.triangles.len()).collect();
+    let whole_nodes: Vec<usize> = (0..n_nodes).collect();
+    let mut kept_nodes = vec![0; kept.mesh.nodes.len()];
+    for (old, new) in node_map.iter().enumerate() {
+        if let Some(new) = *new {
+            kept_nodes[new] = old;
+        }
+    }
+    transfer_state(
+        Part {
+            model: full,
+            elements: &whole_elements,
+            nodes: &whole_nodes,
+        },
+        state,
+        Part {
+            model: kept,
+            elements: &sorted,
+            nodes: &kept_nodes,
+        },
+        false,
+    )
+}
+
+/// A model built on part of a mesh (`Mesh::submesh`): the model, and the whole mesh's
+/// indices of its triangles and of its nodes, both increasing (the submesh's order).
+#[derive(Clone, Copy)]
+pub struct Part<'a> {
+    pub model: &'a Model,
+    pub elements: &'a [usize],
+    pub nodes: &'a [usize],
+}
+
+/// The state of `to` from `state` of `from`, two models on parts of one mesh (a stage
+/// of construction and the next): same time; the stresses and plastic strains of the
+/// triangles both have (the others', new ones, stress free); the displacements and
+/// velocities of the nodes both have (new ones at rest; displacements zero everywhere when
+/// `reset`), the velocities split into free and prescribed ones by `to`'s dof map.
+/// Each triangle's Gauss points are contiguous, in the rule's order ([`kept_points`]).
+///
+/// Errors name `state` (its lengths do not fit `from`) or `part` (a part's index lists do
+/// not fit its model).
+pub fn transfer_state(from: Part, state: &State, to: Part, reset: bool) -> Result<State, FemError> {
+    for (name, part) in [("from", &from), ("to", &to)] {
+        let m = part.model;
+        if part.elements.len() != m.mesh.triangles.len()
+            || part.nodes.len() != m.mesh.nodes.len()
+            || m.n_points() % part.elements.len().max(1) != 0
+        {
+            return Err(FemError::invalid(
+                "part",
+                format!(
+                    "{name}: {} triangles and {} nodes listed for a model of {} and {}",
+                    part.elements.len(),
+                    part.nodes.len(),
+                    m.mesh.triangles.len(),
+                    m.mesh.nodes.len()
+                ),
+            ));
+        }
+    }
+    let fm = from.model;
+    if state.sigma.len() != 4 * fm.n_points()
+        || state.plastic_strain.len() != fm.n_points()
+        || state.displacement.len() != fm.mesh.nodes.len()
+    {
+        return Err(FemError::invalid(
+            "state",
+            format!(
+                "{} stresses, {} plastic strains and {} displacements for a model of {} Gauss \
+                 points (× 4) and {} nodes",
+                state.sigma.len(),
+                state.plastic_strain.len(),
+                state.displacement.len(),
+                fm.n_points(),
+                fm.mesh.nodes.len()
+            ),
+        ));
+    }
+    let velocity = fm
+        .assembly
+        .dofs()
+        .scatter(&state.velocity_free, &state.velocity_prescribed)
+        .map_err(|e| FemError::invalid("state", format!("velocities: {e}")))?;
+    let tm = to.model;
+    let dofs = tm.assembly.dofs();
     let mut out = State::at_rest(
-        points.len(),
+        tm.n_points(),
         dofs.n_free(),
         dofs.n_prescribed(),
-        kept.mesh.nodes.len(),
+        tm.mesh.nodes.len(),
     );
     out.time = state.time;
-    for (new, &old) in points.iter().enumerate() {
-        out.sigma[4 * new..4 * new + 4].copy_from_slice(&state.sigma[4 * old..4 * old + 4]);
-        out.plastic_strain[new] = state.plastic_strain[old];
+    let per = tm.n_points() / to.elements.len().max(1);
+    for (i, e) in to.elements.iter().enumerate() {
+        if let Ok(j) = from.elements.binary_search(e) {
+            out.sigma[4 * per * i..4 * per * (i + 1)]
+                .copy_from_slice(&state.sigma[4 * per * j..4 * per * (j + 1)]);
+            out.plastic_strain[per * i..per * (i + 1)]
+                .copy_from_slice(&state.plastic_strain[per * j..per * (j + 1)]);
+        }
     }
-    for (old, new) in node_map.iter().enumerate() {
-        let Some(new) = *new else { continue };
-        out.displacement[new] = state.displacement[old];
+    for (new, n) in to.nodes.iter().enumerate() {
+        let Ok(old) = from.nodes.binary_search(n) else {
+            continue;
+        };
+        if !reset {
+            out.displacement[new] = state.displacement[old];
+        }
         for (comp, v) in velocity[old].iter().enumerate() {
             match dofs.dof(new, comp) {
                 Some(Dof::Free(i)) => out.velocity_free[i] = *v,
                 Some(Dof::Prescribed(j)) => out.velocity_prescribed[j] = *v,
-                None => unreachable!("check_node_map: every kept node is in the dof map"),
+                None => {}
             }
         }
     }

@@ -28,7 +28,9 @@ pub use assembly::Assembly;
 pub use dofs::{Constraint, Dof, DofMap};
 pub use element::ElementOrder;
 pub use error::{FemError, MeshError};
-pub use excavation::{element_forces, kept_points, restrict_forces, restrict_state};
+pub use excavation::{
+    element_forces, kept_points, restrict_forces, restrict_state, transfer_state, Part,
+};
 pub use geometry::Geometry;
 pub use mesh::{graded_coordinates, BoundaryEdge, Mesh};
 pub use model::{bounding_box, Loads, Model, RampedForce};

@@ -26,6 +26,7 @@ pub struct Loads {
 }
 
 /// Everything fixed during a run: mesh, operators, material, loads, prescribed motion.
+#[derive(Clone)]
 pub struct Model {
     pub mesh: Mesh,
     pub assembly: Assembly,

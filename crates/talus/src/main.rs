@@ -9,6 +9,7 @@ use talus::model::fem::ReactionForce;
 use talus::model::size::{available_memory, SizeEstimate};
 use talus::run::checkpoint::{self, Checkpoint, CheckpointError};
 use talus::run::fem::{resume_scene, run_scene};
+use talus::run::folder;
 use talus::run::mpm::{resume_mpm_scene, run_mpm_scene};
 use talus::run::{stop_when, RunError, RunOptions};
 use talus::scene::{builtin_footing, MpmScene, Scene, SceneFile};
@@ -40,7 +41,9 @@ enum Command {
         /// Scene file (TOML): finite elements with `[mesh]`, material points with `[grid]`.
         /// Without it, the built-in footing of the paper's Fig. 3.
         scene: Option<PathBuf>,
-        /// Output folder: history.csv, vtu/, solution.pvd, PNG plots.
+        /// Output folder: history.csv, vtu/, solution.pvd, PNG plots. The files an earlier
+        /// run left there are removed first (other files are kept); a folder another run
+        /// or resume is using is refused (docs/scenes.md, 'Durable outputs').
         #[arg(long, default_value = "out")]
         out: PathBuf,
         /// Run even when the estimated memory exceeds what is available or the steps ×
@@ -53,8 +56,9 @@ enum Command {
         checkpoint_every: Option<u64>,
     },
     /// Continue a killed or interrupted run from its last checkpoint: history.csv and the
-    /// VTUs are cut back to it, and the run goes on as if never stopped. Refused when the
-    /// scene file changed since.
+    /// VTUs are cut back to it, and the run goes on as if never stopped. Refused, the
+    /// folder left as it was, when the scene file changed since, the checkpoint is not
+    /// the folder's run's, or another run or resume is using the folder.
     Resume {
         /// The output folder of a run started with `--checkpoint-every`.
         out: PathBuf,
@@ -158,6 +162,11 @@ fn run(
         }
         tracing::warn!("{e} (--allow-large: running anyway)");
     }
+    // The folder is this run's until it ends (docs/scenes.md, 'Durable outputs').
+    let _lock = match folder::lock(&out) {
+        Ok(lock) => lock,
+        Err(e) => return Ok(refused(e)),
+    };
     let options = interruptible(RunOptions {
         progress: true,
         write_fields: true,
@@ -170,33 +179,43 @@ fn run(
     }
 }
 
-/// `talus resume OUT`: the checkpoint read, its scene checked and parsed, the run continued.
+/// The error, and the exit code, of a resume refused or a folder in use.
+fn refused(e: CheckpointError) -> ExitCode {
+    eprintln!("error: {e}");
+    Exit::of_run_error(&RunError::Checkpoint(e)).into()
+}
+
+/// `talus resume OUT`: the folder held, the checkpoint read, its scene checked and parsed,
+/// the run continued. Every refusal leaves the folder as it was.
 fn resume(out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
-    let refused = |e: CheckpointError| {
-        eprintln!("error: {e}");
-        let e = RunError::Checkpoint(e);
-        Ok(Exit::of_run_error(&e).into())
+    // Held before the checkpoint is read: a second resume of the folder stops here. A
+    // folder that does not exist is not created (no checkpoint in it, below).
+    let _lock = if out.is_dir() {
+        match folder::lock(&out) {
+            Ok(lock) => Some(lock),
+            Err(e) => return Ok(refused(e)),
+        }
+    } else {
+        None
     };
     let checkpoint = match checkpoint::read(&out) {
         Ok(c) => c,
-        Err(e) => return refused(e),
+        Err(e) => return Ok(refused(e)),
     };
     let source = match checkpoint.current_scene() {
         Ok(s) => s,
-        Err(e) => return refused(e),
+        Err(e) => return Ok(refused(e)),
     };
     let scene = SceneFile::parse(&source, checkpoint.scene.path.clone())?;
+    let scene_name = match &checkpoint.scene.path {
+        Some(p) if checkpoint.scene.held => format!("{} (as the checkpoint holds it)", p.display()),
+        Some(p) => p.display().to_string(),
+        None if checkpoint.scene.held => "the scene the checkpoint holds".to_string(),
+        None => "the built-in footing".to_string(),
+    };
     eprintln!(
-        "resuming {} from its checkpoint of step {} of {}",
-        checkpoint
-            .scene
-            .path
-            .as_ref()
-            .map_or("the built-in footing".to_string(), |p| p
-                .display()
-                .to_string()),
-        checkpoint.step,
-        checkpoint.steps
+        "resuming {scene_name} from its checkpoint of step {} of {}",
+        checkpoint.step, checkpoint.steps
     );
     let options = interruptible(RunOptions {
         progress: true,
@@ -215,7 +234,7 @@ fn run_fem(
     resumed: Option<Checkpoint<serde_json::Value>>,
 ) -> Result<ExitCode, Box<dyn std::error::Error>> {
     let out = options.out_dir.clone();
-    if scene.spec.stability.is_some() {
+    if scene.spec.stability.is_some() && scene.spec.stage.is_empty() {
         if options.checkpoint_every > 0 || resumed.is_some() {
             eprintln!(
                 "error: a [stability] scene's trials are not checkpointed: run it without \
@@ -255,6 +274,11 @@ fn run_fem(
 
 /// A `[stability]` scene: the factor of safety (`docs/stability.md`).
 fn run_stability(scene: &Scene, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    // Not by the run loop, which clears them for the other scenes: the files an earlier
+    // run left (its VTUs, its checkpoint) would be mixed with the trials'.
+    if let Err(e) = folder::clear_owned(&out) {
+        return Ok(refused(e));
+    }
     let options = interruptible(RunOptions {
         progress: true,
         write_fields: true,

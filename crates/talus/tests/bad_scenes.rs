@@ -113,14 +113,27 @@ fn run_reports_a_non_convergent_step_and_keeps_the_history() {
         lines.next(),
         // The footing is a named boundary: its reaction columns follow.
         Some(
-            format!("{HISTORY_COLUMNS},reaction_force,footing_displacement,footing_fx,footing_fy")
-                .as_str()
+            format!(
+                "{HISTORY_COLUMNS},reaction_force,footing_displacement,footing_fx,footing_fy,\
+                 inertial_share"
+            )
+            .as_str()
         )
     );
     assert!(
         lines.next().is_some_and(|l| l.starts_with("0,")),
         "the initial state's row is kept: {history}"
     );
+    // summary.json names what to try, with the knobs' values.
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    for knob in [
+        "[time] step (now 1e-2 s)",
+        "max_step_halvings (now 0)",
+        "max_iterations (now 1)",
+        "[solver] tolerance (now",
+    ] {
+        assert!(summary.contains(knob), "{knob}: {summary}");
+    }
     let _ = builtin_footing();
 }
 

@@ -101,3 +101,31 @@ fn a_piped_run_prints_a_line_per_tenth() {
         .count();
     assert_eq!(steps, 300, "-v logs every step");
 }
+
+/// A factor-of-safety search piped to a file says each trial once, as an outcome at INFO,
+/// with no WARN line for the trials that fail as expected (`scenes/slope.toml`: ten or so
+/// trials, some failing).
+#[test]
+fn a_factor_of_safety_search_says_each_trial_once() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join("cli_logs")
+        .join("slope");
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_talus"))
+        .arg("run")
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/slope.toml"))
+        .arg("--out")
+        .arg(dir.join("out"))
+        .env_remove("TALUS_LOG")
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    let trials = err.lines().filter(|l| l.contains(" trial factor=")).count();
+    let history = std::fs::read_to_string(dir.join("out/history.csv")).unwrap();
+    // history.csv: the header, row 0 (the loading), one row per trial.
+    assert_eq!(trials, history.lines().count() - 2, "{err}");
+    assert!(err.contains("outcome=\"fails\""), "some trials fail: {err}");
+    assert!(!err.contains("WARN"), "{err}");
+    assert!(err.lines().count() <= 40, "{err}");
+}

@@ -81,18 +81,19 @@ fn inner_displacement_is_lames_at_every_step() {
     assert_eq!(checked, 3, "every ramp point is a step");
 }
 
-/// The check can fail: with inertia a tenth of the stiffness (a quasi-static scaling
-/// gone wrong) the wall lags behind the load by more than 0.5%.
+/// The check can fail: with inertia at the largest ratio a scene may give, 1e-4 of the
+/// stiffness (`docs/scenes.md`, 'Analysis'), the wall of this fine mesh lags behind the
+/// load by more than 0.5% (23% at the first step, measured).
 #[test]
 fn too_much_inertia_misses_lames_displacement() {
     let scene = lame_scene(|text| {
         text.replacen(
             "kind = \"quasi_static\"",
-            "kind = \"quasi_static\"\ninertia_ratio = 0.1",
+            "kind = \"quasi_static\"\ninertia_ratio = 1e-4",
             1,
         )
     });
-    assert_eq!(scene.spec.analysis.inertia_ratio, Some(0.1));
+    assert_eq!(scene.spec.analysis.inertia_ratio, Some(1e-4));
     let worst = inner_errors(&scene)
         .iter()
         .map(|e| e.1)

@@ -49,7 +49,8 @@ impl Exit {
             RunError::Collapsed(_) => Exit::Collapsed,
             RunError::Interrupted { .. } => Exit::Interrupted,
             RunError::Checkpoint(c) if c.is_io() => Exit::Io,
-            // Missing, corrupt, another scene's, or outputs that do not reach it.
+            // Missing, corrupt, another scene's or another run's, outputs that do not reach
+            // it, or an output folder another run or resume is using.
             RunError::Checkpoint(_) => Exit::InvalidInput,
         }
     }
@@ -66,7 +67,8 @@ pub const TABLE: &str = "\
 Exit codes:
   0    success
   1    invalid input (scene, mesh or problem file; a model too large without --allow-large;
-       `talus resume`: no checkpoint, a corrupt one, or a scene changed since)
+       an output folder another run or resume is using; `talus resume`: no checkpoint, a
+       corrupt one, another run's, or a scene changed since)
   2    usage (unknown option or subcommand)
   3    a step did not converge (or failed); `talus reduced`: Newton did not converge
   4    collapsed: the body accelerated without bound under its loads

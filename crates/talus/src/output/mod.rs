@@ -22,21 +22,31 @@ mod plot_particles;
 mod pvd;
 mod results;
 mod spacing;
+mod stage_summary;
 mod summary;
 mod vtu;
 
 pub(crate) use atomic::write as write_atomically;
 pub use error::OutputError;
+pub use map_frame::ColourScale;
 pub use mesh::MeshView;
-pub use particles_vtu::{write_particle_vtu, ParticleSnapshot};
+pub use particles_vtu::{
+    write_particle_vtu, write_particle_vtu_with, ParticleExtras, ParticleSnapshot,
+};
 pub use plateau::{plateau, Plateau, PlateauCriterion};
-pub use plot_curves::{plot_force_displacement, plot_newton_residuals};
-pub use plot_field::plot_field_on_mesh;
+pub use plot_curves::{
+    force_axis_label, plot_force_displacement, plot_force_displacement_with_unit,
+    plot_newton_residuals,
+};
+pub use plot_field::{plot_field_map, plot_field_on_mesh, FieldMap};
 pub use plot_particles::{plot_particles, ParticlePlot};
 pub use pvd::write_pvd;
 pub use results::{BadColumn, Results, ResultsProgress};
+pub use stage_summary::StageSummary;
 pub use summary::{
     BoundaryReaction, CollapseTime, FactorOfSafety, Limit, MonitorValues, ReportedReaction,
     RunStatus, Summary,
 };
-pub use vtu::{pressure, von_mises, write_vtu, FieldSnapshot};
+pub use vtu::{
+    pressure, principal_stresses, von_mises, write_vtu, write_vtu_with, FieldExtras, FieldSnapshot,
+};

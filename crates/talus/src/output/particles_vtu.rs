@@ -5,7 +5,8 @@ use std::path::Path;
 
 use super::mesh::{check_finite, check_finite_scalars, check_finite_value, check_len};
 use super::vtu::{
-    begin_piece, end_piece, points_and_cells, scalars, stress_and_invariants, vectors,
+    begin_piece, check_derived, end_piece, indices, points_and_cells, scalars,
+    stress_and_invariants, vectors,
 };
 use super::OutputError;
 
@@ -50,7 +51,31 @@ impl ParticleSnapshot<'_> {
         check_finite_scalars("volume", self.volume)?;
         check_finite_scalars("mass", self.mass)?;
         check_finite("stress", self.stress)?;
+        check_derived(self.stress)?;
         check_finite_scalars("plastic_strain", self.plastic_strain)
+    }
+}
+
+/// Particle fields an MPM run adds to a [`ParticleSnapshot`] ([`write_particle_vtu_with`]),
+/// one entry per particle; each `None` is left out of the file.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ParticleExtras<'a> {
+    /// Position minus the particle's position at t = 0, m.
+    pub displacement: Option<&'a [[f64; 2]]>,
+    /// The particle's material index in the scene's list (from 0).
+    pub material: Option<&'a [usize]>,
+}
+
+impl ParticleExtras<'_> {
+    fn validate(&self, n: usize) -> Result<(), OutputError> {
+        if let Some(u) = self.displacement {
+            check_len("displacement", u.len(), n, "particle")?;
+            check_finite("displacement", u)?;
+        }
+        if let Some(m) = self.material {
+            check_len("material", m.len(), n, "particle")?;
+        }
+        Ok(())
     }
 }
 
@@ -59,17 +84,30 @@ impl ParticleSnapshot<'_> {
 ///
 /// Point data: `velocity` (m/s, 3-vector with z = 0), `volume`, `mass`, `stress` as a
 /// symmetric tensor in plain components, VTK order `XX, YY, ZZ, XY, YZ, XZ` (σxy = m₃/√2,
-/// YZ = XZ = 0; Pa, tension positive), `von_mises` (Pa), `pressure` (−tr σ/3, Pa) and
-/// `plastic_strain`. The time (s) is the `TimeValue` field. Numbers are written in Rust's
-/// shortest round-trip form. Errors (`Invalid`, nothing written): no particles, a field
-/// whose length differs from `position`'s, a non-finite value.
+/// YZ = XZ = 0; Pa, tension positive), `von_mises` (Pa), `pressure` (−tr σ/3, Pa,
+/// compression positive), `principal_stress` (3 components `σ1 ≥ σ2 ≥ σ3`, Pa, tension
+/// positive) and `plastic_strain`. The time (s) is the `TimeValue` field. Numbers are
+/// written in Rust's shortest round-trip form. Errors (`Invalid`, nothing written): no
+/// particles, a field whose length differs from `position`'s, a non-finite value.
 pub fn write_particle_vtu(path: &Path, s: &ParticleSnapshot) -> Result<(), OutputError> {
+    write_particle_vtu_with(path, s, &ParticleExtras::default())
+}
+
+/// [`write_particle_vtu`] with the point data of `extras`: `displacement` (m, 3-vector with
+/// z = 0) and `material` (`Int32`). Errors as [`write_particle_vtu`]'s, for these fields
+/// too.
+pub fn write_particle_vtu_with(
+    path: &Path,
+    s: &ParticleSnapshot,
+    extras: &ParticleExtras,
+) -> Result<(), OutputError> {
     s.validate()?;
-    let xml = particle_vtu_string(s);
+    extras.validate(s.position.len())?;
+    let xml = particle_vtu_string(s, extras);
     super::atomic::write(path, xml)
 }
 
-fn particle_vtu_string(s: &ParticleSnapshot) -> String {
+fn particle_vtu_string(s: &ParticleSnapshot, extras: &ParticleExtras) -> String {
     let n = s.position.len();
     let mut x = String::with_capacity(200 * n + 2000);
     begin_piece(&mut x, s.time, n, n);
@@ -79,10 +117,16 @@ fn particle_vtu_string(s: &ParticleSnapshot) -> String {
         r#"      <PointData Vectors="velocity" Tensors="stress" Scalars="plastic_strain">"#
     );
     vectors(&mut x, "velocity", s.velocity);
+    if let Some(u) = extras.displacement {
+        vectors(&mut x, "displacement", u);
+    }
     scalars(&mut x, "volume", s.volume);
     scalars(&mut x, "mass", s.mass);
     stress_and_invariants(&mut x, s.stress);
     scalars(&mut x, "plastic_strain", s.plastic_strain);
+    if let Some(m) = extras.material {
+        indices(&mut x, "material", m);
+    }
     let _ = writeln!(x, "      </PointData>");
     let vertices: Vec<[usize; 1]> = (0..n).map(|i| [i]).collect();
     points_and_cells(&mut x, s.position, &vertices, |_| VTK_VERTEX);

@@ -16,24 +16,50 @@ const LINE_BLUE: RGBColor = RGBColor(31, 90, 160);
 const WORST_RED: RGBColor = RGBColor(200, 30, 45);
 const GRID: RGBColor = RGBColor(225, 225, 225);
 
-/// Plots force against displacement as a PNG of 1000 × 700 px.
-///
-/// `points` are `(displacement in m, force per unit length in N/m)`, drawn as given (the
-/// caller picks the sign, e.g. settlement positive downwards) in mm and kN/m. The peak
-/// `|force|` is marked and labelled. Errors: an empty or non-finite curve is `Invalid`
-/// (`points`).
+/// Plots force against displacement as a PNG of 1000 × 700 px, forces per unit length
+/// (plane strain): [`plot_force_displacement_with_unit`] in N/m.
 pub fn plot_force_displacement(
     path: &Path,
     points: &[(f64, f64)],
     title: &str,
 ) -> Result<(), OutputError> {
-    super::atomic::through_temp(path, |tmp| draw_plot_force_displacement(tmp, points, title))
+    plot_force_displacement_with_unit(path, points, title, "N/m")
+}
+
+/// Plots force against displacement as a PNG of 1000 × 700 px.
+///
+/// `points` are `(displacement in m, force in force_unit)`, drawn as given (the caller
+/// picks the sign, e.g. settlement positive downwards) in mm and in kilo`force_unit`:
+/// the scene's `GeometryKind::force_unit()`, `"N/m"` in plane strain (kN/m on the plot),
+/// `"N"` axisymmetric (kN). The peak `|force|` is marked and labelled. Errors (`Invalid`):
+/// an empty or non-finite curve (`points`), a unit that is not newtons (`force_unit`).
+pub fn plot_force_displacement_with_unit(
+    path: &Path,
+    points: &[(f64, f64)],
+    title: &str,
+    force_unit: &str,
+) -> Result<(), OutputError> {
+    super::atomic::through_temp(path, |tmp| {
+        draw_plot_force_displacement(tmp, points, title, force_unit)
+    })
+}
+
+/// The force axis's label for forces in `force_unit` (N or N per something), plotted in
+/// kilonewtons: `"N/m"` → `"Force F [kN/m]"`, `"N"` → `"Force F [kN]"`.
+pub fn force_axis_label(force_unit: &str) -> String {
+    format!("Force F [{}]", kilo(force_unit))
+}
+
+/// `"N/m"` → `"kN/m"`.
+fn kilo(force_unit: &str) -> String {
+    format!("k{force_unit}")
 }
 
 fn draw_plot_force_displacement(
     path: &Path,
     points: &[(f64, f64)],
     title: &str,
+    force_unit: &str,
 ) -> Result<(), OutputError> {
     if points.is_empty() {
         return Err(OutputError::invalid(
@@ -50,16 +76,23 @@ fn draw_plot_force_displacement(
             format!("point {i} is not finite: {:?}", points[i]),
         ));
     }
+    if !(force_unit == "N" || force_unit.starts_with("N/")) {
+        return Err(OutputError::invalid(
+            "force_unit",
+            format!("{force_unit:?} is not a force in newtons (N, N/m)"),
+        ));
+    }
     prepare(path)?;
-    // m → mm, N/m → kN/m
+    // m → mm, N → kN
     let data: Vec<(f64, f64)> = points.iter().map(|&(u, f)| (u * 1e3, f * 1e-3)).collect();
-    draw_force_displacement(path, &data, title).map_err(|e| OutputError::plot(path, e))
+    draw_force_displacement(path, &data, title, force_unit).map_err(|e| OutputError::plot(path, e))
 }
 
 fn draw_force_displacement(
     path: &Path,
     data: &[(f64, f64)],
     title: &str,
+    force_unit: &str,
 ) -> Result<(), Box<dyn std::error::Error>> {
     let root = BitMapBackend::new(path, CURVE_SIZE).into_drawing_area();
     root.fill(&WHITE)?;
@@ -78,7 +111,7 @@ fn draw_force_displacement(
         .light_line_style(GRID.mix(0.5))
         .bold_line_style(GRID)
         .x_desc("Displacement u [mm]")
-        .y_desc("Force F [kN/m]")
+        .y_desc(force_axis_label(force_unit))
         .axis_desc_style((FONT, 24))
         .label_style((FONT, 20))
         .x_label_formatter(&|v| tick(*v))
@@ -100,8 +133,9 @@ fn draw_force_displacement(
         .fold(data[0], |a, b| if b.1.abs() > a.1.abs() { b } else { a });
     chart.draw_series([Circle::new(peak, 8, WORST_RED.stroke_width(3))])?;
     let text = format!(
-        "peak {} kN/m at {} mm",
+        "peak {} {} at {} mm",
         significant(peak.1, 3),
+        kilo(force_unit),
         significant(peak.0, 3)
     );
     let (px, py) = chart.backend_coord(&peak);

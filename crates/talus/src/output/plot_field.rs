@@ -5,22 +5,43 @@ use std::path::Path;
 use plotters::prelude::*;
 
 use super::canvas::{prepare, tick};
-use super::colormap::{viridis, Normalize};
-use super::map_frame::{BBox, DynResult, MapFrame};
+use super::map_frame::{BBox, ColourScale, DynResult, MapFrame};
 use super::mesh::{check_finite, check_finite_scalars, check_len, linear_pieces};
 use super::{MeshView, OutputError};
 
 /// Element edges are drawn only when elements are at least this wide on the page.
 const MIN_EDGE_SPACING_PX: f64 = 7.0;
 
+/// The text around a field map and its colour scale ([`plot_field_map`]).
+#[derive(Debug, Clone, Copy)]
+pub struct FieldMap<'a> {
+    /// Above the plot, in bold (e.g. the scene's title).
+    pub title: &'a str,
+    /// Under the title: what is drawn and when (e.g. `"cumulative plastic strain at
+    /// footing settlement 3 mm, load 195 kN/m"`).
+    pub subtitle: Option<&'a str>,
+    /// Along the colour bar: the value's name and unit.
+    pub label: &'a str,
+    /// Clips the top of the colour scale at this percentile (0–100] of the values when
+    /// the values above it stretch the scale by more than 10 % ([`ColourScale::clipped`]):
+    /// a singular peak, such as a footing's corner, then does not swamp the rest. The
+    /// picture says so under the title, with the maximum. `None`: min to max.
+    pub clip_percentile: Option<f64>,
+    /// Values closer than this (absolute, in the values' unit) are not told apart: a field
+    /// within it is drawn in one colour with one label ([`ColourScale::new`]). 0: only
+    /// round-off relative to the values' magnitude.
+    pub resolution: f64,
+}
+
 /// Paints `values` (one per element, in the caller's units, named by `label` on the colour
 /// bar) on the mesh as a PNG 1200 px wide under `title`, x and y in m at equal scale.
+/// The colours span min to max: [`plot_field_map`] with no subtitle and no clipping.
 ///
 /// With `displacement = Some((u, k))` the mesh is drawn at `x + k·u` (u per node, m; k the
 /// magnification) over the undeformed outline in grey. P2 elements are filled as 4
 /// sub-triangles through their mid-edge nodes, so curved deformed edges are followed.
-/// Colours: viridis between the field's min and max, shown by the colour bar. Errors
-/// (`Invalid`): bad mesh, lengths that do not match, non-finite values or magnification.
+/// Errors (`Invalid`): bad mesh, lengths that do not match, non-finite values or
+/// magnification.
 pub fn plot_field_on_mesh(
     path: &Path,
     mesh: &MeshView,
@@ -29,22 +50,62 @@ pub fn plot_field_on_mesh(
     title: &str,
     label: &str,
 ) -> Result<(), OutputError> {
-    super::atomic::through_temp(path, |tmp| {
-        draw_plot_field_on_mesh(tmp, mesh, displacement, values, title, label)
-    })
+    let map = FieldMap {
+        title,
+        subtitle: None,
+        label,
+        clip_percentile: None,
+        resolution: 0.0,
+    };
+    plot_field_map(path, mesh, displacement, values, &map)
 }
 
-fn draw_plot_field_on_mesh(
+/// Paints `values` (one per element) on the mesh as a PNG 1200 px wide, x and y in m at
+/// equal scale, with the title, subtitle, colour-bar label and colour scale of `map`.
+///
+/// Colours: viridis over the scale of [`ColourScale`] (min to max, or clipped at
+/// `map.clip_percentile`), shown by the colour bar; a uniform field (constant to a
+/// millionth of its magnitude or to `map.resolution`) is drawn in one colour with one
+/// label giving its value.
+/// `displacement` as for [`plot_field_on_mesh`]. Errors (`Invalid`): those of
+/// [`plot_field_on_mesh`], a `clip_percentile` outside (0, 100], a negative or non-finite
+/// `resolution`.
+pub fn plot_field_map(
     path: &Path,
     mesh: &MeshView,
     displacement: Option<(&[[f64; 2]], f64)>,
     values: &[f64],
-    title: &str,
-    label: &str,
+    map: &FieldMap,
+) -> Result<(), OutputError> {
+    super::atomic::through_temp(path, |tmp| {
+        draw_plot_field_map(tmp, mesh, displacement, values, map)
+    })
+}
+
+fn draw_plot_field_map(
+    path: &Path,
+    mesh: &MeshView,
+    displacement: Option<(&[[f64; 2]], f64)>,
+    values: &[f64],
+    map: &FieldMap,
 ) -> Result<(), OutputError> {
     mesh.validate()?;
     check_len("values", values.len(), mesh.triangles.len(), "element")?;
     check_finite_scalars("values", values)?;
+    if !(map.resolution.is_finite() && map.resolution >= 0.0) {
+        return Err(OutputError::invalid(
+            "resolution",
+            format!("must be finite and non-negative, got {}", map.resolution),
+        ));
+    }
+    if let Some(p) = map.clip_percentile {
+        if !(p > 0.0 && p <= 100.0) {
+            return Err(OutputError::invalid(
+                "clip_percentile",
+                format!("must be in (0, 100], got {p}"),
+            ));
+        }
+    }
     let deformed: Vec<[f64; 2]> = match displacement {
         None => mesh.nodes.to_vec(),
         Some((u, k)) => {
@@ -67,17 +128,26 @@ fn draw_plot_field_on_mesh(
         }
     };
     let title = match displacement {
-        Some((_, k)) => format!("{title} (deformed shape ×{})", tick(k)),
-        None => title.to_string(),
+        Some((_, k)) => format!("{} (deformed shape ×{})", map.title, tick(k)),
+        None => map.title.to_string(),
     };
+    let scale = ColourScale::new(values, map.clip_percentile, map.resolution);
+    let subtitles: Vec<String> = map
+        .subtitle
+        .map(str::to_string)
+        .into_iter()
+        .chain(scale.note())
+        .collect();
     prepare(path)?;
     let plot = FieldPlot {
         mesh,
         deformed: &deformed,
         undeformed_outline: displacement.is_some(),
         values,
-        label,
+        label: map.label,
         title: &title,
+        subtitles: &subtitles,
+        scale,
     };
     plot.draw(path).map_err(|e| OutputError::plot(path, e))
 }
@@ -89,6 +159,8 @@ struct FieldPlot<'a> {
     values: &'a [f64],
     label: &'a str,
     title: &'a str,
+    subtitles: &'a [String],
+    scale: ColourScale,
 }
 
 impl FieldPlot<'_> {
@@ -100,16 +172,15 @@ impl FieldPlot<'_> {
         }
         let bbox = bbox.padded();
 
-        let mut frame = MapFrame::new(path, &bbox, self.title)?;
+        let mut frame = MapFrame::new(path, &bbox, self.title, self.subtitles)?;
         let chart = &mut frame.chart;
-        let norm = Normalize::of(self.values);
         let fills = self
             .mesh
             .triangles
             .iter()
             .zip(self.values)
             .flat_map(|(tri, &v)| {
-                let colour = viridis(norm.t(v));
+                let colour = self.scale.colour(v);
                 linear_pieces(tri).into_iter().map(move |p| (p, colour))
             });
         for (piece, colour) in fills {
@@ -158,7 +229,7 @@ impl FieldPlot<'_> {
             )])?;
         }
 
-        frame.finish(norm, self.label)
+        frame.finish(&self.scale, self.label)
     }
 }
 

@@ -4,8 +4,7 @@ use std::path::Path;
 use plotters::prelude::*;
 
 use super::canvas::prepare;
-use super::colormap::{viridis, Normalize};
-use super::map_frame::{BBox, DynResult, MapFrame};
+use super::map_frame::{BBox, ColourScale, DynResult, MapFrame};
 use super::mesh::{check_finite, check_finite_scalars, check_finite_value, check_len};
 use super::spacing::mean_spacing;
 use super::OutputError;
@@ -36,8 +35,8 @@ pub struct ParticlePlot<'a> {
 /// Draws particles at `position` (m) as filled squares coloured by `value` (one per
 /// particle, in the caller's units) as a PNG 1200 px wide, x and y at equal scale.
 ///
-/// Colours: viridis between the min and max of `value` (a constant value is drawn in the
-/// middle colour), shown by the colour bar. Squares are drawn in the given order and
+/// Colours: viridis between the min and max of `value` (a uniform value, constant to a
+/// millionth, is drawn in the middle colour with one label), shown by the colour bar. Squares are drawn in the given order and
 /// clipped to the window; each is at least 2 px wide. Errors (`Invalid`, nothing drawn):
 /// no particles, `value` not one per particle, non-finite input, `bounds` not ordered,
 /// `marker_size` not positive.
@@ -116,15 +115,15 @@ fn draw(
     window: &BBox,
     marker: f64,
 ) -> DynResult {
-    let mut frame = MapFrame::new(path, window, view.title)?;
+    let mut frame = MapFrame::new(path, window, view.title, &[])?;
     let ((x0, x1), (y0, y1)) = (frame.x_range, frame.y_range);
     let metres_per_px = (x1 - x0) / frame.plot_px.0;
     let half = 0.5 * marker.max(MIN_MARKER_PX * metres_per_px);
-    let norm = Normalize::of(value);
+    let scale = ColourScale::full(value);
     let squares = position.iter().zip(value).filter_map(|(p, &v)| {
         let (a, b) = ((p[0] - half).max(x0), (p[0] + half).min(x1));
         let (c, d) = ((p[1] - half).max(y0), (p[1] + half).min(y1));
-        (a < b && c < d).then(|| Rectangle::new([(a, c), (b, d)], viridis(norm.t(v)).filled()))
+        (a < b && c < d).then(|| Rectangle::new([(a, c), (b, d)], scale.colour(v).filled()))
     });
     frame.chart.draw_series(squares)?;
     if let Some(y) = view.floor.filter(|y| (y0..=y1).contains(y)) {
@@ -133,5 +132,5 @@ fn draw(
             BLACK.stroke_width(2),
         )])?;
     }
-    frame.finish(norm, view.value_label)
+    frame.finish(&scale, view.value_label)
 }

@@ -5,6 +5,7 @@
 use std::collections::BTreeMap;
 
 use super::plateau::{plateau, PlateauCriterion};
+use super::stage_summary::StageSummary;
 use super::summary::{
     BoundaryReaction, Limit, MonitorValues, ReportedReaction, RunStatus, Summary,
 };
@@ -25,6 +26,8 @@ pub struct Results {
     force_unit: &'static str,
     /// What the run should say besides its numbers (`Summary::warnings`).
     warnings: Vec<String>,
+    /// The stages finished so far (`Summary::stages`).
+    stages: Vec<StageSummary>,
 }
 
 /// What [`Results`] recorded so far (its columns come from the scene): saved in a
@@ -37,6 +40,8 @@ pub struct ResultsProgress {
     curve: Vec<(f64, f64)>,
     steps: usize,
     time: f64,
+    #[serde(default)]
+    stages: Vec<StageSummary>,
 }
 
 /// A name that cannot head columns: the scene field that gave it and why.
@@ -95,6 +100,7 @@ impl Results {
             time: 0.0,
             force_unit: "N/m",
             warnings: Vec::new(),
+            stages: Vec::new(),
         })
     }
 
@@ -171,6 +177,7 @@ impl Results {
             curve: self.curve.clone(),
             steps: self.steps,
             time: self.time,
+            stages: self.stages.clone(),
         }
     }
 
@@ -196,7 +203,17 @@ impl Results {
         self.curve = progress.curve;
         self.steps = progress.steps;
         self.time = progress.time;
+        self.stages = progress.stages;
         Ok(())
+    }
+
+    /// Records a finished stage (`summary.json`'s `stages`).
+    pub fn push_stage(&mut self, stage: StageSummary) {
+        self.stages.push(stage);
+    }
+
+    pub fn stages(&self) -> &[StageSummary] {
+        &self.stages
     }
 
     /// `(settlement, force)` of the reported boundary at every recorded step.
@@ -265,6 +282,7 @@ impl Results {
             factor_of_safety: None,
             collapse: None,
             warnings: self.warnings.clone(),
+            stages: self.stages.clone(),
         }
     }
 }

@@ -94,10 +94,15 @@ impl Limit {
 
 /// The factor of safety of a `[stability]` run (`docs/stability.md`): `value` is the
 /// middle of `bracket = [largest stable F, smallest failing F]` once its relative width is
-/// within `tolerance`; `null` otherwise.
+/// within `tolerance`; `null` otherwise, `status` saying why.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FactorOfSafety {
     pub value: Option<f64>,
+    /// How the search ended (`analysis::stability::SearchStatus`): `found` (with a
+    /// `value`), `no_mechanism` (every trial came to rest up to the search's upper end,
+    /// `bracket[0]`), `no_stable_factor` (every trial failed down to its lower end,
+    /// `bracket[1]`), `unbracketed`, `max_trials` or `interrupted`.
+    pub status: String,
     pub bracket: [Option<f64>; 2],
     pub within_tolerance: bool,
     pub tolerance: f64,
@@ -138,6 +143,9 @@ pub struct Summary {
     /// What the run warned of (e.g. plastic flow on locking P1 triangles).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
+    /// One entry per stage a staged run finished (`[[stage]]`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub stages: Vec<super::StageSummary>,
 }
 
 fn per_metre() -> String {
@@ -208,6 +216,15 @@ impl Summary {
         if let Some(f) = &self.factor_of_safety {
             s += &f.sentence();
         }
+        for stage in &self.stages {
+            s += &format!(
+                "; stage \"{}\" (steps {}–{}, {} elements)",
+                stage.name, stage.first_step, stage.last_step, stage.elements
+            );
+            if let Some(f) = &stage.factor_of_safety {
+                s += &f.sentence().replacen("; ", ": ", 1);
+            }
+        }
         s
     }
 }
@@ -217,15 +234,29 @@ impl FactorOfSafety {
     fn sentence(&self) -> String {
         let end = |v: Option<f64>| v.map_or("none".to_string(), |v| format!("{v:.4}"));
         let [lo, hi] = self.bracket;
-        match self.value {
-            Some(v) => format!(
+        match (self.value, self.status.as_str()) {
+            (Some(v), _) => format!(
                 "; factor of safety {v:.4} in [{}, {}] ({}, {} trials)",
                 end(lo),
                 end(hi),
                 self.method,
                 self.trials
             ),
-            None => format!(
+            (None, "no_mechanism") => format!(
+                "; NO FAILURE up to F = {} (the search's end): every trial came to rest, \
+                 no mechanism and no factor of safety ({}, {} trials)",
+                end(lo),
+                self.method,
+                self.trials
+            ),
+            (None, "no_stable_factor") => format!(
+                "; FAILS at every factor down to F = {} (the search's end): no trial came \
+                 to rest, no factor of safety ({}, {} trials)",
+                end(hi),
+                self.method,
+                self.trials
+            ),
+            (None, _) => format!(
                 "; no factor of safety within the tolerance: bracket [{}, {}] ({}, {} trials)",
                 end(lo),
                 end(hi),

@@ -54,6 +54,7 @@ impl FieldSnapshot<'_> {
         check_finite("displacement", self.displacement)?;
         check_finite("velocity", self.velocity)?;
         check_finite("stress", self.stress)?;
+        check_derived(self.stress)?;
         if let Some(m) = self.material {
             check_len("material", m.len(), n_elements, "element")?;
         }
@@ -62,6 +63,37 @@ impl FieldSnapshot<'_> {
             check_finite_scalars("pore_pressure", p)?;
         }
         check_finite_scalars("plastic_strain", self.plastic_strain)
+    }
+}
+
+/// Element fields a FEM run adds to a [`FieldSnapshot`] ([`write_vtu_with`]); each `None`
+/// is left out of the file.
+///
+/// Both are Mandel `(xx, yy, zz, √2 xy)` like `stress`, tension (extension) positive,
+/// dimensionless, one entry per element (the mean over its Gauss points); zz is the hoop
+/// component `θθ` in axisymmetry.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct FieldExtras<'a> {
+    /// Total small strain `B u` of the nodal displacement.
+    pub strain: Option<&'a [[f64; 4]]>,
+    /// The last step's plastic strain increment `Δεᵖ = Δε − S Δσ` (`S` the elastic
+    /// compliance of the element's material).
+    pub plastic_strain_increment: Option<&'a [[f64; 4]]>,
+}
+
+impl FieldExtras<'_> {
+    fn validate(&self, n_elements: usize) -> Result<(), OutputError> {
+        let fields = [
+            ("strain", self.strain),
+            ("plastic_strain_increment", self.plastic_strain_increment),
+        ];
+        for (name, field) in fields {
+            if let Some(f) = field {
+                check_len(name, f.len(), n_elements, "element")?;
+                check_finite(name, f)?;
+            }
+        }
+        Ok(())
     }
 }
 
@@ -79,20 +111,63 @@ pub fn pressure(m: &[f64; 4]) -> f64 {
     -(m[0] + m[1] + m[2]) / 3.0
 }
 
+/// Principal stresses `[σ1, σ2, σ3]`, `σ1 ≥ σ2 ≥ σ3`, of a Mandel stress, Pa (tension
+/// positive): the in-plane pair `(σxx + σyy)/2 ± √(((σxx − σyy)/2)² + σxy²)` and `σzz`
+/// (the hoop stress in axisymmetry), sorted.
+pub fn principal_stresses(m: &[f64; 4]) -> [f64; 3] {
+    let centre = 0.5 * (m[0] + m[1]);
+    let radius = (0.5 * (m[0] - m[1])).hypot(m[3] / SQRT_2);
+    let mut s = [centre + radius, centre - radius, m[2]];
+    s.sort_by(|a, b| b.total_cmp(a));
+    s
+}
+
+/// `Invalid` unless every derived stress value (von Mises, pressure, principal stresses)
+/// is finite: finite stresses near `f64::MAX` could overflow.
+pub(super) fn check_derived(stress: &[[f64; 4]]) -> Result<(), OutputError> {
+    for (i, m) in stress.iter().enumerate() {
+        let p = principal_stresses(m);
+        if !(von_mises(m).is_finite() && pressure(m).is_finite() && p.iter().all(|v| v.is_finite()))
+        {
+            return Err(OutputError::invalid(
+                "stress",
+                format!("entry {i} {m:?} overflows its invariants or principal stresses"),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Writes `s` to `path` as a VTK XML unstructured grid (ASCII).
 ///
 /// Point data: `displacement` (m) and `velocity` (m/s) as 3-vectors with z = 0. Cell data:
 /// `stress` as a symmetric tensor in plain components, VTK order `XX, YY, ZZ, XY, YZ, XZ`
 /// (σxy = m₃/√2, YZ = XZ = 0; Pa, tension positive), `von_mises` (Pa), `pressure`
-/// (−tr σ/3, Pa) and `plastic_strain`. The time (s) is stored as the `TimeValue` field.
-/// Numbers are written in Rust's shortest round-trip form, so they read back exactly.
+/// (−tr σ/3, Pa, compression positive), `principal_stress` (3 components `σ1 ≥ σ2 ≥ σ3`,
+/// Pa, tension positive, [`principal_stresses`]) and `plastic_strain`. The time (s) is
+/// stored as the `TimeValue` field. Numbers are written in Rust's shortest round-trip
+/// form, so they read back exactly.
 pub fn write_vtu(path: &Path, s: &FieldSnapshot) -> Result<(), OutputError> {
+    write_vtu_with(path, s, &FieldExtras::default())
+}
+
+/// [`write_vtu`] with the cell fields of `extras`: `strain` and `plastic_strain_increment`
+/// as symmetric tensors in plain components like `stress` (tensor shear `εxy = m₃/√2`, not
+/// the engineering `γxy = 2 εxy`; dimensionless, extension positive). Errors (`Invalid`,
+/// nothing written): those of [`write_vtu`], an extra field without one entry per element
+/// or with a non-finite value.
+pub fn write_vtu_with(
+    path: &Path,
+    s: &FieldSnapshot,
+    extras: &FieldExtras,
+) -> Result<(), OutputError> {
     s.validate()?;
-    let xml = vtu_string(s);
+    extras.validate(s.mesh.triangles.len())?;
+    let xml = vtu_string(s, extras);
     super::atomic::write(path, xml)
 }
 
-fn vtu_string(s: &FieldSnapshot) -> String {
+fn vtu_string(s: &FieldSnapshot, extras: &FieldExtras) -> String {
     let mesh = s.mesh;
     let mut x = String::with_capacity(64 * (mesh.nodes.len() * 3 + mesh.triangles.len() * 4));
     begin_piece(&mut x, s.time, mesh.nodes.len(), mesh.triangles.len());
@@ -117,12 +192,14 @@ fn vtu_string(s: &FieldSnapshot) -> String {
             .collect();
         tensor(&mut x, "effective_stress", &effective);
     }
+    if let Some(strain) = extras.strain {
+        tensor(&mut x, "strain", strain);
+    }
+    if let Some(increment) = extras.plastic_strain_increment {
+        tensor(&mut x, "plastic_strain_increment", increment);
+    }
     if let Some(material) = s.material {
-        open_array(&mut x, "Int32", "material", 1, 8);
-        for m in material {
-            let _ = writeln!(x, "{m}");
-        }
-        close_array(&mut x, 8);
+        indices(&mut x, "material", material);
     }
     let _ = writeln!(x, "      </CellData>");
     points_and_cells(&mut x, mesh.nodes, mesh.triangles, |tri| {
@@ -174,6 +251,15 @@ pub(super) fn vectors(x: &mut String, name: &str, data: &[[f64; 2]]) {
     close_array(x, 8);
 }
 
+/// One integer per entry (`Int32`), e.g. a material index.
+pub(super) fn indices(x: &mut String, name: &str, data: &[usize]) {
+    open_array(x, "Int32", name, 1, 8);
+    for i in data {
+        let _ = writeln!(x, "{i}");
+    }
+    close_array(x, 8);
+}
+
 pub(super) fn scalars(x: &mut String, name: &str, data: &[f64]) {
     open_array(x, "Float64", name, 1, 8);
     for v in data {
@@ -183,7 +269,8 @@ pub(super) fn scalars(x: &mut String, name: &str, data: &[f64]) {
 }
 
 /// `stress` as a symmetric tensor in plain components (VTK order `XX, YY, ZZ, XY, YZ, XZ`,
-/// σxy = m₃/√2, YZ = XZ = 0), then its `von_mises` and `pressure`.
+/// σxy = m₃/√2, YZ = XZ = 0), then its `von_mises`, `pressure` and `principal_stress`
+/// (3 components, `σ1 ≥ σ2 ≥ σ3`).
 pub(super) fn stress_and_invariants(x: &mut String, stress: &[[f64; 4]]) {
     tensor(x, "stress", stress);
     let derived: [(&str, StressInvariant); 2] = [("von_mises", von_mises), ("pressure", pressure)];
@@ -194,15 +281,24 @@ pub(super) fn stress_and_invariants(x: &mut String, stress: &[[f64; 4]]) {
         }
         close_array(x, 8);
     }
+    let _ = writeln!(
+        x,
+        r#"        <DataArray type="Float64" Name="principal_stress" NumberOfComponents="3" ComponentName0="1" ComponentName1="2" ComponentName2="3" format="ascii">"#
+    );
+    for m in stress {
+        let [s1, s2, s3] = principal_stresses(m);
+        let _ = writeln!(x, "{s1:e} {s2:e} {s3:e}");
+    }
+    close_array(x, 8);
 }
 
-/// A Mandel stress field as a symmetric tensor in plain components.
-fn tensor(x: &mut String, name: &str, stress: &[[f64; 4]]) {
+/// A Mandel field (stress or strain) as a symmetric tensor in plain components.
+fn tensor(x: &mut String, name: &str, mandel: &[[f64; 4]]) {
     let _ = writeln!(
         x,
         r#"        <DataArray type="Float64" Name="{name}" NumberOfComponents="6" ComponentName0="XX" ComponentName1="YY" ComponentName2="ZZ" ComponentName3="XY" ComponentName4="YZ" ComponentName5="XZ" format="ascii">"#
     );
-    for m in stress {
+    for m in mandel {
         let _ = writeln!(
             x,
             "{:e} {:e} {:e} {:e} 0 0",

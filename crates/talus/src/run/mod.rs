@@ -3,6 +3,7 @@
 //! and resume ([`checkpoint`]).
 pub mod checkpoint;
 pub mod fem;
+pub mod folder;
 pub mod mpm;
 mod steps;
 
@@ -14,9 +15,9 @@ use talus_engine::{Discretization, StepError, Stepper};
 
 use crate::model::fem::FemStepError;
 use crate::output::OutputError;
-use crate::scene::{SceneError, TimeSpec};
+use crate::scene::SceneError;
 use checkpoint::{Checkpoint, CheckpointError};
-pub use steps::{Begin, RunOutputs, Stepped, HISTORY_COLUMNS};
+pub use steps::{Begin, RunOutputs, Span, Stepped, HISTORY_COLUMNS};
 pub use talus_engine::Collapsed;
 
 #[derive(Debug, thiserror::Error)]
@@ -134,14 +135,16 @@ pub trait Shape {
 }
 
 /// The one path of a run, fresh or resumed, FEM or MPM: the checkpoint's state checked
-/// against `state`'s shape, then the scene's steps by the run loop. A failed step comes
-/// back in [`Stepped::failure`].
+/// against `state`'s shape, then the steps of `span` by `h` with the run loop (from
+/// `state` after `span.from` when that is not 0: a staged run's next stage). A failed
+/// step comes back in [`Stepped::failure`].
 pub(crate) fn execute<D, O>(
     stepper: &mut Stepper<D>,
     state: D::State,
     resumed: Option<Checkpoint<serde_json::Value>>,
     outputs: &mut O,
-    time: &TimeSpec,
+    span: Span,
+    h: f64,
     options: &RunOptions,
     scene: (Option<&Path>, &str),
 ) -> Result<Stepped<D>, RunError>
@@ -170,11 +173,16 @@ where
             .into());
         }
     }
+    let begin = match resumed {
+        Some(c) => Begin::Resumed(Box::new(c)),
+        None if span.from > 0 => Begin::Continue(state),
+        None => Begin::Fresh(state),
+    };
     steps::run_steps(
         stepper,
-        Begin::new(state, resumed),
-        time.steps,
-        time.step,
+        begin,
+        span,
+        h,
         outputs,
         options,
         scene.0,

@@ -5,10 +5,12 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use talus_engine::{CollapseWatch, Discretization, Failed, Run, StepError, StepReport, Stepper};
+use talus_engine::{
+    CollapseWatch, Discretization, Failed, Run, StepError, StepReport, StepSettings, Stepper,
+};
 
 use super::checkpoint::{self, Checkpoint, Plan, SceneRecord};
-use super::{io_err, progress_bar, RunError, RunOptions, StepProgress};
+use super::{folder, io_err, progress_bar, RunError, RunOptions, StepProgress};
 use crate::output::{CollapseTime, Results, RunStatus};
 
 /// The columns every `history.csv` starts with (`docs/scenes.md`, 'Outputs'). `residual`
@@ -41,26 +43,26 @@ pub trait RunOutputs<D: Discretization> {
     /// Continues from what [`RunOutputs::save`] returned after `step`: also removes the
     /// files of later steps and rewrites the collections as they were then.
     fn restore(&mut self, saved: serde_json::Value, step: usize) -> Result<(), RunError>;
+    /// The state the next step starts from, after `step`, when the run does not start at
+    /// step 0 (resumed, or a staged run's next stage): e.g. for the increments of the
+    /// next step's fields.
+    fn begin(&mut self, _step: usize, _state: &D::State) {}
 }
 
 /// Where [`run_steps`] starts.
 pub enum Begin<S> {
-    /// Step 0 from this state: `history.csv` and the step-0 fields written afresh, any
-    /// older checkpoint in the folder removed.
+    /// Step 0 from this state: `history.csv` and the step-0 fields written afresh, the
+    /// files an earlier run left in the folder (its checkpoint among them) removed first
+    /// (`folder::clear_owned`).
     Fresh(S),
+    /// After the span's first step from this state, the outputs of the steps before it
+    /// kept: the next stage of a staged run (`super::stages`).
+    Continue(S),
     /// After a checkpoint's step, the folder's outputs cut back to it (`talus resume`).
     Resumed(Box<Checkpoint<S>>),
 }
 
 impl<S> Begin<S> {
-    /// From the checkpoint when resuming, else afresh from `state`.
-    pub fn new(state: S, resumed: Option<Checkpoint<S>>) -> Self {
-        match resumed {
-            Some(c) => Self::Resumed(Box::new(c)),
-            None => Self::Fresh(state),
-        }
-    }
-
     /// How often the run checkpoints: the resumed run's plan, or `options.checkpoint_every`
     /// with the scene at `path` whose text is `source`.
     fn plan(&self, path: Option<&Path>, source: &str, options: &RunOptions) -> Option<Plan> {
@@ -69,10 +71,29 @@ impl<S> Begin<S> {
                 every: c.every,
                 scene: c.scene.clone(),
             }),
-            Self::Fresh(_) => (options.checkpoint_every > 0).then(|| Plan {
+            Self::Fresh(_) | Self::Continue(_) => (options.checkpoint_every > 0).then(|| Plan {
                 every: options.checkpoint_every,
                 scene: SceneRecord::new(path, source),
             }),
+        }
+    }
+}
+
+/// The steps a call of [`run_steps`] takes: `from + 1 ..= to` of a run of `total` (one
+/// stage of a staged run, or the whole run: `from = 0`, `to = total`).
+#[derive(Debug, Clone, Copy)]
+pub struct Span {
+    pub from: usize,
+    pub to: usize,
+    pub total: usize,
+}
+
+impl Span {
+    pub fn whole(steps: usize) -> Self {
+        Self {
+            from: 0,
+            to: steps,
+            total: steps,
         }
     }
 }
@@ -86,17 +107,20 @@ pub struct Stepped<D: Discretization> {
     pub failure: Option<(usize, StepError<D::Error>)>,
 }
 
-/// Steps from `begin` to step `steps` by `h`, writing `out/history.csv`, what `outputs`
+/// Steps from `begin` through `span` by `h`, writing `out/history.csv`, what `outputs`
 /// asks, a checkpoint every `options.checkpoint_every` steps (a resumed run: its own
 /// plan; and at an interruption) of the scene at `scene_path` with text `scene_source`,
 /// and `out/summary.json` at the end, finished or failed. The observer's `Break` (the
 /// binary's SIGINT/SIGTERM among them) stops it after the step in progress:
-/// `RunError::Interrupted`; a collapse ends it with `RunError::Collapsed`.
+/// `RunError::Interrupted`; a collapse ends it with `RunError::Collapsed`. The folder is
+/// held ([`folder::lock`]) until it returns; a resume it refuses (another run holds the
+/// folder, a `history.csv` that does not reach the checkpoint, outputs it cannot restore)
+/// is refused before any file is touched.
 #[allow(clippy::too_many_arguments)]
 pub fn run_steps<D, O>(
     stepper: &mut Stepper<D>,
     begin: Begin<D::State>,
-    steps: usize,
+    span: Span,
     h: f64,
     outputs: &mut O,
     options: &RunOptions,
@@ -108,28 +132,52 @@ where
     D::State: serde::Serialize,
     O: RunOutputs<D>,
 {
+    let steps = span.total;
     let out: &Path = &options.out_dir;
     std::fs::create_dir_all(out).map_err(io_err(out))?;
-    check_writable(out)?;
+    // No other run or resume writes here meanwhile (the `talus` binary holds the folder
+    // for its whole command: this takes the same lock again).
+    let _lock = folder::lock(out)?;
     let summary_path = out.join("summary.json");
-    let _ = std::fs::remove_file(&summary_path);
     let history_path = out.join("history.csv");
+    let mut begin = begin;
+    // What can refuse a resume is read before anything is written: the rows it keeps,
+    // and the listed files that still exist.
+    let resumed = match &mut begin {
+        Begin::Resumed(c) => Some(Resuming {
+            kept: checkpoint::history_prefix(&history_path, c.step)?,
+            files: checkpoint::keep_existing_files(out, &mut c.outputs).into(),
+        }),
+        Begin::Fresh(_) | Begin::Continue(_) => None,
+    };
+    check_writable(out)?;
     let plan = begin.plan(scene_path, scene_source, options);
     let plan = plan.as_ref();
     let (mut run, mut state, first) = match begin {
         Begin::Fresh(state) => {
-            // A checkpoint of an earlier run in this folder would not match the new files.
-            let _ = std::fs::remove_file(checkpoint::path(out));
+            // Stale files of an earlier run (VTUs of later steps, its checkpoint) would
+            // not match the new ones.
+            folder::clear_owned(out)?;
             let mut history = History::create(history_path, &outputs.columns())?;
             let row = outputs.row(0, &state, None);
             history.row::<D::Stats>(0, stepper.discretization().time(&state), None, &row)?;
             outputs.after_step(0, &state)?;
             (Run::start(stepper, &state), state, 1)
         }
+        Begin::Continue(state) => {
+            let _ = std::fs::remove_file(&summary_path);
+            outputs.begin(span.from, &state);
+            (Run::start(stepper, &state), state, span.from + 1)
+        }
         Begin::Resumed(c) => {
             let c = *c;
-            checkpoint::truncate_history(&history_path, c.step)?;
+            let Resuming { kept, files } = resumed.unwrap_or_default();
+            // Refused, if at all, before it removes or writes a file.
             outputs.restore(c.outputs, c.step)?;
+            files.report(out);
+            checkpoint::write_history(&history_path, &kept)?;
+            let _ = std::fs::remove_file(&summary_path);
+            outputs.begin(c.step, &c.state);
             stepper.restore_memory(c.stepper);
             tracing::info!(step = c.step, "resumed from the checkpoint");
             (Run::resume(stepper, c.watch), c.state, c.step + 1)
@@ -176,7 +224,7 @@ where
     };
     let mut interrupted = None;
     let mut iterations_so_far = 0;
-    for step in first..=steps {
+    for step in first..=span.to {
         let (report, collapsed) = match run.step(&mut state, step, h) {
             Ok(r) => r,
             Err(Failed {
@@ -205,7 +253,7 @@ where
             "step"
         );
         iterations_so_far += report.total_newton_iterations();
-        if step == steps || step % steps.div_ceil(10).max(1) == 0 {
+        if step == span.to || step % steps.div_ceil(10).max(1) == 0 {
             tracing::info!(
                 "step {step}/{steps} ({}%), t = {:.6e} s, {} Newton iterations so far, last \
                  relative residual {:.2e}",
@@ -266,13 +314,17 @@ where
         _ if interrupted.is_some() => (RunStatus::Interrupted, None),
         (_, Some(c)) => (RunStatus::Collapsed, Some(c.to_string())),
         (None, None) => (RunStatus::Finished, None),
-        (Some((step, e)), None) => (
-            match e {
-                StepError::NotConverged { .. } => RunStatus::NotConverged,
-                _ => RunStatus::Failed,
-            },
-            Some(format!("step {step}: {e}")),
-        ),
+        (Some((step, e)), None) => match e {
+            StepError::NotConverged { residual, .. } => {
+                let advice = advice(run.stepper.settings(), h, *residual);
+                tracing::warn!("step {step} did not converge; {advice}");
+                (
+                    RunStatus::NotConverged,
+                    Some(format!("step {step}: {e}; {advice}")),
+                )
+            }
+            _ => (RunStatus::Failed, Some(format!("step {step}: {e}"))),
+        },
     };
     let mut summary = outputs.results().summary(status, error, steps);
     summary.collapse = collapse.as_ref().map(|c| CollapseTime {
@@ -293,6 +345,60 @@ where
         state,
         failure,
     })
+}
+
+/// What a resume read before touching the folder: `history.csv` up to the checkpoint's
+/// row, and the files of its collection found missing.
+#[derive(Default)]
+struct Resuming {
+    kept: String,
+    files: ListedFiles,
+}
+
+/// The files the checkpoint's collection listed that are no longer on disk (e.g. `vtu/`
+/// removed), and how many are left listed.
+#[derive(Default)]
+struct ListedFiles {
+    missing: Vec<String>,
+    left: usize,
+}
+
+impl From<(Vec<String>, usize)> for ListedFiles {
+    fn from((missing, left): (Vec<String>, usize)) -> Self {
+        Self { missing, left }
+    }
+}
+
+impl ListedFiles {
+    /// Warns of the files dropped from `solution.pvd`; with none left, the collection the
+    /// restore did not rewrite (it lists only missing files) is removed until the next VTU
+    /// writes it.
+    fn report(&self, out: &Path) {
+        let Some(first) = self.missing.first() else {
+            return;
+        };
+        tracing::warn!(
+            "{} file(s) of the checkpoint's solution.pvd are missing from {} ({first}{}): \
+             the resumed solution.pvd lists only the files on disk",
+            self.missing.len(),
+            out.display(),
+            if self.missing.len() > 1 { ", ..." } else { "" }
+        );
+        if self.left == 0 {
+            let _ = std::fs::remove_file(out.join("solution.pvd"));
+        }
+    }
+}
+
+/// What to try after a step that did not converge even halved: the knobs of the scene and
+/// their values (`docs/solver.md` says what each costs).
+fn advice(settings: &StepSettings, h: f64, residual: f64) -> String {
+    format!(
+        "what to try: a smaller [time] step (now {h:e} s), more [solver] max_step_halvings \
+         (now {}), more [solver] max_iterations (now {}), or a looser [solver] tolerance \
+         (now {:e}; the last attempt reached {residual:.2e})",
+        settings.max_halvings, settings.solver.max_iterations, settings.solver.tolerance
+    )
 }
 
 /// A file of step `step` could not be written (a full disk, a removed folder): the run

@@ -2,12 +2,18 @@
 //! each error naming the field and its value.
 use talus_bipotential::{DruckerPrager, DruckerPragerParameters, Elastic, Material, MaterialError};
 
+use super::material::Flow;
 use super::source::Locate;
-use super::{MaterialModel, MaterialSpec, Ramp, SceneError, SolverSpec, TimeSpec};
+use super::{
+    MaterialModel, MaterialSpec, MpmSceneSpec, Ramp, SceneError, SceneSpec, SolverSpec, TimeSpec,
+};
 
 /// The material at `field` (`material` or `material[k]`): Drucker-Prager with its
 /// required keys, or elastic without them; densities finite and positive when given (the
-/// density's presence is checked by its user).
+/// density's presence is checked by its user). With `flow = "davis"` the parameters as
+/// written are checked, then replaced by Davis's associated equivalent
+/// (`DruckerPragerParameters::davis_equivalent`, the transform `[stability] dilatancy =
+/// "davis"` uses too): `ψ* = φ*`, so every flow rule of the material is associative.
 pub fn material(
     scene: &impl Locate,
     field: &str,
@@ -36,6 +42,7 @@ pub fn material(
                 ("cohesion", m.cohesion.is_some()),
                 ("dilatancy_angle", m.dilatancy_angle.is_some()),
                 ("cone_fit", m.cone_fit.is_some()),
+                ("flow", m.flow.is_some()),
             ];
             if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
                 return Err(scene.error(
@@ -66,7 +73,13 @@ pub fn material(
                      \"outer_cone\", \"inner_cone\" or { explicit = { k_d = ... } }",
                 )
             })?;
-            let dp = DruckerPrager::try_new(DruckerPragerParameters {
+            let flow = m.flow().map_err(|value| {
+                scene.error(
+                    &format!("{field}.flow"),
+                    format!("\"{value}\" is not a flow: one of {}", flow_choices()),
+                )
+            })?;
+            let given = DruckerPrager::try_new(DruckerPragerParameters {
                 young_modulus: m.young_modulus,
                 poisson_ratio: m.poisson_ratio,
                 friction_angle,
@@ -75,9 +88,37 @@ pub fn material(
                 cone_fit,
             })
             .map_err(named)?;
+            let dp = match flow {
+                Flow::AsGiven => given,
+                Flow::Davis => DruckerPrager::try_new(given.parameters().davis_equivalent())
+                    .map_err(|e| {
+                        scene.error(
+                            &format!("{field}.flow"),
+                            format!("Davis's associated equivalent: {e}"),
+                        )
+                    })?,
+            };
             Ok(Material::DruckerPrager(dp))
         }
     }
+}
+
+/// The choices of `flow`, each with what it does, for its error.
+fn flow_choices() -> String {
+    Flow::ALL
+        .iter()
+        .map(|f| {
+            format!(
+                "\"{}\" ({})",
+                f.name(),
+                match f {
+                    Flow::AsGiven => "the default: dilatancy_angle as given",
+                    Flow::Davis => "Davis's associated equivalent, ψ* = φ*",
+                }
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(" or ")
 }
 
 /// `h` finite and positive, at least one step.
@@ -86,7 +127,10 @@ pub fn time(scene: &impl Locate, ts: &TimeSpec) -> Result<(), SceneError> {
         return Err(scene.error("time.step", format!("{} s must be finite and > 0", ts.step)));
     }
     if ts.steps == 0 {
-        return Err(scene.error("time.steps", "must be at least 1"));
+        return Err(scene.error(
+            "time.steps",
+            "must be at least 1 (required without [[stage]])",
+        ));
     }
     Ok(())
 }
@@ -121,4 +165,82 @@ pub fn ramp(
         .as_deref()
         .map(|p| Ramp::try_new(p).map_err(|e| scene.error(field, e.to_string())))
         .transpose()
+}
+
+/// A load programme's field path (`traction[0].ramp`) and its points, if given.
+pub type RampField<'s> = (String, &'s Option<Vec<[f64; 2]>>);
+
+/// Every load programme of a FEM scene: `gravity_ramp`, `boundary[k].ramp`,
+/// `traction[k].ramp`, `pressure[k].ramp`, `point_load[k].ramp`.
+pub fn ramps(spec: &SceneSpec) -> Vec<RampField<'_>> {
+    let mut ramps = vec![("gravity_ramp".to_string(), &spec.gravity_ramp)];
+    let each = |name: &str, k: usize| format!("{name}[{k}].ramp");
+    ramps.extend(
+        spec.boundary
+            .iter()
+            .enumerate()
+            .map(|(k, b)| (each("boundary", k), &b.ramp)),
+    );
+    ramps.extend(
+        spec.traction
+            .iter()
+            .enumerate()
+            .map(|(k, t)| (each("traction", k), &t.ramp)),
+    );
+    ramps.extend(
+        spec.pressure
+            .iter()
+            .enumerate()
+            .map(|(k, p)| (each("pressure", k), &p.ramp)),
+    );
+    ramps.extend(
+        (spec.point_load.iter().enumerate()).map(|(k, p)| (each("point_load", k), &p.ramp)),
+    );
+    ramps
+}
+
+/// Every load programme of a material point scene: `gravity_ramp`, `prescribed[k].ramp`,
+/// `surface_load[k].ramp`.
+pub fn mpm_ramps(spec: &MpmSceneSpec) -> Vec<RampField<'_>> {
+    let mut ramps = vec![("gravity_ramp".to_string(), &spec.gravity_ramp)];
+    ramps.extend(
+        (spec.prescribed.iter().enumerate())
+            .map(|(k, p)| (format!("prescribed[{k}].ramp"), &p.ramp)),
+    );
+    ramps.extend(
+        (spec.surface_load.iter().enumerate())
+            .map(|(k, l)| (format!("surface_load[{k}].ramp"), &l.ramp)),
+    );
+    ramps
+}
+
+/// A warning for each ramp that changes faster than the step `h` (s) within the run's
+/// time `(0, end]`: a segment shorter than `h` whose value changes. The run samples a ramp
+/// at the step ends `t = n h` only (`docs/scenes.md`, 'Load programmes'), so such a
+/// change is taken at once, or missed altogether (a pulse between two step ends). Each
+/// warning starts with the field (`traction[0].ramp: ...`). Invalid ramps are left to
+/// [`ramp`].
+pub fn fast_ramps(ramps: &[RampField<'_>], h: f64, end: f64) -> Vec<String> {
+    let mut warnings = Vec::new();
+    for (field, points) in ramps {
+        let Some(points) = points.as_deref() else {
+            continue;
+        };
+        let fast = points.windows(2).find(|s| {
+            let ([t0, f0], [t1, f1]) = (s[0], s[1]);
+            t1 - t0 < h && f1 != f0 && t0 < end && t1 > 0.0
+        });
+        if let Some(s) = fast {
+            let ([t0, f0], [t1, f1]) = (s[0], s[1]);
+            warnings.push(format!(
+                "{field}: goes from {f0} at t = {t0} s to {f1} at t = {t1} s, in {:.3e} s, \
+                 less than the step h = {h} s: the run samples the ramp at the step ends only \
+                 (t = n h), so it takes this change at once or misses it; give a step of at \
+                 most {:.3e} s, or spread the change over at least one step",
+                t1 - t0,
+                t1 - t0
+            ));
+        }
+    }
+    warnings
 }

@@ -26,6 +26,36 @@ impl MaterialModel {
     }
 }
 
+/// The flow rule a Drucker-Prager material runs with (`flow`, `docs/scenes.md`, 'Regions and
+/// materials').
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Flow {
+    /// `friction_angle`, `cohesion` and `dilatancy_angle` as written.
+    #[default]
+    AsGiven,
+    /// Davis's (1968) associated equivalent of them: `β = cos φ cos ψ / (1 − sin φ sin ψ)`,
+    /// `c* = β c`, `tan φ* = β tan φ`, `ψ* = φ*`
+    /// (`talus_bipotential::DruckerPragerParameters::davis_equivalent`).
+    Davis,
+}
+
+impl Flow {
+    /// Every choice, as written in a scene.
+    pub const ALL: [Flow; 2] = [Flow::AsGiven, Flow::Davis];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Flow::AsGiven => "as_given",
+            Flow::Davis => "davis",
+        }
+    }
+
+    /// The choice written `name`, if any.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|f| f.name() == name)
+    }
+}
+
 /// One material: Drucker-Prager parameters (Pa, degrees) or elastic ones, and the densities
 /// (kg/m³): `density` is required for a dynamic analysis (the mass) and with `gravity`
 /// (the weight), otherwise unused.
@@ -53,6 +83,11 @@ pub struct MaterialSpec {
     pub dilatancy_angle: Option<f64>,
     #[serde(default)]
     pub cone_fit: Option<ConeFit>,
+    /// `"as_given"` (the default) or `"davis"` ([`Flow`]), Drucker-Prager only. Read as text
+    /// so that a bad value is refused by `check::material`, naming `material.flow` or
+    /// `material[k].flow` and its line; [`MaterialSpec::flow`] reads it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flow: Option<String>,
     #[serde(default)]
     pub density: Option<f64>,
     /// Below a water table (kg/m³); default `density`.
@@ -73,6 +108,14 @@ impl MaterialSpec {
     /// The friction angle (degrees); 0 for an elastic material or before it is checked.
     pub fn friction_angle(&self) -> f64 {
         self.friction_angle.unwrap_or(0.0)
+    }
+
+    /// Its [`Flow`] (`AsGiven` when `flow` is absent), or `Err` with the unknown value.
+    pub fn flow(&self) -> Result<Flow, &str> {
+        match self.flow.as_deref() {
+            None => Ok(Flow::AsGiven),
+            Some(name) => Flow::from_name(name).ok_or(name),
+        }
     }
 
     /// Whether strength reduction applies to it.

@@ -23,6 +23,8 @@ pub struct MpmSceneSpec {
     /// list) or all of the single `[material]`.
     #[serde(default)]
     pub body: Vec<BodySpec>,
+    /// The keys of a FEM scene's materials (`flow = "davis"` included), checked by the same
+    /// `check::material`; no `regions` (bodies name their materials).
     pub material: Materials,
     #[serde(default)]
     pub wall: Vec<WallSpec>,

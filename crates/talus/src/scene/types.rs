@@ -50,6 +50,9 @@ pub struct SceneSpec {
     /// A factor of safety instead of a run to the end (`docs/stability.md`).
     #[serde(default)]
     pub stability: Option<super::StabilitySpec>,
+    /// Construction in stages (`docs/scenes.md`, 'Stages'); none: one stage.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub stage: Vec<super::StageSpec>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
@@ -117,6 +120,9 @@ pub struct BoundarySpec {
     /// Multiplier of `velocity` in time; default constant 1.
     #[serde(default)]
     pub ramp: Option<Vec<[f64; 2]>>,
+    /// The stages this acts in (`[[stage]]` names); default every stage.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stages: Option<Vec<String>>,
 }
 
 /// Surface traction (Pa) on the boundary edges selected.
@@ -128,6 +134,9 @@ pub struct TractionSpec {
     /// Multiplier of `value` in time; default constant 1.
     #[serde(default)]
     pub ramp: Option<Vec<[f64; 2]>>,
+    /// The stages this acts in (`[[stage]]` names); default every stage.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stages: Option<Vec<String>>,
 }
 
 /// Normal pressure (Pa, positive pushing into the body) on the boundary edges selected,
@@ -145,6 +154,9 @@ pub struct PressureSpec {
     /// Multiplier of `value` in time; default constant 1.
     #[serde(default)]
     pub ramp: Option<Vec<[f64; 2]>>,
+    /// The stages this acts in (`[[stage]]` names); default every stage.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stages: Option<Vec<String>>,
 }
 
 /// A force (N per metre of thickness; axisymmetric: N per radian) on the node nearest
@@ -157,6 +169,9 @@ pub struct PointLoadSpec {
     /// Multiplier of `force` in time; default constant 1.
     #[serde(default)]
     pub ramp: Option<Vec<[f64; 2]>>,
+    /// The stages this acts in (`[[stage]]` names); default every stage.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stages: Option<Vec<String>>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
@@ -164,6 +179,8 @@ pub struct PointLoadSpec {
 pub struct TimeSpec {
     /// h, s.
     pub step: f64,
+    /// Required without `[[stage]]`; with stages, each gives its own.
+    #[serde(default)]
     pub steps: usize,
 }
 

@@ -2,6 +2,10 @@
 //! stable and the smallest whose trial fails by the criterion, until
 //! `(hi − lo) ≤ tolerance · lo`. A trial whose solve did not converge is no evidence of
 //! failure (`criterion`): it only caps the search (the `ceiling`), never ends the bracket.
+//! The search stays within `[MIN_FACTOR, MAX_FACTOR]` (`settings`): a body still at rest
+//! at `MAX_FACTOR` has no mechanism ([`Next::NoMechanism`]), one still failing at
+//! `MIN_FACTOR` has no stable factor ([`Next::NoStableFactor`]); neither gets a number.
+use super::settings::{MAX_FACTOR, MIN_FACTOR};
 
 /// Beyond the known side, the next trial multiplies (or divides) by this.
 pub const EXPANSION: f64 = 2.0;
@@ -16,6 +20,8 @@ pub struct Bracket {
     tolerance: f64,
     /// Factors to try first (a given bracket's ends, or the first guess).
     pending: Vec<f64>,
+    /// The factors the search may reach, `[MIN_FACTOR, MAX_FACTOR]`.
+    range: [f64; 2],
     /// Trials whose outcome contradicted an earlier one (a stable `F` above a failing one):
     /// the failing one is kept, so the bracket never widens.
     pub contradictions: Vec<f64>,
@@ -33,6 +39,15 @@ pub enum Next {
     /// Between the largest stable factor and the smallest unconverged one no trial failed
     /// by the criterion, and they are within the tolerance: no bracket.
     Unbracketed,
+    /// The trial at the search's upper end `up_to` came to rest, and no trial failed: no
+    /// mechanism up to `up_to` (a confined body), hence no factor of safety.
+    NoMechanism {
+        up_to: f64,
+    },
+    /// The trial at the search's lower end `down_to` failed, and no trial came to rest.
+    NoStableFactor {
+        down_to: f64,
+    },
 }
 
 /// What a trial tells the bracket.
@@ -46,6 +61,8 @@ pub enum Outcome {
 
 impl Bracket {
     /// From a first guess (one trial) or a given bracket (its two ends, each checked).
+    /// The search stays within `[MIN_FACTOR, MAX_FACTOR]` (where the settings keep a
+    /// given bracket and the first guess).
     pub fn new(tolerance: f64, first_guess: f64, given: Option<[f64; 2]>) -> Self {
         let pending = match given {
             Some([lo, hi]) => vec![hi, lo],
@@ -57,6 +74,7 @@ impl Bracket {
             ceiling: None,
             tolerance,
             pending,
+            range: [MIN_FACTOR, MAX_FACTOR],
             contradictions: Vec::new(),
         }
     }
@@ -80,12 +98,17 @@ impl Bracket {
                 return Next::Try(f);
             }
         }
+        let [min, max] = self.range;
         match (self.lo, self.hi, self.upper()) {
             (Some(lo), Some(hi), _) if hi - lo <= self.tolerance * lo => Next::Done { lo, hi },
             (Some(lo), _, Some(up)) if up - lo <= self.tolerance * lo => Next::Unbracketed,
             (Some(lo), _, Some(up)) => Next::Try(0.5 * (lo + up)),
-            (Some(lo), _, None) => Next::Try(lo * EXPANSION),
-            (None, _, Some(up)) => Next::Try(up / EXPANSION),
+            (Some(lo), _, None) if lo >= max => Next::NoMechanism { up_to: lo },
+            (Some(lo), _, None) => Next::Try((lo * EXPANSION).min(max)),
+            // Failing at the lower end; an unconverged trial there is no evidence.
+            (None, Some(hi), _) if hi <= min => Next::NoStableFactor { down_to: hi },
+            (None, _, Some(up)) if up <= min => Next::Unbracketed,
+            (None, _, Some(up)) => Next::Try((up / EXPANSION).max(min)),
             // Nothing tried yet and nothing pending cannot happen (`new` queues one).
             (None, _, None) => Next::Try(1.0),
         }
@@ -131,8 +154,8 @@ mod tests {
                         Outcome::Stable
                     },
                 ),
-                Next::Unbracketed => panic!("unbracketed"),
                 Next::Done { lo, hi } => return (lo, hi, n - 1),
+                other => panic!("{other:?}"),
             }
         }
         panic!("no convergence");
@@ -185,5 +208,50 @@ mod tests {
         b.record(1.0, Outcome::Stable);
         b.record(1.005, Outcome::Unknown);
         assert_eq!(b.next_trial(), Next::Unbracketed);
+    }
+
+    /// A body that never fails (a confined box) is searched up to `MAX_FACTOR` and no
+    /// further, and gets no factor; one that always fails, down to `MIN_FACTOR`.
+    #[test]
+    fn the_search_ends_at_the_range_without_a_factor() {
+        let mut b = Bracket::new(0.005, 1.0, None);
+        let mut tried = Vec::new();
+        let end = loop {
+            match b.next_trial() {
+                Next::Try(f) => {
+                    tried.push(f);
+                    b.record(f, Outcome::Stable);
+                }
+                other => break other,
+            }
+        };
+        assert_eq!(end, Next::NoMechanism { up_to: MAX_FACTOR });
+        assert_eq!(tried.last(), Some(&MAX_FACTOR));
+        assert_eq!(tried.len(), 8, "{tried:?}"); // 1, 2, ..., 64, 100
+        let mut b = Bracket::new(0.005, 1.0, None);
+        let end = loop {
+            match b.next_trial() {
+                Next::Try(f) => b.record(f, Outcome::Fails),
+                other => break other,
+            }
+        };
+        assert_eq!(
+            end,
+            Next::NoStableFactor {
+                down_to: MIN_FACTOR
+            }
+        );
+        // Unconverged all the way down: no evidence, no claim.
+        let mut b = Bracket::new(0.005, 1.0, None);
+        let end = loop {
+            match b.next_trial() {
+                Next::Try(f) => b.record(f, Outcome::Unknown),
+                other => break other,
+            }
+        };
+        assert_eq!(end, Next::Unbracketed);
+        // A threshold just below the upper end is still bracketed.
+        let (lo, hi, _) = search(99.0, 0.005, 1.0, None);
+        assert!(lo <= 99.0 && 99.0 < hi && hi <= MAX_FACTOR, "{lo} {hi}");
     }
 }

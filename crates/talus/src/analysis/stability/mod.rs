@@ -3,6 +3,10 @@
 //! strength divided by `F` (strength reduction) or gravity multiplied by `F` (gravity
 //! increase), stepped by the one engine until the criterion calls it stable or failing;
 //! `F` is bracketed, then bisected to the tolerance.
+//!
+//! [`run`] is the whole of `talus run` on such a scene. A caller with its own loading (a
+//! construction stage asking for the factor of safety of the state at its end) builds the
+//! analysis with [`Analysis::from_model`] and calls [`search`] with its equilibrium state.
 pub mod bracket;
 pub mod criterion;
 mod outputs;
@@ -17,24 +21,29 @@ use talus_bipotential::Material;
 use crate::model::fem::FromScene;
 use crate::model::fem::{Model, State};
 use crate::run::RunError;
-use crate::scene::{Scene, StabilityMethod};
-use talus_engine::{StepSettings, Stepper};
+use crate::scene::{Scene, SceneError, StabilityMethod};
+use talus_engine::{Failed, Run, StepSettings, Stepper};
 
 pub use bracket::{Bracket, Next, Outcome};
 pub use criterion::{Criterion, Verdict};
-pub use outputs::run;
+pub use outputs::{run, search, write_mechanism, SearchStatus, StabilityRun, TRIAL_COLUMNS};
 pub use settings::StabilitySettings;
 pub use strength::{davis_beta, plane_strain_match, Strength};
 pub use trial::Trial;
 
-/// The loading phase: the scene's own steps from its initial state.
+/// The loading phase: the scene's own steps from its initial state ([`Analysis::equilibrium`]),
+/// or a caller's (a construction stage's end, given to [`search`]).
 #[derive(Debug, Clone)]
 pub struct Equilibrium {
+    /// The state the trials restart from. Its largest nodal displacement is the
+    /// criterion's scale `U` ([`Criterion::set_scale`], which [`search`] calls).
     pub state: State,
+    /// Steps, Newton iterations and seconds of the loading: `history.csv`'s row 0 only.
     pub steps: usize,
     pub newton_iterations: usize,
     pub seconds: f64,
-    /// The criterion's measure over the last loading step (m).
+    /// The criterion's measure over the last loading step (m): row 0's `last_increment`
+    /// only (a caller may give 0).
     pub last_increment: f64,
 }
 
@@ -55,18 +64,36 @@ pub struct Analysis {
     force_prescribed: Vec<f64>,
     /// The weight at the end of the loading (N/m), free and prescribed dofs.
     weight: Option<(Vec<f64>, Vec<f64>)>,
+    /// Where the scene's `[stability]` is: errors of a trial name it.
+    located: SceneError,
 }
 
 impl Analysis {
-    /// `None` for a scene without `[stability]`.
+    /// `None` for a scene without `[stability]`: [`Analysis::from_model`] with the
+    /// scene's model and the end of its `[time]`, `h · steps`.
     pub fn new(scene: &Scene) -> Result<Option<Self>, RunError> {
         let model = Model::from_scene(scene)?;
-        let Some(settings) = StabilitySettings::of(scene, &model)? else {
+        let end = scene.spec.time.step * scene.spec.time.steps as f64;
+        Self::from_model(scene, model, end)
+    }
+
+    /// The analysis of `scene`'s `[stability]` on `model` (built from `scene`, possibly
+    /// changed since: a stage's regions) whose loading ends at `end_time` (s): the
+    /// trials hold the loads of `end_time`, the ramps must have ended by then and no
+    /// boundary may still move (`settings`), and gravity increase adds the weight of
+    /// `end_time`'s gravity multiplier. `None` for a scene without `[stability]`. The
+    /// model is set to F = 1.
+    pub fn from_model(
+        scene: &Scene,
+        model: Model,
+        end_time: f64,
+    ) -> Result<Option<Self>, RunError> {
+        let Some(settings) = StabilitySettings::at(scene, &model, end_time)? else {
             return Ok(None);
         };
         let spec = &scene.spec;
         let (h, steps) = (spec.time.step, spec.time.steps);
-        let end = h * steps as f64;
+        let end = end_time;
         let weight = match (settings.method, spec.gravity) {
             (StabilityMethod::GravityIncrease, Some(g)) => {
                 let (free, prescribed) = crate::model::fem::weight(scene, &model, g)?;
@@ -93,6 +120,7 @@ impl Analysis {
             criterion,
             settings,
             model,
+            located: scene.error("stability", ""),
         };
         // The loading phase runs with the material of F = 1 (for strength reduction, the
         // matched cone of `strength::drucker_prager`).
@@ -138,21 +166,44 @@ impl Analysis {
         Ok(())
     }
 
+    /// A `[stability]` error of this scene (a trial's material that cannot be built).
+    pub(crate) fn error(&self, message: String) -> SceneError {
+        SceneError {
+            message,
+            ..self.located.clone()
+        }
+    }
+
     /// The scene's loading, `time.steps` steps of `time.step` from its initial state, with
-    /// the material of F = 1.
+    /// the material of F = 1, watched for collapse as a plain run is (`docs/scenes.md`,
+    /// 'Collapse'): a body that accelerates away under its loading has no equilibrium to
+    /// start trials from, `RunError::Collapsed`.
     pub fn equilibrium(&mut self, scene: &Scene) -> Result<Equilibrium, RunError> {
         let start = Instant::now();
         self.set_factor(1.0)
             .map_err(|e| scene.error("material", e))?;
         let mut state = self.model.initial_state(scene)?;
         let mut stepper = Stepper::new(&self.model, self.step_settings);
+        let mut run = Run::start(&mut stepper, &state);
         let mut newton_iterations = 0;
         let mut last_increment = 0.0;
         for step in 1..=self.steps {
             let before = state.displacement.clone();
-            let report = stepper
-                .advance(&mut state, self.h)
-                .map_err(|source| RunError::Step { step, source })?;
+            let (report, collapse) = match run.step(&mut state, step, self.h) {
+                Ok(r) => r,
+                Err(Failed {
+                    collapse: Some(c), ..
+                }) => return Err(RunError::Collapsed(c)),
+                Err(Failed { step, error, .. }) => {
+                    return Err(RunError::Step {
+                        step,
+                        source: error,
+                    })
+                }
+            };
+            if let Some(c) = collapse {
+                return Err(RunError::Collapsed(c));
+            }
             newton_iterations += report.total_newton_iterations();
             let du: Vec<[f64; 2]> = state
                 .displacement

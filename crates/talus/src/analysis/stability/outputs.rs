@@ -1,12 +1,15 @@
 //! `talus run` on a scene with `[stability]`: the loading, the trials, and their files —
 //! `history.csv` (one row per trial), `summary.json` with `factor_of_safety`, and the
 //! failure mechanism at the smallest failing factor (`mechanism.png`, `mechanism.vtu`).
+//! [`search`] is the trials alone, from a given equilibrium (a construction stage's end).
 use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
 use crate::model::fem::Model;
-use crate::output::{self, FactorOfSafety, FieldSnapshot, MeshView, RunStatus, Summary};
+use crate::output::{
+    self, CollapseTime, FactorOfSafety, FieldSnapshot, MeshView, RunStatus, Summary,
+};
 use crate::run::{io_err, RunError, RunOptions, StepProgress};
 use crate::scene::{Scene, StabilityMethod};
 
@@ -15,16 +18,53 @@ use super::{Analysis, Bracket, Equilibrium, Next, Trial};
 /// `history.csv`'s columns: one row per trial, row 0 the loading (`docs/stability.md`).
 pub const TRIAL_COLUMNS: &str = "trial,factor,outcome,first_increment,last_increment,growth,rest_level,steps,newton_iterations,seconds";
 
+/// How the search ended: `summary.json`'s `factor_of_safety.status`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SearchStatus {
+    /// The bracket reached the tolerance: the factor is its middle.
+    Found,
+    /// Every trial came to rest up to the search's upper end (`settings::MAX_FACTOR`): no
+    /// mechanism, no factor.
+    NoMechanism,
+    /// Every trial failed down to the search's lower end (`settings::MIN_FACTOR`).
+    NoStableFactor,
+    /// Stable and unconverged trials closed in with no failing trial between.
+    Unbracketed,
+    /// `max_trials` ran out first.
+    MaxTrials,
+    /// The observer (SIGINT/SIGTERM) stopped the search first.
+    Interrupted,
+}
+
+impl SearchStatus {
+    pub fn name(self) -> &'static str {
+        match self {
+            SearchStatus::Found => "found",
+            SearchStatus::NoMechanism => "no_mechanism",
+            SearchStatus::NoStableFactor => "no_stable_factor",
+            SearchStatus::Unbracketed => "unbracketed",
+            SearchStatus::MaxTrials => "max_trials",
+            SearchStatus::Interrupted => "interrupted",
+        }
+    }
+}
+
 /// What a stability run found.
 #[derive(Debug, Clone)]
 pub struct StabilityRun {
     pub factor_of_safety: FactorOfSafety,
+    pub status: SearchStatus,
+    /// The observer stopped the search (the factor may still have been found).
+    pub interrupted: bool,
     pub equilibrium: Equilibrium,
     pub trials: Vec<Trial>,
     pub seconds: f64,
 }
 
-/// The loading, then trials until the bracket is within the tolerance (or `max_trials`).
+/// The loading, then trials until the bracket is within the tolerance (or `max_trials`),
+/// by [`search`]; `summary.json` and the mechanism's files. A loading that collapses or
+/// does not converge ends the run with its error, `summary.json` saying so
+/// (`collapsed`, `not_converged`), and no trials.
 pub fn run(scene: &Scene, options: &RunOptions) -> Result<StabilityRun, RunError> {
     let start = Instant::now();
     let mut analysis = Analysis::new(scene)?
@@ -34,23 +74,141 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<StabilityRun, RunError
     let summary_path = out.join("summary.json");
     let _ = std::fs::remove_file(&summary_path);
     let history_path = out.join("history.csv");
-    let mut history = std::fs::File::create(&history_path).map_err(io_err(&history_path))?;
-    let mut line = |text: String| {
-        writeln!(history, "{text}")
-            .and_then(|_| history.flush())
-            .map_err(io_err(&history_path))
-    };
-    line(TRIAL_COLUMNS.to_string())?;
     let steps_requested = scene.spec.time.steps;
+    let warnings = warnings(scene, &analysis.model);
+    for w in &warnings {
+        tracing::warn!("{w}");
+    }
     let equilibrium = match analysis.equilibrium(scene) {
         Ok(e) => e,
         Err(e) => {
-            let mut summary = empty_summary(RunStatus::NotConverged, 0, steps_requested, 0.0);
-            summary.error = Some(format!("the loading did not reach equilibrium: {e}"));
+            // history.csv holds the loading's row when it collapsed: no trial, no equilibrium.
+            let mut history = TRIAL_COLUMNS.to_string() + "\n";
+            let mut summary = match &e {
+                RunError::Collapsed(c) => {
+                    history += &format!("0,1,collapsed,,,,,{},,\n", c.step);
+                    let mut s =
+                        empty_summary(RunStatus::Collapsed, c.step, steps_requested, c.time);
+                    s.collapse = Some(CollapseTime {
+                        step: c.step,
+                        time: c.time,
+                    });
+                    s.error = Some(format!("the loading collapsed, no equilibrium: {e}"));
+                    s
+                }
+                _ => {
+                    let mut s = empty_summary(RunStatus::NotConverged, 0, steps_requested, 0.0);
+                    s.error = Some(format!("the loading did not reach equilibrium: {e}"));
+                    s
+                }
+            };
+            std::fs::write(&history_path, history).map_err(io_err(&history_path))?;
+            summary.warnings = warnings;
             summary.write(&summary_path)?;
+            tracing::info!("{}", summary.sentence());
             return Err(e);
         }
     };
+    let mut found = search(&mut analysis, equilibrium, &history_path, options)?;
+    found.seconds = start.elapsed().as_secs_f64();
+    if options.write_fields {
+        write_mechanism(scene, &analysis, &found, out)?;
+    }
+    let status = if found.interrupted {
+        RunStatus::Interrupted
+    } else {
+        RunStatus::Finished
+    };
+    let equilibrium = &found.equilibrium;
+    let mut summary = empty_summary(
+        status,
+        equilibrium.steps,
+        steps_requested,
+        equilibrium.state.time,
+    );
+    let fos = &found.factor_of_safety;
+    let [lo, hi] = fos.bracket;
+    let max_trials = analysis.settings.max_trials;
+    summary.error = match found.status {
+        SearchStatus::Found | SearchStatus::NoMechanism | SearchStatus::Interrupted => None,
+        SearchStatus::MaxTrials => Some(format!(
+            "no bracket within the tolerance after {} trials (max_trials = {max_trials})",
+            found.trials.len()
+        )),
+        SearchStatus::Unbracketed => Some(format!(
+            "no trial failed by the criterion between the largest stable F = {} and the \
+             smallest unconverged one, F = {}: no bracket (history.csv has the trials)",
+            lo.map_or("none".into(), |v| v.to_string()),
+            found
+                .trials
+                .iter()
+                .filter(|t| t.verdict.outcome() == super::Outcome::Unknown)
+                .map(|t| t.factor)
+                .fold(f64::INFINITY, f64::min)
+        )),
+        SearchStatus::NoStableFactor => Some(format!(
+            "every trial failed, down to F = {}: the body does not come to rest even with \
+             its strength multiplied (or its weight divided) by {:.0}; the loading's last \
+             step still moved by {:.3e} m (rest: {:.3e} m)",
+            hi.map_or("none".into(), |v| v.to_string()),
+            1.0 / hi.unwrap_or(1.0),
+            equilibrium.last_increment,
+            super::criterion::REST * analysis.criterion.scale
+        )),
+    };
+    summary.factor_of_safety = Some(fos.clone());
+    summary.warnings = warnings;
+    summary.write(&summary_path)?;
+    tracing::info!("{}", summary.sentence());
+    if found.interrupted {
+        return Err(RunError::Interrupted {
+            step: found.trials.len(),
+            time: found.equilibrium.state.time,
+        });
+    }
+    Ok(found)
+}
+
+/// The warnings of a `[stability]` run: the model's, and the ramps faster than its step.
+fn warnings(scene: &Scene, model: &Model) -> Vec<String> {
+    let spec = &scene.spec;
+    let mut warnings = crate::model::fem::warnings(scene, model);
+    warnings.extend(crate::scene::check::fast_ramps(
+        &crate::scene::check::ramps(spec),
+        spec.time.step,
+        spec.time.step * spec.time.steps as f64,
+    ));
+    warnings
+}
+
+/// The trials from `equilibrium` (the loading's end: [`Analysis::equilibrium`], or a
+/// caller's own state, e.g. a construction stage's end) until the bracket is within the
+/// tolerance, `max_trials` run out, or the search reaches its end (`bracket`); each trial
+/// told to `options.observer` (a `Break` stops the search: `interrupted`). Writes
+/// `trials_csv` afresh: [`TRIAL_COLUMNS`], row 0 the equilibrium, then one row per trial.
+///
+/// Sets the criterion's scale `U` from `equilibrium.state`'s largest nodal displacement
+/// (`Criterion::set_scale`): a caller whose displacements were reset should know that the
+/// rest level is `10⁻³ U` of what the state holds. `equilibrium.last_increment`, `steps`,
+/// `newton_iterations` and `seconds` are only written in row 0 (0 is fine). Leaves the
+/// model at F = 1. Writes neither `summary.json` nor the mechanism ([`write_mechanism`]).
+pub fn search(
+    analysis: &mut Analysis,
+    equilibrium: Equilibrium,
+    trials_csv: &Path,
+    options: &RunOptions,
+) -> Result<StabilityRun, RunError> {
+    let start = Instant::now();
+    analysis
+        .criterion
+        .set_scale(&equilibrium.state.displacement);
+    let mut history = std::fs::File::create(trials_csv).map_err(io_err(trials_csv))?;
+    let mut line = |text: String| {
+        writeln!(history, "{text}")
+            .and_then(|_| history.flush())
+            .map_err(io_err(trials_csv))
+    };
+    line(TRIAL_COLUMNS.to_string())?;
     line(format!(
         "0,1,equilibrium,,{:.6e},,{:.6e},{},{},{:.6e}",
         equilibrium.last_increment,
@@ -64,20 +222,20 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<StabilityRun, RunError
     let (max_trials, tolerance) = (s.max_trials, s.tolerance);
     let mut bracket = Bracket::new(tolerance, s.first_guess, s.bracket);
     let mut trials: Vec<Trial> = Vec::new();
-    let mut done = None;
+    let mut end = None;
     let mut interrupted = false;
     while trials.len() < max_trials {
         let f = match bracket.next_trial() {
             Next::Try(f) => f,
-            Next::Done { lo, hi } => {
-                done = Some((lo, hi));
+            other => {
+                end = Some(other);
                 break;
             }
-            Next::Unbracketed => break,
         };
-        let trial = analysis
-            .trial(f, &equilibrium.state)
-            .map_err(|e| scene.error("stability", e))?;
+        let trial = match analysis.trial(f, &equilibrium.state) {
+            Ok(t) => t,
+            Err(e) => return Err(analysis.error(e).into()),
+        };
         tracing::info!(
             factor = f,
             outcome = trial.verdict.name(),
@@ -85,7 +243,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<StabilityRun, RunError
             iterations = trial.newton_iterations,
             "trial"
         );
-        line(trial_row(trials.len() + 1, &trial, &analysis))?;
+        line(trial_row(trials.len() + 1, &trial, analysis))?;
         bracket.record(f, trial.verdict.outcome());
         let stop = options.observer.as_ref().is_some_and(|observe| {
             // One call per trial: `step` counts trials (`docs/stability.md`).
@@ -106,15 +264,28 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<StabilityRun, RunError
             break;
         }
     }
-    if done.is_none() {
-        if let Next::Done { lo, hi } = bracket.next_trial() {
-            done = Some((lo, hi));
-        }
+    // The last trial may have closed the search.
+    if end.is_none() {
+        end = Some(bracket.next_trial()).filter(|n| !matches!(n, Next::Try(_)));
     }
+    analysis.set_factor(1.0).map_err(|e| analysis.error(e))?;
+    let status = match end {
+        Some(Next::Done { .. }) => SearchStatus::Found,
+        _ if interrupted => SearchStatus::Interrupted,
+        Some(Next::NoMechanism { .. }) => SearchStatus::NoMechanism,
+        Some(Next::NoStableFactor { .. }) => SearchStatus::NoStableFactor,
+        Some(Next::Unbracketed) => SearchStatus::Unbracketed,
+        Some(Next::Try(_)) | None => SearchStatus::MaxTrials,
+    };
+    let value = match end {
+        Some(Next::Done { lo, hi }) => Some(0.5 * (lo + hi)),
+        _ => None,
+    };
     let factor_of_safety = FactorOfSafety {
-        value: done.map(|(lo, hi)| 0.5 * (lo + hi)),
+        value,
+        status: status.name().to_string(),
         bracket: [bracket.lo, bracket.hi],
-        within_tolerance: done.is_some(),
+        within_tolerance: value.is_some(),
         tolerance,
         method: analysis.settings.method.name().to_string(),
         dilatancy: (analysis.settings.method == StabilityMethod::StrengthReduction)
@@ -122,46 +293,10 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<StabilityRun, RunError
         criterion: analysis.criterion.describe(),
         trials: trials.len(),
     };
-    // The mechanism of the smallest factor that failed by the criterion.
-    let mechanism = trials
-        .iter()
-        .filter(|t| t.fails())
-        .min_by(|a, b| a.factor.total_cmp(&b.factor));
-    if let (true, Some(t)) = (options.write_fields, mechanism) {
-        write_mechanism(scene, &analysis.model, t, equilibrium.state.time, out)?;
-    }
-    let status = if interrupted {
-        RunStatus::Interrupted
-    } else {
-        RunStatus::Finished
-    };
-    let mut summary = empty_summary(
-        status,
-        equilibrium.steps,
-        steps_requested,
-        equilibrium.state.time,
-    );
-    if !factor_of_safety.within_tolerance && !interrupted {
-        summary.error = Some(format!(
-            "no bracket within the tolerance after {} trials (max_trials = {max_trials})",
-            trials.len()
-        ));
-    }
-    summary.factor_of_safety = Some(factor_of_safety.clone());
-    summary.warnings = crate::model::fem::warnings(scene, &analysis.model);
-    for w in &summary.warnings {
-        tracing::warn!("{w}");
-    }
-    summary.write(&summary_path)?;
-    tracing::info!("{}", summary.sentence());
-    if interrupted {
-        return Err(RunError::Interrupted {
-            step: trials.len(),
-            time: equilibrium.state.time,
-        });
-    }
     Ok(StabilityRun {
         factor_of_safety,
+        status,
+        interrupted,
         equilibrium,
         trials,
         seconds: start.elapsed().as_secs_f64(),
@@ -183,6 +318,7 @@ fn empty_summary(status: RunStatus, steps: usize, requested: usize, time: f64) -
         factor_of_safety: None,
         collapse: None,
         warnings: Vec::new(),
+        stages: Vec::new(),
     }
 }
 
@@ -232,13 +368,24 @@ fn element_means(model: &Model, values: &[f64], width: usize) -> Vec<Vec<f64>> {
     sums
 }
 
-fn write_mechanism(
+/// `mechanism.vtu` and (with `[output] plots`) `mechanism.png` in `out`: the trial with
+/// the smallest failing factor, the bracket's upper end (nothing when no trial failed).
+pub fn write_mechanism(
     scene: &Scene,
-    model: &Model,
-    t: &Trial,
-    time: f64,
+    analysis: &Analysis,
+    found: &StabilityRun,
     out: &Path,
 ) -> Result<(), RunError> {
+    let Some(t) = found
+        .trials
+        .iter()
+        .filter(|t| t.fails())
+        .min_by(|a, b| a.factor.total_cmp(&b.factor))
+    else {
+        return Ok(());
+    };
+    let model = &analysis.model;
+    let time = found.equilibrium.state.time;
     let mesh = MeshView {
         nodes: &model.mesh.nodes,
         triangles: &model.mesh.triangles,
@@ -271,9 +418,15 @@ fn write_mechanism(
         },
     )?;
     if scene.spec.output.plots {
-        let method = match scene.spec.stability.as_ref().map(|s| s.method) {
-            Some(StabilityMethod::GravityIncrease) => "gravity ×",
-            _ => "strength ÷",
+        let method = match analysis.settings.method {
+            StabilityMethod::GravityIncrease => "gravity ×",
+            StabilityMethod::StrengthReduction => "strength ÷",
+        };
+        // The picture is a trial's, at the bracket's upper end; the factor reported is the
+        // bracket's middle: the title says which is which.
+        let reported = match found.factor_of_safety.value {
+            Some(v) => format!(" (reported F = {v:.4})"),
+            None => String::new(),
         };
         output::plot_field_on_mesh(
             &out.join("mechanism.png"),
@@ -281,10 +434,10 @@ fn write_mechanism(
             None,
             &element_magnitude(model, &t.last_increment),
             &format!(
-                "failure mechanism, {method} {:.4}: displacement increment of the trial's last step",
+                "mechanism: {method} {:.4}, the bracket's upper end{reported}",
                 t.factor
             ),
-            "|Δu| (m)",
+            "|Δu| over the trial's last step (m)",
         )
         .map_err(RunError::Output)?;
     }

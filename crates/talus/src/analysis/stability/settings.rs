@@ -31,8 +31,16 @@ pub const MIN_FACTOR: f64 = 1e-2;
 pub const MAX_FACTOR: f64 = 1e2;
 
 impl StabilitySettings {
-    /// `None` for a scene without `[stability]`.
+    /// `None` for a scene without `[stability]`; the loading ends with the scene's
+    /// `[time]`, at `h · steps`.
     pub fn of(scene: &Scene, model: &Model) -> Result<Option<Self>, SceneError> {
+        let end = scene.spec.time.step * scene.spec.time.steps as f64;
+        Self::at(scene, model, end)
+    }
+
+    /// The same for a loading that ends at `end` (s): its ramps must have ended and its
+    /// boundaries stopped by then.
+    pub fn at(scene: &Scene, model: &Model, end: f64) -> Result<Option<Self>, SceneError> {
         let Some(spec) = &scene.spec.stability else {
             return Ok(None);
         };
@@ -158,7 +166,7 @@ impl StabilitySettings {
                 Some((node, name.clone()))
             }
         };
-        check_loading_settles(scene, model)?;
+        check_loading_settles(scene, model, end)?;
         Ok(Some(Self {
             method: spec.method,
             tolerance,
@@ -173,9 +181,9 @@ impl StabilitySettings {
 }
 
 /// The trials start from the state the scene's loading reached and hold that loading: it
-/// must be quasi-static, every ramp must have ended by the last step, and no boundary may
-/// still move.
-fn check_loading_settles(scene: &Scene, model: &Model) -> Result<(), SceneError> {
+/// must be quasi-static, every ramp must have ended by the loading's end `end` (s), and no
+/// boundary may still move then.
+fn check_loading_settles(scene: &Scene, model: &Model, end: f64) -> Result<(), SceneError> {
     let spec = &scene.spec;
     if spec.analysis.kind != AnalysisKind::QuasiStatic {
         return Err(scene.error(
@@ -184,28 +192,7 @@ fn check_loading_settles(scene: &Scene, model: &Model) -> Result<(), SceneError>
              displacement increments grow, which inertia would blur",
         ));
     }
-    let end = spec.time.step * spec.time.steps as f64;
-    let mut ramps: Vec<(String, &Option<Vec<[f64; 2]>>)> =
-        vec![("gravity_ramp".into(), &spec.gravity_ramp)];
-    ramps.extend(
-        spec.boundary
-            .iter()
-            .enumerate()
-            .map(|(k, b)| (format!("boundary[{k}].ramp"), &b.ramp)),
-    );
-    ramps.extend(
-        spec.traction
-            .iter()
-            .enumerate()
-            .map(|(k, t)| (format!("traction[{k}].ramp"), &t.ramp)),
-    );
-    ramps.extend(
-        spec.pressure
-            .iter()
-            .enumerate()
-            .map(|(k, p)| (format!("pressure[{k}].ramp"), &p.ramp)),
-    );
-    for (field, ramp) in ramps {
+    for (field, ramp) in crate::scene::check::ramps(spec) {
         if let Some(last) = ramp.as_ref().and_then(|r| r.last()) {
             if last[0] > end * (1.0 + 1e-12) {
                 return Err(scene.error(

@@ -9,6 +9,7 @@ mod layered_footing;
 mod material_point;
 mod prandtl;
 mod stability;
+mod stages;
 mod triaxial;
 
 use std::time::Instant;
@@ -29,6 +30,7 @@ pub use prandtl::{prandtl, prandtl_refinement, PrandtlRun};
 pub use stability::{
     case_dir, slope_by_hand, slope_cases, vertical_cut_case, CUT_REFERENCE, SLOPE_REFERENCE,
 };
+pub use stages::{cut_in_lifts_case, cut_scenes, staged_factor, CUT_IN_LIFTS};
 pub use triaxial::{
     run_triaxial, triaxial_compression, triaxial_dilatancy_ratio, triaxial_peak_deviator,
     triaxial_scene, TriaxialRun,
@@ -112,5 +114,6 @@ pub fn all_cases(quick: bool, figures: Option<&std::path::Path>) -> Vec<CaseResu
     // Each stamps its own seconds (the slope's by-hand runs apart from its search).
     out.extend(slope_cases());
     out.extend(vertical_cut_case());
+    out.extend(cut_in_lifts_case());
     out
 }

@@ -7,7 +7,7 @@ use talus_fem::{
 
 use crate::scene::{
     check, scales, scales::ramp_max, AnalysisKind, Fix, MeshSpec, Order, Ramp, Scene, SceneError,
-    Selection, WaterTable,
+    SceneSpec, Selection, TimeSpec, WaterSpec, WaterTable,
 };
 
 /// A [`Model`] built from a scene, and the state a run of it starts from.
@@ -20,259 +20,9 @@ pub trait FromScene: Sized {
 
 impl FromScene for Model {
     fn from_scene(scene: &Scene) -> Result<Self, SceneError> {
-        let spec = &scene.spec;
         let mesh = build_mesh(scene)?;
         let ground = super::materials::ground(scene, &mesh)?;
-        check::time(scene, &spec.time)?;
-        check::solver(scene, &spec.solver)?;
-        check_scales(scene, &mesh)?;
-
-        // Axisymmetric: the axis nodes' radial velocity is 0, first, so that a
-        // `[[boundary]]` naming them later owns them (and their reaction).
-        let geometry = spec.analysis.geometry.fem();
-        geometry
-            .check_mesh(&mesh)
-            .map_err(|e| scene.error("analysis.geometry", e.to_string()))?;
-        let axis = geometry.axis_nodes(&mesh);
-        let mut constraints = Vec::new();
-        if !axis.is_empty() {
-            constraints.push((axis.clone(), Constraint::FixX));
-        }
-        let axis_constraints = constraints.len();
-        let mut boundary_ramps = Vec::new();
-        for (k, b) in spec.boundary.iter().enumerate() {
-            let nodes = select_nodes(scene, &mesh, &b.nodes, &format!("boundary[{k}].nodes"))?;
-            let c = match b.fix {
-                Fix::X => Constraint::FixX,
-                Fix::Y => Constraint::FixY,
-                Fix::Xy => Constraint::Fixed,
-            };
-            if !b.velocity.iter().all(|v| v.is_finite()) {
-                return Err(scene.error(&format!("boundary[{k}].velocity"), "must be finite"));
-            }
-            // The axis r = 0 cannot move radially (docs/axisymmetry.md): a radial velocity
-            // there would tear the body open along its axis.
-            let radial = matches!(b.fix, Fix::X | Fix::Xy) && b.velocity[0] != 0.0;
-            if let Some(&n) = nodes.iter().find(|n| radial && axis.contains(n)) {
-                return Err(scene.error(
-                    &format!("boundary[{k}].velocity"),
-                    format!(
-                        "[{:e}, {:e}] m/s moves node {n} on the axis r = 0 radially; the \
-                         axis has no radial velocity: use velocity = [0, {:e}] or leave the \
-                         axis out of the set",
-                        b.velocity[0], b.velocity[1], b.velocity[1]
-                    ),
-                ));
-            }
-            boundary_ramps.push(check::ramp(scene, &format!("boundary[{k}].ramp"), &b.ramp)?);
-            constraints.push((nodes, c));
-        }
-        let dofs = DofMap::new(mesh.nodes.len(), &constraints)
-            .map_err(|e| scene.error("boundary", e.to_string()))?;
-        if dofs.n_free() == 0 {
-            return Err(scene.error("boundary", "every degree of freedom is prescribed"));
-        }
-        let water = water_table(scene)?;
-        // Each Gauss point's density; the points' layout is mapped ahead of the assembly
-        // only when the densities vary (layers, saturated below a water table).
-        let dry = required_densities(scene)?;
-        let densities = if water.is_none() && dry.iter().all(|d| *d == dry[0]) {
-            Vec::new()
-        } else {
-            let (elements, positions) = Assembly::gauss_layout(&mesh, geometry)
-                .map_err(|e| scene.error("mesh", e.to_string()))?;
-            let point_material: Vec<usize> = elements
-                .iter()
-                .map(|&e| ground.element_material[e])
-                .collect();
-            point_densities(scene, water.as_ref(), &point_material, &positions)?
-        };
-        // One density everywhere: the scalar assembly (a layered scene of one material
-        // gives the one-material model bit for bit); else each point's.
-        let uniform = densities
-            .iter()
-            .all(|d| *d == densities.first().copied().unwrap_or(dry[0]));
-        let assembly = if uniform {
-            Assembly::with_geometry(
-                &mesh,
-                &dofs,
-                densities.first().copied().unwrap_or(dry[0]),
-                geometry,
-            )
-        } else {
-            Assembly::with_point_densities(&mesh, &dofs, &densities, geometry)
-        }
-        .map_err(|e| {
-            let field = match &e {
-                FemError::InvalidInput {
-                    field: "density", ..
-                } => "material.density",
-                _ if geometry == Geometry::Axisymmetric => "analysis.geometry",
-                _ => "material.density",
-            };
-            scene.error(field, e.to_string())
-        })?;
-        let point_material: Vec<usize> = assembly
-            .gauss_element
-            .iter()
-            .map(|&e| ground.element_material[e])
-            .collect();
-        let densities = if densities.is_empty() {
-            vec![dry[0]; assembly.n_points()]
-        } else {
-            densities
-        };
-
-        // Prescribed velocities: later conditions win where sets overlap.
-        let mut prescribed_velocity = vec![0.0; dofs.n_prescribed()];
-        // A dof no `[[boundary]]` fixes (the axis) belongs to no condition: index
-        // `boundary.len()`, which names no reaction group and follows no ramp.
-        let mut owner = vec![spec.boundary.len(); dofs.n_prescribed()];
-        let mut reaction_dofs = Vec::new();
-        let boundary_constraints = &constraints[axis_constraints..];
-        for (k, (b, (nodes, _))) in spec.boundary.iter().zip(boundary_constraints).enumerate() {
-            let is_reaction = b.name.is_some() && b.name == spec.output.reaction;
-            for &n in nodes {
-                for comp in 0..2 {
-                    let fixed = matches!((b.fix, comp), (Fix::Xy, _) | (Fix::X, 0) | (Fix::Y, 1));
-                    if let (true, Some(j)) = (fixed, dofs.prescribed(n, comp)) {
-                        prescribed_velocity[j] = b.velocity[comp];
-                        owner[j] = k;
-                        if is_reaction && !reaction_dofs.contains(&(j, comp)) {
-                            reaction_dofs.push((j, comp));
-                        }
-                    }
-                }
-            }
-        }
-        // A dof follows the ramp of the condition that set its velocity.
-        let velocity_ramps: Vec<(Ramp, Vec<usize>)> = boundary_ramps
-            .into_iter()
-            .enumerate()
-            .filter_map(|(k, ramp)| {
-                let dofs: Vec<usize> = (0..owner.len()).filter(|&j| owner[j] == k).collect();
-                ramp.filter(|_| !dofs.is_empty()).map(|r| (r, dofs))
-            })
-            .collect();
-        if let Some(name) = &spec.output.reaction {
-            if reaction_dofs.is_empty() {
-                return Err(scene.error(
-                    "output.reaction",
-                    format!("no boundary named `{name}` with fixed components"),
-                ));
-            }
-        }
-
-        // Added to the model in the order of the scene: a load without a ramp into the
-        // constant forces, a ramped one kept apart at multiplier 1 (`Model::add_load`).
-        let mut loads = Vec::new();
-        let mut add_load = |forces: (Vec<f64>, Vec<f64>), ramp: Option<Ramp>| {
-            loads.push((forces, ramp));
-        };
-        let gravity_ramp = check::ramp(scene, "gravity_ramp", &spec.gravity_ramp)?;
-        match spec.gravity {
-            Some(g) => add_load(
-                point_weight(scene, &assembly, &densities, g)?,
-                gravity_ramp.clone(),
-            ),
-            None if gravity_ramp.is_some() => {
-                return Err(scene.error("gravity_ramp", "multiplies `gravity`, which is not given"))
-            }
-            None => {}
-        }
-        // The water's push on the free boundary below the table (`water_loads`), following
-        // the weight's ramp as the pore pressure does.
-        if let Some(w) = &water {
-            let edges = free_edges_below(&mesh, &dofs, w);
-            if !edges.is_empty() {
-                add_load(
-                    assembly
-                        .pressure_with(&mesh, &edges, |x| w.pore_pressure(x))
-                        .map_err(|e| scene.error("water", e.to_string()))?,
-                    gravity_ramp.clone(),
-                );
-            }
-        }
-        for (k, t) in spec.traction.iter().enumerate() {
-            let field = format!("traction[{k}].edges");
-            let edges = select_edges(scene, &mesh, &t.edges, &field)?;
-            check_off_axis(scene, &mesh, &edges, &field, geometry)?;
-            let ramp = check::ramp(scene, &format!("traction[{k}].ramp"), &t.ramp)?;
-            add_load(
-                assembly
-                    .traction(&mesh, &edges, t.value)
-                    .map_err(|e| scene.error(&format!("traction[{k}].value"), e.to_string()))?,
-                ramp,
-            );
-        }
-        for (k, p) in spec.pressure.iter().enumerate() {
-            let field = format!("pressure[{k}].edges");
-            let edges = select_edges(scene, &mesh, &p.edges, &field)?;
-            check_off_axis(scene, &mesh, &edges, &field, geometry)?;
-            let ramp = check::ramp(scene, &format!("pressure[{k}].ramp"), &p.ramp)?;
-            if !p.value.is_finite() {
-                return Err(scene.error(
-                    &format!("pressure[{k}].value"),
-                    format!("{} Pa must be finite", p.value),
-                ));
-            }
-            let forces = match p.gradient {
-                None => assembly.pressure(&mesh, &edges, p.value),
-                Some(gradient) if gradient.is_finite() => {
-                    assembly.pressure_with(&mesh, &edges, |x| p.value + gradient * x[1])
-                }
-                Some(gradient) => {
-                    return Err(scene.error(
-                        &format!("pressure[{k}].gradient"),
-                        format!("{gradient} Pa/m must be finite"),
-                    ))
-                }
-            };
-            add_load(
-                forces.map_err(|e| scene.error(&field, e.to_string()))?,
-                ramp,
-            );
-        }
-        for (k, l) in spec.point_load.iter().enumerate() {
-            let field = format!("point_load[{k}]");
-            if !l.point.iter().all(|v| v.is_finite()) {
-                return Err(scene.error(
-                    &format!("{field}.point"),
-                    format!("{:?} m must be finite", l.point),
-                ));
-            }
-            if !l.force.iter().all(|v| v.is_finite()) {
-                return Err(scene.error(
-                    &format!("{field}.force"),
-                    format!("{:?} N/m must be finite", l.force),
-                ));
-            }
-            let ramp = check::ramp(scene, &format!("{field}.ramp"), &l.ramp)?;
-            let node = nearest_node(&mesh, l.point);
-            add_load(
-                assembly
-                    .point_force(node, l.force)
-                    .map_err(|e| scene.error(&format!("{field}.force"), e.to_string()))?,
-                ramp,
-            );
-        }
-        let mut model = Model::with_materials(mesh, assembly, ground.materials, point_material)
-            .map_err(|e| scene.error("material", e.to_string()))?;
-        if let Some(w) = &water {
-            model.pore_pressure = (model.assembly.gauss_points.iter())
-                .map(|&x| w.pore_pressure(x))
-                .collect();
-            model.pore_pressure_ramp = gravity_ramp;
-        }
-        for (forces, ramp) in loads {
-            model.add_load(forces, ramp);
-        }
-        super::quasi_static::scale_masses(scene, &mut model)?;
-        model.prescribed_velocity = prescribed_velocity;
-        model.velocity_ramps = velocity_ramps;
-        model.reaction_dofs = reaction_dofs;
-        model.dof_owner = owner;
-        Ok(model)
+        build(scene, mesh, &ground.element_material, &ground, None)
     }
 
     fn initial_state(&self, scene: &Scene) -> Result<State, SceneError> {
@@ -288,6 +38,323 @@ impl FromScene for Model {
         }
         Ok(state)
     }
+}
+
+/// What a stage changes in the model it is built on (`super::stages`).
+pub struct StageView<'a> {
+    pub name: &'a str,
+    /// The water table in force, and its field (`water` or a stage's `stage[k].water`).
+    pub water: Option<(&'a WaterSpec, String)>,
+}
+
+/// The scene's model on `mesh` (the whole mesh, or a stage's part of it) whose elements'
+/// materials are `element_material` (indices into `ground.materials`), with the loads and
+/// conditions that act in `stage` (`None`: an unstaged scene, all of them).
+pub(super) fn build(
+    scene: &Scene,
+    mesh: Mesh,
+    element_material: &[usize],
+    ground: &super::materials::Ground,
+    stage: Option<&StageView>,
+) -> Result<Model, SceneError> {
+    let spec = &scene.spec;
+    crate::scene::stage::check(scene, spec)?;
+    check::time(
+        scene,
+        &TimeSpec {
+            steps: spec.total_steps(),
+            ..spec.time
+        },
+    )?;
+    check::solver(scene, &spec.solver)?;
+    check_scales(scene, &mesh)?;
+    let stage_name = stage.map(|s| s.name);
+    let acts = |stages: &Option<Vec<String>>| SceneSpec::acts_in(stages, stage_name);
+    // "in stage `name`": where a selection that held nodes on the whole mesh may not.
+    let in_stage = stage.map_or(String::new(), |s| format!(" in stage \"{}\"", s.name));
+
+    // Axisymmetric: the axis nodes' radial velocity is 0, first, so that a
+    // `[[boundary]]` naming them later owns them (and their reaction).
+    let geometry = spec.analysis.geometry.fem();
+    geometry
+        .check_mesh(&mesh)
+        .map_err(|e| scene.error("analysis.geometry", e.to_string()))?;
+    let axis = geometry.axis_nodes(&mesh);
+    let mut constraints = Vec::new();
+    if !axis.is_empty() {
+        constraints.push((axis.clone(), Constraint::FixX));
+    }
+    let axis_constraints = constraints.len();
+    let mut boundary_ramps = Vec::new();
+    for (k, b) in spec.boundary.iter().enumerate() {
+        if !acts(&b.stages) {
+            boundary_ramps.push(None);
+            constraints.push((Vec::new(), Constraint::Fixed));
+            continue;
+        }
+        let nodes = select_nodes(
+            scene,
+            &mesh,
+            &b.nodes,
+            &format!("boundary[{k}].nodes"),
+            &in_stage,
+        )?;
+        let c = match b.fix {
+            Fix::X => Constraint::FixX,
+            Fix::Y => Constraint::FixY,
+            Fix::Xy => Constraint::Fixed,
+        };
+        if !b.velocity.iter().all(|v| v.is_finite()) {
+            return Err(scene.error(&format!("boundary[{k}].velocity"), "must be finite"));
+        }
+        // The axis r = 0 cannot move radially (docs/axisymmetry.md): a radial velocity
+        // there would tear the body open along its axis.
+        let radial = matches!(b.fix, Fix::X | Fix::Xy) && b.velocity[0] != 0.0;
+        if let Some(&n) = nodes.iter().find(|n| radial && axis.contains(n)) {
+            return Err(scene.error(
+                &format!("boundary[{k}].velocity"),
+                format!(
+                    "[{:e}, {:e}] m/s moves node {n} on the axis r = 0 radially; the \
+                         axis has no radial velocity: use velocity = [0, {:e}] or leave the \
+                         axis out of the set",
+                    b.velocity[0], b.velocity[1], b.velocity[1]
+                ),
+            ));
+        }
+        boundary_ramps.push(check::ramp(scene, &format!("boundary[{k}].ramp"), &b.ramp)?);
+        constraints.push((nodes, c));
+    }
+    let dofs = DofMap::new(mesh.nodes.len(), &constraints)
+        .map_err(|e| scene.error("boundary", e.to_string()))?;
+    if dofs.n_free() == 0 {
+        return Err(scene.error("boundary", "every degree of freedom is prescribed"));
+    }
+    let water = match stage {
+        Some(StageView {
+            water: Some((w, field)),
+            ..
+        }) => Some(WaterTable::try_new(scene, field, w)?),
+        Some(_) => None,
+        None => water_table(scene)?,
+    };
+    // Each Gauss point's density; the points' layout is mapped ahead of the assembly
+    // only when the densities vary (layers, saturated below a water table).
+    let dry = required_densities(scene)?;
+    let densities = if water.is_none() && dry.iter().all(|d| *d == dry[0]) {
+        Vec::new()
+    } else {
+        let (elements, positions) = Assembly::gauss_layout(&mesh, geometry)
+            .map_err(|e| scene.error("mesh", e.to_string()))?;
+        let point_material: Vec<usize> = elements.iter().map(|&e| element_material[e]).collect();
+        let below: Vec<bool> = positions
+            .iter()
+            .map(|&x| water.as_ref().is_some_and(|w| w.pore_pressure(x) > 0.0))
+            .collect();
+        point_densities(scene, &point_material, &below)?
+    };
+    // One density everywhere: the scalar assembly (a layered scene of one material
+    // gives the one-material model bit for bit); else each point's.
+    let uniform = densities
+        .iter()
+        .all(|d| *d == densities.first().copied().unwrap_or(dry[0]));
+    let assembly = if uniform {
+        Assembly::with_geometry(
+            &mesh,
+            &dofs,
+            densities.first().copied().unwrap_or(dry[0]),
+            geometry,
+        )
+    } else {
+        Assembly::with_point_densities(&mesh, &dofs, &densities, geometry)
+    }
+    .map_err(|e| {
+        let field = match &e {
+            FemError::InvalidInput {
+                field: "density", ..
+            } => "material.density",
+            _ if geometry == Geometry::Axisymmetric => "analysis.geometry",
+            _ => "material.density",
+        };
+        scene.error(field, e.to_string())
+    })?;
+    let point_material: Vec<usize> = assembly
+        .gauss_element
+        .iter()
+        .map(|&e| element_material[e])
+        .collect();
+    let densities = if densities.is_empty() {
+        vec![dry[0]; assembly.n_points()]
+    } else {
+        densities
+    };
+
+    // Prescribed velocities: later conditions win where sets overlap.
+    let mut prescribed_velocity = vec![0.0; dofs.n_prescribed()];
+    // A dof no `[[boundary]]` fixes (the axis) belongs to no condition: index
+    // `boundary.len()`, which names no reaction group and follows no ramp.
+    let mut owner = vec![spec.boundary.len(); dofs.n_prescribed()];
+    let mut reaction_dofs = Vec::new();
+    let boundary_constraints = &constraints[axis_constraints..];
+    for (k, (b, (nodes, _))) in spec.boundary.iter().zip(boundary_constraints).enumerate() {
+        if nodes.is_empty() {
+            continue;
+        }
+        let is_reaction = b.name.is_some() && b.name == spec.output.reaction;
+        for &n in nodes {
+            for comp in 0..2 {
+                let fixed = matches!((b.fix, comp), (Fix::Xy, _) | (Fix::X, 0) | (Fix::Y, 1));
+                if let (true, Some(j)) = (fixed, dofs.prescribed(n, comp)) {
+                    prescribed_velocity[j] = b.velocity[comp];
+                    owner[j] = k;
+                    if is_reaction && !reaction_dofs.contains(&(j, comp)) {
+                        reaction_dofs.push((j, comp));
+                    }
+                }
+            }
+        }
+    }
+    // A dof follows the ramp of the condition that set its velocity.
+    let velocity_ramps: Vec<(Ramp, Vec<usize>)> = boundary_ramps
+        .into_iter()
+        .enumerate()
+        .filter_map(|(k, ramp)| {
+            let dofs: Vec<usize> = (0..owner.len()).filter(|&j| owner[j] == k).collect();
+            ramp.filter(|_| !dofs.is_empty()).map(|r| (r, dofs))
+        })
+        .collect();
+    if let Some(name) = &spec.output.reaction {
+        // A stage may switch the reported boundary off: its reaction is 0 there.
+        let switched_off = spec
+            .boundary
+            .iter()
+            .any(|b| b.name.as_ref() == Some(name) && !acts(&b.stages));
+        if reaction_dofs.is_empty() && !switched_off {
+            return Err(scene.error(
+                "output.reaction",
+                format!("no boundary named `{name}` with fixed components"),
+            ));
+        }
+    }
+
+    // Added to the model in the order of the scene: a load without a ramp into the
+    // constant forces, a ramped one kept apart at multiplier 1 (`Model::add_load`).
+    let mut loads = Vec::new();
+    let mut add_load = |forces: (Vec<f64>, Vec<f64>), ramp: Option<Ramp>| {
+        loads.push((forces, ramp));
+    };
+    let gravity_ramp = check::ramp(scene, "gravity_ramp", &spec.gravity_ramp)?;
+    match spec.gravity {
+        Some(g) => add_load(
+            point_weight(scene, &assembly, &densities, g)?,
+            gravity_ramp.clone(),
+        ),
+        None if gravity_ramp.is_some() => {
+            return Err(scene.error("gravity_ramp", "multiplies `gravity`, which is not given"))
+        }
+        None => {}
+    }
+    // The water's push on the free boundary below the table (`water_loads`), following
+    // the weight's ramp as the pore pressure does.
+    if let Some(w) = &water {
+        let edges = free_edges_below(&mesh, &dofs, w);
+        if !edges.is_empty() {
+            add_load(
+                assembly
+                    .pressure_with(&mesh, &edges, |x| w.pore_pressure(x))
+                    .map_err(|e| scene.error("water", e.to_string()))?,
+                gravity_ramp.clone(),
+            );
+        }
+    }
+    for (k, t) in spec.traction.iter().enumerate() {
+        if !acts(&t.stages) {
+            continue;
+        }
+        let field = format!("traction[{k}].edges");
+        let edges = select_edges(scene, &mesh, &t.edges, &field, &in_stage)?;
+        check_off_axis(scene, &mesh, &edges, &field, geometry)?;
+        let ramp = check::ramp(scene, &format!("traction[{k}].ramp"), &t.ramp)?;
+        add_load(
+            assembly
+                .traction(&mesh, &edges, t.value)
+                .map_err(|e| scene.error(&format!("traction[{k}].value"), e.to_string()))?,
+            ramp,
+        );
+    }
+    for (k, p) in spec.pressure.iter().enumerate() {
+        if !acts(&p.stages) {
+            continue;
+        }
+        let field = format!("pressure[{k}].edges");
+        let edges = select_edges(scene, &mesh, &p.edges, &field, &in_stage)?;
+        check_off_axis(scene, &mesh, &edges, &field, geometry)?;
+        let ramp = check::ramp(scene, &format!("pressure[{k}].ramp"), &p.ramp)?;
+        if !p.value.is_finite() {
+            return Err(scene.error(
+                &format!("pressure[{k}].value"),
+                format!("{} Pa must be finite", p.value),
+            ));
+        }
+        let forces = match p.gradient {
+            None => assembly.pressure(&mesh, &edges, p.value),
+            Some(gradient) if gradient.is_finite() => {
+                assembly.pressure_with(&mesh, &edges, |x| p.value + gradient * x[1])
+            }
+            Some(gradient) => {
+                return Err(scene.error(
+                    &format!("pressure[{k}].gradient"),
+                    format!("{gradient} Pa/m must be finite"),
+                ))
+            }
+        };
+        add_load(
+            forces.map_err(|e| scene.error(&field, e.to_string()))?,
+            ramp,
+        );
+    }
+    for (k, l) in spec.point_load.iter().enumerate() {
+        if !acts(&l.stages) {
+            continue;
+        }
+        let field = format!("point_load[{k}]");
+        if !l.point.iter().all(|v| v.is_finite()) {
+            return Err(scene.error(
+                &format!("{field}.point"),
+                format!("{:?} m must be finite", l.point),
+            ));
+        }
+        if !l.force.iter().all(|v| v.is_finite()) {
+            return Err(scene.error(
+                &format!("{field}.force"),
+                format!("{:?} N/m must be finite", l.force),
+            ));
+        }
+        let ramp = check::ramp(scene, &format!("{field}.ramp"), &l.ramp)?;
+        let node = nearest_node(&mesh, l.point);
+        add_load(
+            assembly
+                .point_force(node, l.force)
+                .map_err(|e| scene.error(&format!("{field}.force"), e.to_string()))?,
+            ramp,
+        );
+    }
+    let mut model = Model::with_materials(mesh, assembly, ground.materials.clone(), point_material)
+        .map_err(|e| scene.error("material", e.to_string()))?;
+    if let Some(w) = &water {
+        model.pore_pressure = (model.assembly.gauss_points.iter())
+            .map(|&x| w.pore_pressure(x))
+            .collect();
+        model.pore_pressure_ramp = gravity_ramp;
+    }
+    for (forces, ramp) in loads {
+        model.add_load(forces, ramp);
+    }
+    super::quasi_static::scale_masses(scene, &mut model)?;
+    model.prescribed_velocity = prescribed_velocity;
+    model.velocity_ramps = velocity_ramps;
+    model.reaction_dofs = reaction_dofs;
+    model.dof_owner = owner;
+    Ok(model)
 }
 
 /// What a run of `model` should be told (`summary.json`'s `warnings`): plastic flow on
@@ -330,19 +397,16 @@ fn point_weight(
 }
 
 /// The weight of gravity `g` (m/s²) on `model` built from `scene`, each point with its
-/// density (N/m, free and prescribed dofs).
+/// density, saturated where the model has pore pressure (N/m, free and prescribed dofs).
 pub fn weight(
     scene: &Scene,
     model: &Model,
     g: [f64; 2],
 ) -> Result<(Vec<f64>, Vec<f64>), SceneError> {
-    let water = water_table(scene)?;
-    let densities = point_densities(
-        scene,
-        water.as_ref(),
-        &model.point_material,
-        &model.assembly.gauss_points,
-    )?;
+    let below: Vec<bool> = (0..model.n_points())
+        .map(|p| model.pore_pressure.get(p).is_some_and(|&pw| pw > 0.0))
+        .collect();
+    let densities = point_densities(scene, &model.point_material, &below)?;
     point_weight(scene, &model.assembly, &densities, g)
 }
 
@@ -373,21 +437,21 @@ pub fn water_table(scene: &Scene) -> Result<Option<WaterTable>, SceneError> {
         .transpose()
 }
 
-/// Each Gauss point's density (kg/m³): its material's, saturated below the water table.
+/// Each Gauss point's density (kg/m³): its material's, saturated where `below` (the
+/// water table).
 fn point_densities(
     scene: &Scene,
-    water: Option<&WaterTable>,
     point_material: &[usize],
-    points: &[[f64; 2]],
+    below: &[bool],
 ) -> Result<Vec<f64>, SceneError> {
     let dry = required_densities(scene)?;
     let all = scene.spec.material.all();
     Ok(point_material
         .iter()
-        .zip(points)
-        .map(|(&m, &x)| match water {
-            Some(w) if w.pore_pressure(x) > 0.0 => all[m].saturated_density.unwrap_or(dry[m]),
-            _ => dry[m],
+        .zip(below)
+        .map(|(&m, &below)| match below {
+            true => all[m].saturated_density.unwrap_or(dry[m]),
+            false => dry[m],
         })
         .collect())
 }
@@ -474,7 +538,7 @@ fn check_scales(scene: &Scene, mesh: &Mesh) -> Result<(), SceneError> {
     scales::check_scales(scene, &imposed, &body)
 }
 
-fn build_mesh(scene: &Scene) -> Result<Mesh, SceneError> {
+pub(super) fn build_mesh(scene: &Scene) -> Result<Mesh, SceneError> {
     match &scene.spec.mesh {
         MeshSpec::Rectangle {
             x,
@@ -569,6 +633,7 @@ fn select_nodes(
     mesh: &Mesh,
     sel: &Selection,
     field: &str,
+    in_stage: &str,
 ) -> Result<Vec<usize>, SceneError> {
     let nodes = match sel {
         Selection::Named(name) => mesh.node_sets.get(name).cloned().ok_or_else(|| {
@@ -585,7 +650,7 @@ fn select_nodes(
             .map_err(|e| scene.error(field, e.to_string()))?,
     };
     if nodes.is_empty() {
-        return Err(scene.error(field, "selects no node"));
+        return Err(scene.error(field, format!("selects no node{in_stage}")));
     }
     Ok(nodes)
 }
@@ -595,6 +660,7 @@ fn select_edges(
     mesh: &Mesh,
     sel: &Selection,
     field: &str,
+    in_stage: &str,
 ) -> Result<Vec<BoundaryEdge>, SceneError> {
     let edges = match sel {
         Selection::Named(name) => mesh.edge_sets.get(name).cloned().ok_or_else(|| {
@@ -613,7 +679,7 @@ fn select_edges(
         }
     };
     if edges.is_empty() {
-        return Err(scene.error(field, "selects no boundary edge"));
+        return Err(scene.error(field, format!("selects no boundary edge{in_stage}")));
     }
     Ok(edges)
 }

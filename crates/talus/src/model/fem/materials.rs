@@ -12,6 +12,8 @@ use crate::scene::{check, Materials, Scene, SceneError};
 pub struct Ground {
     pub materials: Vec<Material>,
     pub element_material: Vec<usize>,
+    /// The named regions and their elements (stages switch them off and on).
+    pub regions: BTreeMap<String, Vec<usize>>,
 }
 
 /// The centroid of element `e`'s vertices (m).
@@ -63,6 +65,29 @@ fn regions(scene: &Scene, mesh: &Mesh) -> Result<BTreeMap<String, Vec<usize>>, S
     Ok(regions)
 }
 
+/// The elements of the region `name`, or an error at `field` listing the regions.
+pub(super) fn region<'a>(
+    scene: &Scene,
+    regions: &'a BTreeMap<String, Vec<usize>>,
+    field: &str,
+    name: &str,
+) -> Result<&'a Vec<usize>, SceneError> {
+    regions.get(name).ok_or_else(|| {
+        let known: Vec<&str> = regions.keys().map(String::as_str).collect();
+        scene.error(
+            field,
+            format!(
+                "\"{name}\" is no region of the scene (regions: {})",
+                if known.is_empty() {
+                    "none".into()
+                } else {
+                    known.join(", ")
+                }
+            ),
+        )
+    })
+}
+
 /// The checked materials and the material of every element.
 pub fn ground(scene: &Scene, mesh: &Mesh) -> Result<Ground, SceneError> {
     let spec = &scene.spec;
@@ -79,6 +104,7 @@ pub fn ground(scene: &Scene, mesh: &Mesh) -> Result<Ground, SceneError> {
             return Ok(Ground {
                 materials,
                 element_material: vec![0; n],
+                regions,
             });
         }
     }
@@ -110,20 +136,7 @@ pub fn ground(scene: &Scene, mesh: &Mesh) -> Result<Ground, SceneError> {
             ));
         }
         for (j, r) in m.regions.iter().enumerate() {
-            let elements = regions.get(r).ok_or_else(|| {
-                let known: Vec<&str> = regions.keys().map(String::as_str).collect();
-                scene.error(
-                    &format!("{field}.regions[{j}]"),
-                    format!(
-                        "\"{r}\" is no region of the scene (regions: {})",
-                        if known.is_empty() {
-                            "none".into()
-                        } else {
-                            known.join(", ")
-                        }
-                    ),
-                )
-            })?;
+            let elements = region(scene, &regions, &format!("{field}.regions[{j}]"), r)?;
             for &e in elements {
                 if !claimed[e].contains(&k) {
                     claimed[e].push(k);
@@ -169,5 +182,6 @@ pub fn ground(scene: &Scene, mesh: &Mesh) -> Result<Ground, SceneError> {
     Ok(Ground {
         materials,
         element_material,
+        regions,
     })
 }

@@ -6,6 +6,7 @@ mod materials;
 mod monitors;
 mod quasi_static;
 mod reaction_groups;
+pub mod stages;
 
 pub use build::{warnings, water_table, weight, FromScene};
 pub use monitors::NodeMonitors;

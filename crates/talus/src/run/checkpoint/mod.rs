@@ -2,12 +2,16 @@
 //! OUT_DIR` (`docs/scenes.md`, 'Checkpoints and resume'): everything the next step and the
 //! outputs depend on, written every N steps to `OUT_DIR/checkpoint/last.checkpoint`.
 //!
-//! The file is one header line, `talus-checkpoint format=1 step=K bytes=B fnv1a64=X`, then
-//! the checkpoint as JSON (B bytes, FNV-1a 64 hash X): a truncated or altered file is
-//! refused, never half read. JSON because the workspace's serde_json already writes every
-//! finite f64 in its shortest round-trip form (ryu) and, with `float_roundtrip`, reads it
-//! back to the same bits; no new dependency, and the file can be inspected. Its cost,
-//! about 20 bytes per value, is measured in `docs/scenes.md`.
+//! The file is one header line, `talus-checkpoint format=1 step=K bytes=B fnv1a64=X
+//! history=Y`, then the checkpoint as JSON (B bytes, FNV-1a 64 hash X): a truncated or
+//! altered file is refused, never half read. Y ties it to its folder: the hash of
+//! `history.csv`'s header and row K (its wall time aside) when it was written
+//! ([`history_key`]); a checkpoint whose Y is not its folder's (another run's, copied
+//! there) is refused. JSON because the
+//! workspace's serde_json already writes every finite f64 in its shortest round-trip form
+//! (ryu) and, with `float_roundtrip`, reads it back to the same bits; no new dependency,
+//! and the file can be inspected. Its cost, about 20 bytes per value, is measured in
+//! `docs/scenes.md`.
 mod resume;
 
 use std::path::{Path, PathBuf};
@@ -16,7 +20,10 @@ use serde::{Deserialize, Serialize};
 
 use talus_engine::{CollapseWatch, StepperMemory};
 
-pub use resume::{drop_numbered_files, truncate_history};
+pub use resume::{
+    drop_numbered_files, history_key, history_prefix, keep_existing_files, truncate_history,
+    write_history,
+};
 
 /// The checkpoint's path in an output folder.
 pub fn path(out: &Path) -> PathBuf {
@@ -52,9 +59,12 @@ impl SceneRecord {
     pub fn new(path: Option<&Path>, source: &str) -> Self {
         // Absolute, so that `talus resume` finds it from any folder.
         let path = path.map(|p| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf()));
-        let held = path
-            .as_ref()
-            .is_some_and(|p| std::fs::read_to_string(p).ok().as_deref() != Some(source));
+        // Without a file, the scene is the built-in footing only if it is its text: an
+        // in-memory scene (the Python package's `Scene.from_toml`) is held.
+        let held = match &path {
+            Some(p) => std::fs::read_to_string(p).ok().as_deref() != Some(source),
+            None => source != crate::scene::BUILTIN_FOOTING,
+        };
         Self {
             path,
             source: source.to_string(),
@@ -105,7 +115,8 @@ pub struct Checkpoint<S> {
     pub outputs: serde_json::Value,
 }
 
-/// Why a checkpoint cannot be written or resumed.
+/// Why a checkpoint cannot be written or resumed, or an output folder not used
+/// (`crate::run::folder`).
 #[derive(Debug, thiserror::Error)]
 pub enum CheckpointError {
     #[error(
@@ -140,6 +151,35 @@ pub enum CheckpointError {
         step: usize,
         why: String,
     },
+    /// The checkpoint was not written after the rows of `history.csv` beside it: another
+    /// run's checkpoint copied into the folder, or `history.csv` replaced.
+    #[error(
+        "checkpoint {} is not the one of the run in {}: it was written after another row of \
+         step {step} than the one in history.csv (another run's checkpoint, or history.csv \
+         replaced): resume refused, nothing in the folder was changed (run the scene afresh \
+         with `talus run`)",
+        path.display(),
+        dir.display()
+    )]
+    Foreign {
+        dir: PathBuf,
+        path: PathBuf,
+        step: usize,
+    },
+    /// Another run or resume holds the output folder (`crate::run::folder::lock`).
+    #[error(
+        "the output folder {} is in use by another talus run or resume{holder}: refused, \
+         nothing in it was changed (wait for that run to end, or choose another folder; its \
+         lock is {})",
+        dir.display(),
+        lock.display()
+    )]
+    InUse {
+        dir: PathBuf,
+        lock: PathBuf,
+        /// ` (pid N)`, or empty when the holder's pid is not known.
+        holder: String,
+    },
 }
 
 impl CheckpointError {
@@ -158,7 +198,8 @@ impl CheckpointError {
 }
 
 /// Writes `checkpoint` to `out`'s checkpoint file, atomically: a kill while writing leaves
-/// the previous checkpoint.
+/// the previous checkpoint. Its header ties it to `out/history.csv`, whose last row is then
+/// the checkpoint's step ([`history_key`]; none when it is not).
 pub fn write<S: Serialize>(out: &Path, checkpoint: &Checkpoint<S>) -> Result<(), CheckpointError> {
     let path = path(out);
     let io = |source| CheckpointError::Io {
@@ -169,8 +210,10 @@ pub fn write<S: Serialize>(out: &Path, checkpoint: &Checkpoint<S>) -> Result<(),
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir).map_err(io)?;
     }
+    let history = resume::key_of_file(&out.join("history.csv"), checkpoint.step)
+        .map_or(String::new(), |key| format!(" history={key}"));
     let mut bytes = format!(
-        "talus-checkpoint format={FORMAT} step={} bytes={} fnv1a64={:016x}\n",
+        "talus-checkpoint format={FORMAT} step={} bytes={} fnv1a64={:016x}{history}\n",
         checkpoint.step,
         payload.len(),
         fnv1a64(&payload)
@@ -199,7 +242,9 @@ fn field<'a>(header: &'a str, name: &str) -> Option<&'a str> {
 
 /// Reads `out`'s checkpoint, its state left as JSON for the method to read
 /// ([`Checkpoint::with_state`]). Every damage the header can reveal (length, hash,
-/// format) is an error naming it.
+/// format) is an error naming it; so are a `history.csv` that does not reach its step and,
+/// when the header has its `history` key, one whose row of the step is not the one it was
+/// written after (another run's checkpoint). Reads only.
 pub fn read(out: &Path) -> Result<Checkpoint<serde_json::Value>, CheckpointError> {
     let path = path(out);
     let bytes = std::fs::read(&path).map_err(|source| {
@@ -271,6 +316,24 @@ pub fn read(out: &Path) -> Result<Checkpoint<serde_json::Value>, CheckpointError
                 checkpoint.step, checkpoint.steps, checkpoint.every
             ),
         ));
+    }
+    let history = out.join("history.csv");
+    match field(header, "history") {
+        Some(key) => {
+            let kept = history_prefix(&history, checkpoint.step)?;
+            if resume::key_of_prefix(&kept).as_deref() != Some(key) {
+                return Err(CheckpointError::Foreign {
+                    dir: out.to_path_buf(),
+                    path,
+                    step: checkpoint.step,
+                });
+            }
+        }
+        None => tracing::warn!(
+            checkpoint = %path.display(),
+            "the checkpoint does not record the history.csv it was written after (an older \
+             talus wrote it): that it is this folder's run cannot be checked"
+        ),
     }
     if checkpoint.talus != WRITER {
         tracing::warn!(

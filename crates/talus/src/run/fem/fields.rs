@@ -1,9 +1,59 @@
-//! The element fields of a FEM state in a VTU file (`docs/scenes.md`, 'Outputs').
+//! The element fields of a FEM state in a VTU file (`docs/scenes.md`, 'Outputs'), and
+//! the last two states a run kept for the step's plastic strain increment.
 use std::path::Path;
 
+use nalgebra::SVector;
+use talus_fem::Dof;
+
 use crate::model::fem::{Model, State};
-use crate::output::{self, FieldSnapshot, MeshView, OutputError};
+use crate::output::{self, FieldExtras, FieldSnapshot, MeshView, OutputError};
 use crate::run::RunError;
+
+/// The stress and displacement after the last two steps of a run, from which a VTU's
+/// `plastic_strain_increment` is taken (`Δ` over the step that led to the written state).
+#[derive(Debug, Default)]
+pub(super) struct LastSteps {
+    before: Option<Kept>,
+    latest: Option<Kept>,
+}
+
+#[derive(Debug, Default)]
+struct Kept {
+    step: usize,
+    sigma: Vec<f64>,
+    displacement: Vec<[f64; 2]>,
+}
+
+/// The Mandel stress (flat, Pa) and nodal displacement (m) a step started from.
+type Start<'a> = (&'a [f64], &'a [[f64; 2]]);
+
+impl LastSteps {
+    /// Keeps `state`, the state after `step`, and the one kept before it (reusing the
+    /// older one's memory).
+    pub(super) fn push(&mut self, step: usize, state: &State) {
+        let mut k = self.before.take().unwrap_or_default();
+        k.step = step;
+        k.sigma.clone_from(&state.sigma);
+        k.displacement.clone_from(&state.displacement);
+        self.before = self.latest.replace(k);
+    }
+
+    /// Where the step to `state`, the state after `step`, started: `state` itself at step 0
+    /// (no step yet: a zero increment), else the kept state of `step − 1` when `state` is
+    /// the last one kept. `None` when that state was not kept or has other sizes.
+    pub(super) fn start_of<'a>(&'a self, step: usize, state: &'a State) -> Option<Start<'a>> {
+        if step == 0 {
+            return Some((&state.sigma, &state.displacement));
+        }
+        let latest = self.latest.as_ref()?;
+        let before = self.before.as_ref()?;
+        let sizes = |k: &Kept| (k.sigma.len(), k.displacement.len());
+        (latest.step == step
+            && before.step + 1 == step
+            && sizes(before) == (state.sigma.len(), state.displacement.len()))
+            .then_some((&before.sigma, &before.displacement))
+    }
+}
 
 /// Per-element averages of the Gauss-point stress and plastic strain.
 pub(super) fn element_fields(model: &Model, state: &State) -> (Vec<[f64; 4]>, Vec<f64>) {
@@ -26,8 +76,112 @@ pub(super) fn element_fields(model: &Model, state: &State) -> (Vec<[f64; 4]>, Ve
     (stress, plastic)
 }
 
-pub(super) fn write_snapshot(model: &Model, state: &State, path: &Path) -> Result<(), RunError> {
+/// Each element's mean of its Gauss points' values.
+fn element_means(model: &Model, point_values: &[SVector<f64, 4>]) -> Vec<[f64; 4]> {
+    let n_el = model.mesh.triangles.len();
+    let mut sum = vec![SVector::<f64, 4>::zeros(); n_el];
+    let mut count = vec![0usize; n_el];
+    for (v, &e) in point_values.iter().zip(&model.assembly.gauss_element) {
+        sum[e] += v;
+        count[e] += 1;
+    }
+    sum.iter()
+        .zip(&count)
+        .map(|(s, &c)| (s / c.max(1) as f64).into())
+        .collect()
+}
+
+/// The small strain `B u` at each Gauss point (Mandel `(xx, yy, zz, √2 xy)`, zz the hoop
+/// strain `u_r / r` in axisymmetry) of the nodal displacement `u` (m), by the assembly's
+/// strain operator.
+fn point_strains(
+    model: &Model,
+    u: &[[f64; 2]],
+    field: &'static str,
+) -> Result<Vec<SVector<f64, 4>>, RunError> {
+    let invalid = |message: String| RunError::Output(OutputError::Invalid { field, message });
+    let dofs = model.assembly.dofs();
+    if u.len() != dofs.n_nodes() {
+        return Err(invalid(format!(
+            "{} nodal displacements for {} nodes",
+            u.len(),
+            dofs.n_nodes()
+        )));
+    }
+    let mut free = vec![0.0; dofs.n_free()];
+    let mut prescribed = vec![0.0; dofs.n_prescribed()];
+    for (node, d) in u.iter().enumerate() {
+        for (comp, value) in d.iter().enumerate() {
+            match dofs.dof(node, comp) {
+                Some(Dof::Free(i)) => free[i] = *value,
+                Some(Dof::Prescribed(j)) => prescribed[j] = *value,
+                None => {}
+            }
+        }
+    }
+    model
+        .assembly
+        .strain(&free, &prescribed)
+        .map_err(|e| invalid(e.to_string()))
+}
+
+/// Per element, the mean over its Gauss points of the total small strain `B u`.
+fn element_strains(model: &Model, state: &State) -> Result<Vec<[f64; 4]>, RunError> {
+    Ok(element_means(
+        model,
+        &point_strains(model, &state.displacement, "strain")?,
+    ))
+}
+
+/// Per element, the mean over its Gauss points of the plastic strain increment of the step
+/// from `start` to `state`: `Δεᵖ = B Δu − S Δσ`, `S` the point's elastic compliance. It is
+/// what the step's solve gave, `−z_p / V_p` (eq. 15: `S Δσ = B Δu − V Δεᵖ` per point).
+fn element_plastic_increments(
+    model: &Model,
+    state: &State,
+    (sigma0, u0): Start,
+) -> Result<Vec<[f64; 4]>, RunError> {
+    let field = "plastic_strain_increment";
+    let du: Vec<[f64; 2]> = state
+        .displacement
+        .iter()
+        .zip(u0)
+        .map(|(u, u0)| [u[0] - u0[0], u[1] - u0[1]])
+        .collect();
+    let mut increments = point_strains(model, &du, field)?;
+    if state.sigma.len() != 4 * increments.len() || sigma0.len() != state.sigma.len() {
+        return Err(RunError::Output(OutputError::invalid(
+            field,
+            format!(
+                "{} and {} stresses for {} Gauss points × 4",
+                sigma0.len(),
+                state.sigma.len(),
+                increments.len()
+            ),
+        )));
+    }
+    for (p, d) in increments.iter_mut().enumerate() {
+        let r = 4 * p..4 * p + 4;
+        let ds = SVector::<f64, 4>::from_column_slice(&state.sigma[r.clone()])
+            - SVector::<f64, 4>::from_column_slice(&sigma0[r]);
+        *d -= model.compliance_at(p) * ds;
+    }
+    Ok(element_means(model, &increments))
+}
+
+/// The VTU of `state` at `path`; with `start`, the state its step started from, it holds
+/// the step's `plastic_strain_increment`.
+pub(super) fn write_snapshot(
+    model: &Model,
+    state: &State,
+    start: Option<Start>,
+    path: &Path,
+) -> Result<(), RunError> {
     let (stress, plastic) = element_fields(model, state);
+    let strain = element_strains(model, state)?;
+    let increment = start
+        .map(|s| element_plastic_increments(model, state, s))
+        .transpose()?;
     let material = model.element_materials();
     // The pore pressure at the state's time, per element (its points' mean).
     let pore_pressure = model.pore_pressure.iter().any(|p| *p != 0.0).then(|| {
@@ -56,7 +210,7 @@ pub(super) fn write_snapshot(model: &Model, state: &State, path: &Path) -> Resul
                 message: e.to_string(),
             })
         })?;
-    output::write_vtu(
+    output::write_vtu_with(
         path,
         &FieldSnapshot {
             mesh: MeshView {
@@ -71,7 +225,10 @@ pub(super) fn write_snapshot(model: &Model, state: &State, path: &Path) -> Resul
             material: Some(&material),
             pore_pressure: pore_pressure.as_deref(),
         },
+        &FieldExtras {
+            strain: Some(&strain),
+            plastic_strain_increment: increment.as_deref(),
+        },
     )?;
     Ok(())
 }
-

@@ -3,6 +3,7 @@
 mod fields;
 mod plots;
 mod results;
+mod stages;
 
 use std::path::Path;
 use std::time::Instant;
@@ -10,7 +11,8 @@ use std::time::Instant;
 use talus_engine::Stepper;
 
 use super::checkpoint::{self, Checkpoint, CheckpointError};
-use super::{io_err, RunError, RunOptions, RunOutputs, Shape, HISTORY_COLUMNS};
+use super::{io_err, RunError, RunOptions, RunOutputs, Shape, Span, HISTORY_COLUMNS};
+use crate::model::fem::stages::Stages;
 use crate::model::fem::{FromScene, Model, ReactionForce, State, StepRecord};
 use crate::output;
 use crate::output::{Results, ResultsProgress};
@@ -66,6 +68,9 @@ fn run_scene_from(
     options: &RunOptions,
     resumed: Option<Checkpoint<serde_json::Value>>,
 ) -> Result<RunSummary, RunError> {
+    if let Some(stages) = Stages::of(scene)? {
+        return stages::run(scene, stages, options, resumed);
+    }
     if scene.spec.stability.is_some() {
         return Err(scene
             .error(
@@ -87,32 +92,14 @@ fn run_scene_from(
         materials = model.materials.len(),
         "model built"
     );
-    let results = FemResults::new(
-        scene,
-        &model,
-        &format!("{HISTORY_COLUMNS},{}", FEM_COLUMNS.join(",")),
-    )?;
-    let mut outputs = FemOutputs {
-        scene,
-        results,
-        model: &model,
-        out: &options.out_dir,
-        write_fields: options.write_fields,
-        reaction_nodes: model
-            .reaction_dofs
-            .iter()
-            .map(|&(j, _)| dofs.prescribed_dofs()[j].0)
-            .collect(),
-        pvd: Vec::new(),
-        curve: Vec::new(),
-        histories: Vec::new(),
-    };
+    let mut outputs = FemOutputs::new(scene, &model, options, None)?;
     let stepped = super::execute(
         &mut stepper,
         state,
         resumed,
         &mut outputs,
-        &scene.spec.time,
+        Span::whole(scene.spec.time.steps),
+        scene.spec.time.step,
         options,
         (scene.path.as_deref(), &scene.source),
     )?;
@@ -146,6 +133,102 @@ struct FemOutputs<'a> {
     curve: Vec<(f64, f64)>,
     /// `(step, ‖F‖∞ / max(1, ‖σ‖∞) per iteration)` of every solve, for the Newton plot.
     histories: Vec<(usize, Vec<f64>)>,
+    /// The last two steps' stress and displacement: a VTU's plastic strain increment.
+    last_steps: fields::LastSteps,
+    /// A staged run's stage: history.csv's `stage` column, the VTU at its end, and the
+    /// force it releases (saved in a checkpoint).
+    stage: Option<StageOutputs>,
+}
+
+/// What [`FemOutputs`] knows of the stage it writes.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+struct StageOutputs {
+    /// Its index in `[[stage]]` (history.csv's `stage`) and its name.
+    index: usize,
+    name: String,
+    last_step: usize,
+    /// The out-of-balance force the stage releases, and its ramp's start and end times.
+    release: Option<stages::Release>,
+}
+
+impl<'a> FemOutputs<'a> {
+    fn new(
+        scene: &'a Scene,
+        model: &'a Model,
+        options: &'a RunOptions,
+        stage: Option<StageOutputs>,
+    ) -> Result<Self, RunError> {
+        let stage_column = if stage.is_some() { ",stage" } else { "" };
+        let results = FemResults::new(
+            scene,
+            model,
+            &format!("{HISTORY_COLUMNS},{}{stage_column}", FEM_COLUMNS.join(",")),
+        )?;
+        Ok(Self {
+            scene,
+            results,
+            model,
+            out: &options.out_dir,
+            write_fields: options.write_fields,
+            reaction_nodes: reaction_nodes(model),
+            pvd: Vec::new(),
+            curve: Vec::new(),
+            histories: Vec::new(),
+            last_steps: fields::LastSteps::default(),
+            stage,
+        })
+    }
+
+    /// What carries on to the next stage of a staged run.
+    fn into_carried(self) -> Carried {
+        Carried {
+            results: self.results,
+            pvd: self.pvd,
+            curve: self.curve,
+            histories: self.histories,
+        }
+    }
+
+    /// The outputs of a staged run's next stage, on its model: what was recorded carries on.
+    fn next_stage(
+        scene: &'a Scene,
+        carried: Carried,
+        model: &'a Model,
+        options: &'a RunOptions,
+        stage: StageOutputs,
+    ) -> Result<Self, RunError> {
+        Ok(FemOutputs {
+            scene,
+            results: carried.results.rebind(scene, model)?,
+            model,
+            out: &options.out_dir,
+            write_fields: options.write_fields,
+            reaction_nodes: reaction_nodes(model),
+            pvd: carried.pvd,
+            curve: carried.curve,
+            histories: carried.histories,
+            last_steps: fields::LastSteps::default(),
+            stage: Some(stage),
+        })
+    }
+}
+
+/// What [`FemOutputs`] recorded, from one stage to the next.
+struct Carried {
+    results: FemResults,
+    pvd: Vec<(f64, String)>,
+    curve: Vec<(f64, f64)>,
+    histories: Vec<(usize, Vec<f64>)>,
+}
+
+/// The nodes of the reported boundary's prescribed dofs.
+fn reaction_nodes(model: &Model) -> Vec<usize> {
+    let dofs = model.assembly.dofs();
+    model
+        .reaction_dofs
+        .iter()
+        .map(|&(j, _)| dofs.prescribed_dofs()[j].0)
+        .collect()
 }
 
 /// What [`FemOutputs`] saves in a checkpoint.
@@ -156,13 +239,16 @@ struct FemProgress {
     pvd: Vec<(f64, String)>,
     curve: Vec<(f64, f64)>,
     histories: Vec<(usize, Vec<f64>)>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    stage: Option<StageOutputs>,
 }
 
 impl RunOutputs<&Model> for FemOutputs<'_> {
     fn columns(&self) -> String {
         format!(
-            ",{}{}",
+            ",{}{}{}",
             FEM_COLUMNS.join(","),
+            if self.stage.is_some() { ",stage" } else { "" },
             self.results.results.header()
         )
     }
@@ -199,13 +285,23 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
             }
         };
         self.curve.push((displacement, reaction));
-        format!(",{reaction:.10e},{displacement:.10e}{rest}")
+        let stage = self
+            .stage
+            .as_ref()
+            .map_or(String::new(), |s| format!(",{}", s.index));
+        format!(",{reaction:.10e},{displacement:.10e}{stage}{rest}")
     }
 
     /// VTUs at step 0, every `vtu_every` steps and the last.
     fn after_step(&mut self, step: usize, state: &State) -> Result<(), RunError> {
         let every = self.scene.spec.output.vtu_every;
-        let last = self.scene.spec.time.steps;
+        let last = match &self.stage {
+            Some(s) => s.last_step,
+            None => self.scene.spec.time.steps,
+        };
+        if self.write_fields {
+            self.last_steps.push(step, state);
+        }
         if self.write_fields && (step == 0 || (every > 0 && step % every == 0) || step == last) {
             self.write_vtu(step, state)?;
         }
@@ -242,6 +338,14 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
         Ok(())
     }
 
+    /// A resumed run's checkpoint state, or a stage's carried one: where the next step's
+    /// plastic strain increment starts.
+    fn begin(&mut self, step: usize, state: &State) {
+        if self.write_fields {
+            self.last_steps.push(step, state);
+        }
+    }
+
     fn results(&self) -> &Results {
         &self.results.results
     }
@@ -252,6 +356,7 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
             pvd: self.pvd.clone(),
             curve: self.curve.clone(),
             histories: self.histories.clone(),
+            stage: self.stage.clone(),
         })
     }
 
@@ -266,6 +371,7 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
         self.pvd = p.pvd;
         self.curve = p.curve;
         self.histories = p.histories;
+        self.stage = p.stage;
         // The VTUs of later steps, and the one an interruption wrote of its last state.
         let listed = |n: usize| {
             self.pvd
@@ -286,7 +392,8 @@ impl FemOutputs<'_> {
         let dir = self.out.join("vtu");
         std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
         let name = format!("step_{step:05}.vtu");
-        write_snapshot(self.model, state, &dir.join(&name))?;
+        let start = self.last_steps.start_of(step, state);
+        write_snapshot(self.model, state, start, &dir.join(&name))?;
         self.pvd.push((state.time, format!("vtu/{name}")));
         // The collection lists every VTU written so far: ParaView opens a killed run.
         output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;

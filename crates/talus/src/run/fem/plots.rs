@@ -3,11 +3,18 @@
 use std::path::Path;
 
 use crate::model::fem::{Model, State};
-use crate::output::{self, MeshView};
+use crate::output::{self, FieldMap, MeshView};
 use crate::run::RunError;
-use crate::scene::Scene;
+use crate::scene::{AnalysisKind, Scene};
 
 use super::fields::element_fields;
+
+/// The plastic strain map's colours stop at this percentile of the elements' values: the
+/// footing's corners otherwise take the whole scale.
+const CLIP_PERCENTILE: f64 = 99.0;
+/// Plastic strains closer than this are not told apart: an elastic step leaves round-off
+/// of about 1e-15, and a map of it is one colour reading 0.
+const PLASTIC_STRAIN_RESOLUTION: f64 = 1e-10;
 
 pub(super) fn write_plots(
     scene: &Scene,
@@ -22,8 +29,14 @@ pub(super) fn write_plots(
         .title
         .clone()
         .unwrap_or_else(|| "talus run".into());
+    let force_unit = scene.spec.analysis.geometry.force_unit();
     if !model.reaction_dofs.is_empty() {
-        output::plot_force_displacement(&out.join("force_displacement.png"), curve, &title)?;
+        output::plot_force_displacement_with_unit(
+            &out.join("force_displacement.png"),
+            curve,
+            &title,
+            force_unit,
+        )?;
     }
     if !histories.is_empty() {
         output::plot_newton_residuals(
@@ -33,7 +46,14 @@ pub(super) fn write_plots(
         )?;
     }
     let (_, plastic) = element_fields(model, state);
-    output::plot_field_on_mesh(
+    let reported = (!model.reaction_dofs.is_empty())
+        .then(|| curve.last().copied())
+        .flatten();
+    let subtitle = format!(
+        "cumulative plastic strain {}",
+        when(scene, state, reported, curve.len().saturating_sub(1))
+    );
+    output::plot_field_map(
         &out.join("plastic_strain.png"),
         &MeshView {
             nodes: &model.mesh.nodes,
@@ -41,8 +61,57 @@ pub(super) fn write_plots(
         },
         None,
         &plastic,
-        &format!("cumulative plastic strain at t = {:.4} s", state.time),
-        "∫‖ε̇ᵖ‖dt (-)",
+        &FieldMap {
+            title: &title,
+            subtitle: Some(&subtitle),
+            label: "∫‖ε̇ᵖ‖dt (-)",
+            clip_percentile: Some(CLIP_PERCENTILE),
+            resolution: PLASTIC_STRAIN_RESOLUTION,
+        },
     )?;
     Ok(())
+}
+
+/// When the map is drawn, in the words of the scene: a quasi-static scene's time is a load
+/// parameter, so its map is dated by the reported boundary's settlement and load (or the
+/// load step without one); a dynamic scene's by its time, with the settlement and load.
+fn when(scene: &Scene, state: &State, reported: Option<(f64, f64)>, step: usize) -> String {
+    let boundary = scene.spec.output.reaction.as_deref().unwrap_or("reported");
+    let unit = scene.spec.analysis.geometry.force_unit();
+    let loaded = reported.map(|(u, f)| {
+        format!(
+            "{boundary} settlement {} mm, load {} k{unit}",
+            short(u * 1e3),
+            short(f * 1e-3)
+        )
+    });
+    match (scene.spec.analysis.kind, loaded) {
+        (AnalysisKind::QuasiStatic, Some(loaded)) => format!("at {loaded}"),
+        (AnalysisKind::QuasiStatic, None) => {
+            format!("after load step {step} of {}", scene.spec.time.steps)
+        }
+        (AnalysisKind::Dynamic, Some(loaded)) => {
+            format!("at t = {} s ({loaded})", short(state.time))
+        }
+        (AnalysisKind::Dynamic, None) => format!("at t = {} s", short(state.time)),
+    }
+}
+
+/// `v` to about 4 significant digits, without trailing zeros (3.0000000001 → `3`).
+fn short(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{}", v + 0.0);
+    }
+    let decimals = (3 - v.abs().log10().floor() as i32).clamp(0, 9) as usize;
+    let s = format!("{v:.decimals$}");
+    let s = if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    };
+    if s == "-0" {
+        "0".into()
+    } else {
+        s
+    }
 }

@@ -4,7 +4,7 @@ use std::path::Path;
 
 use talus_mpm::Particles;
 
-use crate::output::{self, ParticlePlot, ParticleSnapshot};
+use crate::output::{self, OutputError, ParticleExtras, ParticlePlot, ParticleSnapshot};
 use crate::run::{io_err, RunError};
 
 use crate::model::mpm::MpmModel;
@@ -35,7 +35,7 @@ impl FieldWriter<'_> {
         time: f64,
     ) -> Result<(), RunError> {
         if due(step, self.vtu_every, self.last_step) {
-            self.write_vtu(particles, step, time)?;
+            self.write_vtu(model, particles, step, time)?;
         }
         if due(step, self.snapshot_every, self.last_step) {
             let dir = self.out.join("snapshots");
@@ -51,11 +51,17 @@ impl FieldWriter<'_> {
     }
 
     /// `vtu/step_NNNNN.vtu` of the particles at `time`, listed in the collection.
-    fn write_vtu(&mut self, particles: &Particles, step: usize, time: f64) -> Result<(), RunError> {
+    fn write_vtu(
+        &mut self,
+        model: &MpmModel,
+        particles: &Particles,
+        step: usize,
+        time: f64,
+    ) -> Result<(), RunError> {
         let dir = self.out.join("vtu");
         std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
         let name = format!("step_{step:05}.vtu");
-        write_vtu(&dir.join(&name), particles, time)?;
+        write_vtu(&dir.join(&name), &model.particles, particles, time)?;
         self.pvd.push((time, format!("vtu/{name}")));
         // The collection lists every VTU written so far: ParaView opens a killed run.
         output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
@@ -72,7 +78,7 @@ impl FieldWriter<'_> {
         time: f64,
     ) -> Result<(), RunError> {
         if self.pvd.last().map(|(t, _)| *t) != Some(time) {
-            self.write_vtu(particles, step, time)?;
+            self.write_vtu(model, particles, step, time)?;
         }
         self.png(model, particles, &self.out.join("plastic_strain.png"), time)
     }
@@ -104,8 +110,32 @@ impl FieldWriter<'_> {
     }
 }
 
-fn write_vtu(path: &Path, p: &Particles, time: f64) -> Result<(), RunError> {
-    output::write_particle_vtu(
+/// The particle VTU of `p` at `time`, with each particle's `displacement` from its place in
+/// `initial` (the run's particles at t = 0: a run neither adds nor removes particles, so
+/// index `i` is the same particle) and its `material` index. Particles carry no strain
+/// (no deformation gradient, no accumulated `ε`: each sub-step's strain increment lives
+/// only in G2P), so the MPM VTU has neither `strain` nor `plastic_strain_increment`
+/// (`docs/mpm.md`, 'Outputs').
+fn write_vtu(path: &Path, initial: &Particles, p: &Particles, time: f64) -> Result<(), RunError> {
+    if initial.len() != p.len() {
+        return Err(OutputError::invalid(
+            "displacement",
+            format!(
+                "{} particles now, {} at t = 0: a particle's start is unknown",
+                p.len(),
+                initial.len()
+            ),
+        )
+        .into());
+    }
+    let displacement: Vec<[f64; 2]> = p
+        .position
+        .iter()
+        .zip(&initial.position)
+        .map(|(x, x0)| [x[0] - x0[0], x[1] - x0[1]])
+        .collect();
+    let material: Vec<usize> = (0..p.len()).map(|i| p.material_of(i)).collect();
+    output::write_particle_vtu_with(
         path,
         &ParticleSnapshot {
             time,
@@ -115,6 +145,10 @@ fn write_vtu(path: &Path, p: &Particles, time: f64) -> Result<(), RunError> {
             mass: &p.mass,
             stress: &p.stress,
             plastic_strain: &p.plastic_strain,
+        },
+        &ParticleExtras {
+            displacement: Some(&displacement),
+            material: Some(&material),
         },
     )?;
     Ok(())

@@ -153,7 +153,8 @@ fn run_mpm_scene_from(
         state,
         resumed,
         &mut outputs,
-        &spec.time,
+        super::Span::whole(spec.time.steps),
+        spec.time.step,
         options,
         (scene.path.as_deref(), &scene.source),
     )?;

@@ -55,8 +55,14 @@ impl MpmResults {
             monitors.push((format!("monitor[{k}].name"), m.name.clone()));
             points.push(m.point);
         }
-        let results = Results::new(base, &named, &monitors, spec.output.reaction.clone())
+        let mut results = Results::new(base, &named, &monitors, spec.output.reaction.clone())
             .map_err(|e| scene.error(&e.field, e.message))?;
+        // Ramps faster than the step are sampled at the step ends only: said, not silent.
+        let ramps = crate::scene::check::mpm_ramps(spec);
+        let end = spec.time.step * spec.time.steps as f64;
+        for w in crate::scene::check::fast_ramps(&ramps, spec.time.step, end) {
+            results.warn(w);
+        }
         Ok(Self {
             groups,
             points,

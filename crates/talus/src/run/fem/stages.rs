@@ -1,0 +1,215 @@
+//! A staged FEM run (`[[stage]]`, `docs/scenes.md`, 'Stages'): each stage's model from
+//! `model::fem::stages`, the state carried over, the out-of-balance force released over
+//! the stage's steps, one run loop per stage writing one history, one VTU series and one
+//! summary, and the factor of safety where a stage asks for it.
+use std::time::Instant;
+
+use talus_engine::Stepper;
+
+use super::{Carried, FemOutputs, RunSummary, StageOutputs};
+use crate::analysis::stability;
+use crate::model::fem::stages::{add_release, carry, out_of_balance, StageModel, Stages};
+use crate::model::fem::{FromScene, Model, State};
+use crate::output::{FactorOfSafety, RunStatus, StageSummary};
+use crate::run::checkpoint::{self, Checkpoint, CheckpointError};
+use crate::run::{RunError, RunOptions, RunOutputs, Span};
+use crate::scene::Scene;
+
+/// The force a stage releases (`model::fem::stages::out_of_balance`, free dofs, N/m) from
+/// 1 at `t0` to 0 at `t1` (s).
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct Release {
+    pub force: Vec<f64>,
+    pub t0: f64,
+    pub t1: f64,
+}
+
+/// Runs every stage of `stages` (from the checkpoint's when `resumed`).
+pub fn run(
+    scene: &Scene,
+    stages: Stages,
+    options: &RunOptions,
+    resumed: Option<Checkpoint<serde_json::Value>>,
+) -> Result<RunSummary, RunError> {
+    let start = Instant::now();
+    let h = scene.spec.time.step;
+    let total = scene.spec.total_steps();
+    // A resumed run starts in the checkpoint's stage, with the force it was releasing.
+    let (first, saved) = match &resumed {
+        None => (0, None),
+        Some(c) => {
+            let saved: Option<StageOutputs> = c
+                .outputs
+                .get("stage")
+                .cloned()
+                .and_then(|v| serde_json::from_value(v).ok());
+            let k = saved
+                .as_ref()
+                .and_then(|s| stages.plans.iter().position(|p| p.name == s.name))
+                .ok_or_else(|| CheckpointError::Corrupt {
+                    path: checkpoint::path(&options.out_dir),
+                    why: "it names no stage of this scene".into(),
+                })?;
+            (k, saved)
+        }
+    };
+    let mut resumed = resumed;
+    let mut previous: Option<(StageModel, State)> = None;
+    let mut carried: Option<Carried> = None;
+    let mut records = Vec::new();
+    for (k, plan) in stages.plans.iter().enumerate().skip(first) {
+        let mut stage = stages.model(scene, k)?;
+        let (state, release) = match &previous {
+            // Resumed: the checkpoint holds the state (`execute` reads it); this one gives
+            // its shape.
+            None if resumed.is_some() => (
+                stage.model.initial_state(scene)?,
+                saved.as_ref().and_then(|s| s.release.clone()),
+            ),
+            None => (stage.model.initial_state(scene)?, None),
+            Some((prev, prev_state)) => {
+                let state = carry(prev, prev_state, &stage, plan.spec.reset_displacements)
+                    .map_err(|e| scene.error(&format!("stage[{k}]"), e))?;
+                let force = out_of_balance(&stage.model, &state)
+                    .map_err(|e| scene.error(&format!("stage[{k}]"), e))?;
+                let t0 = state.time;
+                let release = Release {
+                    force,
+                    t0,
+                    t1: t0 + h * plan.steps as f64,
+                };
+                (state, Some(release))
+            }
+        };
+        if let Some(r) = &release {
+            add_release(&mut stage.model, r.force.clone(), r.t0, r.t1)
+                .map_err(|e| scene.error(&format!("stage[{k}].steps"), e))?;
+        }
+        tracing::info!(
+            stage = plan.name.as_str(),
+            elements = stage.elements.len(),
+            free_dofs = stage.model.assembly.dofs().n_free(),
+            steps = plan.steps,
+            "stage"
+        );
+        let column = StageOutputs {
+            index: k,
+            name: plan.name.clone(),
+            last_step: plan.last_step(),
+            release,
+        };
+        let model = &stage.model;
+        let mut outputs = match carried.take() {
+            None => FemOutputs::new(scene, model, options, Some(column))?,
+            Some(c) => FemOutputs::next_stage(scene, c, model, options, column)?,
+        };
+        let mut stepper = Stepper::new(model, scene.spec.solver.fem());
+        let span = Span {
+            from: plan.first_step,
+            to: plan.last_step(),
+            total,
+        };
+        let stepped = crate::run::execute(
+            &mut stepper,
+            state,
+            resumed.take(),
+            &mut outputs,
+            span,
+            h,
+            options,
+            (scene.path.as_deref(), &scene.source),
+        )?;
+        let crate::run::Stepped {
+            reports,
+            state: end,
+            failure,
+        } = stepped;
+        if let Some((step, source)) = failure {
+            return Err(RunError::Step { step, source });
+        }
+        records.extend(reports);
+        let mut entry = StageSummary {
+            name: plan.name.clone(),
+            first_step: plan.first_step + 1,
+            last_step: plan.last_step(),
+            time: end.time,
+            elements: stage.elements.len(),
+            deactivated: plan.spec.deactivate.clone(),
+            activated: plan.spec.activate.clone(),
+            reaction: scene
+                .spec
+                .output
+                .reaction
+                .as_ref()
+                .and_then(|_| outputs.curve.last().map(|c| c.1)),
+            factor_of_safety: None,
+        };
+        if plan.spec.factor_of_safety {
+            entry.factor_of_safety = Some(factor_of_safety(
+                scene, model, &end, &plan.name, plan.steps, options,
+            )?);
+        }
+        outputs.results.results.push_stage(entry);
+        outputs
+            .results()
+            .summary(RunStatus::Finished, None, total)
+            .write(&options.out_dir.join("summary.json"))?;
+        carried = Some(outputs.into_carried());
+        drop(stepper);
+        previous = Some((stage, end));
+    }
+    let curve = carried.map(|c| c.curve).unwrap_or_default();
+    let final_state = previous
+        .map(|(_, s)| s)
+        .ok_or_else(|| scene.error("stage", "no stage ran"))?;
+    Ok(RunSummary {
+        displacements: curve.iter().skip(1).map(|c| c.0).collect(),
+        records,
+        seconds: start.elapsed().as_secs_f64(),
+        final_state,
+    })
+}
+
+/// The factor of safety of `state` at the end of stage `name` (`[stability]`), its trials
+/// in `trials_<name>.csv`.
+fn factor_of_safety(
+    scene: &Scene,
+    model: &Model,
+    state: &State,
+    name: &str,
+    steps: usize,
+    options: &RunOptions,
+) -> Result<FactorOfSafety, RunError> {
+    let trials = options
+        .out_dir
+        .join(format!("trials_{}.csv", file_name(name)));
+    let mut analysis = stability::Analysis::from_model(scene, model.clone(), state.time)?
+        .ok_or_else(|| scene.error("stability", "is required by factor_of_safety"))?;
+    let equilibrium = stability::Equilibrium {
+        state: state.clone(),
+        steps,
+        newton_iterations: 0,
+        seconds: 0.0,
+        last_increment: 0.0,
+    };
+    let found = stability::search(&mut analysis, equilibrium, &trials, options)?;
+    tracing::info!(
+        stage = name,
+        factor = ?found.factor_of_safety.value,
+        "factor of safety"
+    );
+    Ok(found.factor_of_safety)
+}
+
+/// A stage's name as a file name: letters, digits, `-` and `_` kept, the rest `_`.
+fn file_name(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}

@@ -1,0 +1,323 @@
+//! `[material] flow = "davis"` (issue 24, item 3): Davis's (1968) associated equivalent of a
+//! non-associative material in any run, `β = cos φ cos ψ / (1 − sin φ sin ψ)`, `c* = β c`,
+//! `tan φ* = β tan φ`, `ψ* = φ*` (Davis 1968, in Lee (ed.) *Soil Mechanics: Selected
+//! Topics*; Sloan 2013, Géotechnique 63(7), 531–572); `docs/scenes.md`, 'Regions and materials', and
+//! `docs/stability.md`, 'Dilatancy'. One transform serves it and `[stability] dilatancy =
+//! "davis"`.
+mod common;
+
+use talus::analysis::stability;
+use talus::model::fem::{FromScene, Model, ReactionForce};
+use talus::model::mpm::MpmModel;
+use talus::run::RunOptions;
+use talus::scene::{MpmScene, Scene, SceneError};
+use talus_bipotential::{davis_beta, davis_equivalent, Material};
+use talus_engine::Stepper;
+
+const FOOTING: &str = include_str!("../../../scenes/footing.toml");
+const COLUMN: &str = include_str!("../../../scenes/column_a1.toml");
+const SLOPE: &str = include_str!("../../../scenes/slope.toml");
+
+const FIT: &str = "cone_fit = \"plane_strain\"\n";
+
+fn replaced(text: &str, from: &str, to: &str) -> String {
+    assert!(text.contains(from), "test setup: `{from}` not in the scene");
+    text.replacen(from, to, 1)
+}
+
+/// `text` with `flow = "..."` after its first `cone_fit` line.
+fn with_flow(text: &str, flow: &str) -> String {
+    replaced(text, FIT, &format!("{FIT}flow = \"{flow}\"\n"))
+}
+
+fn fem(text: &str) -> Scene {
+    Scene::parse(text, None).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn materials(text: &str) -> Vec<Material> {
+    Model::from_scene(&fem(text))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .materials
+}
+
+/// Davis's `(c*, φ*)` (Pa, degrees) of `(c, φ, ψ)` (Pa, degrees), written out here from
+/// the formula, not from the library.
+fn by_formula(c: f64, phi_deg: f64, psi_deg: f64) -> (f64, f64) {
+    let (phi, psi) = (phi_deg.to_radians(), psi_deg.to_radians());
+    let beta = phi.cos() * psi.cos() / (1.0 - phi.sin() * psi.sin());
+    (beta * c, (beta * phi.tan()).atan().to_degrees())
+}
+
+/// The footing's strength keys (`scenes/footing.toml`) replaced by `(c, φ, ψ)`.
+fn footing_with_strength(c: f64, phi: f64, psi: f64) -> String {
+    let text = replaced(
+        FOOTING,
+        "friction_angle = 27.0",
+        &format!("friction_angle = {phi:?}"),
+    );
+    let text = replaced(&text, "cohesion = 2.0e3", &format!("cohesion = {c:?}"));
+    replaced(
+        &text,
+        "dilatancy_angle = 14.2906",
+        &format!("dilatancy_angle = {psi:?}"),
+    )
+}
+
+/// Hand values (Davis 1968; the formula as Sloan 2013 writes it): φ = 30°, ψ = 0 gives
+/// β = cos 30° = 0.866025, c* = 0.866025 c, φ* = atan(0.866025 · tan 30°) = atan(1/2) =
+/// 26.5651°; the footing's φ = 27°, ψ = 14.2906° gives β = 0.891007 · 0.969056 /
+/// (1 − 0.453990 · 0.246840) = 0.972406, φ* = 26.3568°.
+#[test]
+fn beta_and_the_equivalent_strength_by_hand() {
+    let rad = f64::to_radians;
+    let beta = davis_beta(rad(30.0), 0.0);
+    assert!((beta - 0.866_025).abs() < 1e-6, "{beta}");
+    let (c, phi) = davis_equivalent(10.0e3, rad(30.0), 0.0);
+    assert!((c - 8_660.25).abs() < 1e-2, "{c}");
+    assert!(
+        (phi.to_degrees() - 26.5651).abs() < 1e-4,
+        "{}",
+        phi.to_degrees()
+    );
+    let beta = davis_beta(rad(27.0), rad(14.2906));
+    assert!((beta - 0.972_406).abs() < 1e-6, "{beta}");
+    let (c, phi) = davis_equivalent(2.0e3, rad(27.0), rad(14.2906));
+    assert!((c - 1_944.81).abs() < 1e-2, "{c}");
+    assert!(
+        (phi.to_degrees() - 26.3568).abs() < 1e-4,
+        "{}",
+        phi.to_degrees()
+    );
+    // The stability rule's Davis is the same transform of the reduced strength.
+    let s = stability::Strength {
+        cohesion: 2.0e3,
+        friction: rad(27.0),
+        dilatancy: rad(14.2906),
+    };
+    let r = s.reduced(1.0, talus::scene::DilatancyRule::Davis);
+    assert_eq!((r.cohesion, r.friction), (c, phi));
+    assert_eq!(r.dilatancy, r.friction);
+}
+
+/// `flow = "davis"` builds the material a scene writing `(c*, φ*, ψ* = φ*)` as given builds,
+/// bit for bit: in a single `[material]`, in one of a `[[material]]` list (the other as
+/// given), and in an MPM scene.
+#[test]
+fn davis_builds_the_as_given_material_of_the_equivalent_strength() {
+    let (c, phi) = by_formula(2.0e3, 27.0, 14.2906);
+    assert!(phi < 27.0 && c < 2.0e3);
+    let davis = materials(&with_flow(FOOTING, "davis"));
+    let written = materials(&footing_with_strength(c, phi, phi));
+    assert_eq!(davis, written);
+    let Material::DruckerPrager(dp) = davis[0] else {
+        panic!("Drucker-Prager")
+    };
+    assert_eq!(
+        dp.parameters().dilatancy_angle,
+        dp.parameters().friction_angle
+    );
+    // "as_given" is the default.
+    assert_eq!(
+        materials(&with_flow(FOOTING, "as_given")),
+        materials(FOOTING)
+    );
+    assert_ne!(materials(FOOTING), written);
+
+    // A [[material]] list: the upper layer Davis, the lower one as given.
+    let start = FOOTING.find("[material]").unwrap();
+    let end = FOOTING[start..].find("\n\n").unwrap() + start;
+    let soil = &FOOTING[start + "[material]\n".len()..end];
+    let layered = |upper: &str| {
+        format!(
+            "{}[[region]]\nname = \"upper\"\nbox = [[-1.0, -0.4], [1.0, 0.0]]\n\n\
+             [[region]]\nname = \"lower\"\nbox = [[-1.0, -1.0], [1.0, -0.4]]\n\n\
+             [[material]]\nname = \"upper\"\nregions = [\"upper\"]\n{upper}\n\n\
+             [[material]]\nname = \"lower\"\nregions = [\"lower\"]\n{soil}{}",
+            &FOOTING[..start],
+            &FOOTING[end..]
+        )
+    };
+    let list = materials(&layered(&with_flow(soil, "davis")));
+    assert_eq!(list[0], written[0]);
+    assert_eq!(list[1], materials(FOOTING)[0]);
+
+    // MPM shares the material spec: the column of sand (φ = 30°, ψ = 0, c = 0).
+    let mpm = |text: &str| {
+        let scene = MpmScene::parse(text, None).unwrap_or_else(|e| panic!("{e}"));
+        let model = MpmModel::from_scene(&scene).unwrap_or_else(|e| panic!("{e}"));
+        model.mpm.materials().to_vec()
+    };
+    let (c0, phi0) = by_formula(0.0, 30.0, 0.0);
+    assert_eq!(c0, 0.0);
+    let column_written = replaced(
+        &replaced(
+            COLUMN,
+            "friction_angle = 30.0",
+            &format!("friction_angle = {phi0:?}"),
+        ),
+        "dilatancy_angle = 0.0",
+        &format!("dilatancy_angle = {phi0:?}"),
+    );
+    assert_eq!(mpm(&with_flow(COLUMN, "davis")), mpm(&column_written));
+    assert_ne!(mpm(COLUMN), mpm(&column_written));
+}
+
+fn bits(v: &[f64]) -> Vec<u64> {
+    v.iter().map(|x| x.to_bits()).collect()
+}
+
+/// `flow = "davis"` on an associative material (ψ = φ, β = 1) changes nothing: the same
+/// material, and the same steps bit for bit. At φ = 30° `atan(tan φ)` and the degrees'
+/// round trip are not exact in floating point: the transform must not be applied there.
+#[test]
+fn davis_on_an_associative_material_changes_nothing() {
+    let steps = |text: &str| {
+        let scene = fem(text);
+        let model = Model::from_scene(&scene).unwrap();
+        let mut state = model.initial_state(&scene).unwrap();
+        let mut stepper = Stepper::new(&model, scene.spec.solver.fem());
+        let mut reactions = Vec::new();
+        for _ in 0..10 {
+            let r = stepper.advance(&mut state, scene.spec.time.step).unwrap();
+            reactions.push(r.reaction_force());
+        }
+        (bits(&reactions), bits(&state.sigma))
+    };
+    for phi in ["27.0", "30.0"] {
+        let associative = replaced(
+            &replaced(
+                FOOTING,
+                "friction_angle = 27.0",
+                &format!("friction_angle = {phi}"),
+            ),
+            "dilatancy_angle = 14.2906",
+            &format!("dilatancy_angle = {phi}"),
+        );
+        let davis = with_flow(&associative, "davis");
+        assert_eq!(materials(&davis), materials(&associative), "φ = {phi}°");
+        if phi == "30.0" {
+            assert_eq!(steps(&davis), steps(&associative));
+        }
+    }
+    // A φ = 0 (Tresca) material is associative too: unchanged.
+    let tresca = replaced(
+        &replaced(FOOTING, "friction_angle = 27.0", "friction_angle = 0.0"),
+        "dilatancy_angle = 14.2906",
+        "dilatancy_angle = 0.0",
+    );
+    assert_eq!(materials(&with_flow(&tresca, "davis")), materials(&tresca));
+}
+
+/// The Newton system of a Davis run is symmetric: the solver factorizes it by Cholesky when
+/// every point's flow rule is associative, `ReducedSystem::is_associative`
+/// (`crates/ssn/src/solver/mod.rs`, `Solver::new`: `symmetric = problem.is_associative()`;
+/// `docs/solver.md`, 'The factorization'). No report says which factorization ran, so the
+/// predicate is tested on the system the step solves.
+#[test]
+fn a_davis_run_takes_the_symmetric_cholesky_path() {
+    let symmetric = |text: &str| {
+        let scene = fem(text);
+        let model = Model::from_scene(&scene).unwrap();
+        let system = model.reduced_system(scene.spec.time.step).unwrap();
+        let solver = talus_ssn::Solver::new(system, talus_ssn::Settings::default()).unwrap();
+        solver.problem().is_associative()
+    };
+    assert!(
+        !symmetric(FOOTING),
+        "the footing as given is non-associative"
+    );
+    assert!(symmetric(&with_flow(FOOTING, "davis")));
+    // Every Gauss point's rule, each with κ = 0 exactly.
+    let scene = fem(&with_flow(FOOTING, "davis"));
+    let model = Model::from_scene(&scene).unwrap();
+    for rule in model.flow_rules() {
+        assert_eq!(rule.kappa(), 0.0);
+    }
+}
+
+fn fem_error(text: &str) -> SceneError {
+    let scene = Scene::parse(text, None).unwrap_or_else(|e| panic!("{e}"));
+    Model::from_scene(&scene)
+        .err()
+        .expect("the scene must be refused")
+}
+
+/// A misspelt flow is refused naming `material.flow` (`material[k].flow` in a list), its
+/// line and the choices; an elastic material refuses the key.
+#[test]
+fn a_bad_flow_is_refused_naming_the_field_and_the_choices() {
+    let text = with_flow(FOOTING, "davies");
+    let e = fem_error(&text);
+    let m = e.to_string();
+    assert_eq!(e.field, "material.flow", "{m}");
+    assert_eq!(
+        e.line,
+        Some(common::line_of(&text, "flow = \"davies\"")),
+        "{m}"
+    );
+    for needle in ["\"davies\"", "\"as_given\"", "\"davis\"", "default"] {
+        assert!(m.contains(needle), "`{needle}` not in: {m}");
+    }
+    // In a list: the second material.
+    let start = FOOTING.find("[material]").unwrap();
+    let end = FOOTING[start..].find("\n\n").unwrap() + start;
+    let soil = &FOOTING[start + "[material]\n".len()..end];
+    let list = format!(
+        "{}[[region]]\nname = \"upper\"\nbox = [[-1.0, -0.4], [1.0, 0.0]]\n\n\
+         [[region]]\nname = \"lower\"\nbox = [[-1.0, -1.0], [1.0, -0.4]]\n\n\
+         [[material]]\nname = \"upper\"\nregions = [\"upper\"]\n{soil}\n\n\
+         [[material]]\nname = \"lower\"\nregions = [\"lower\"]\n{}{}",
+        &FOOTING[..start],
+        with_flow(soil, "Davis"),
+        &FOOTING[end..]
+    );
+    let e = fem_error(&list);
+    assert_eq!(e.field, "material[1].flow", "{e}");
+    assert!(e.to_string().contains("\"Davis\""), "{e}");
+    // MPM: the same check.
+    let scene = MpmScene::parse(&with_flow(COLUMN, "davies"), None).unwrap();
+    let e = MpmModel::from_scene(&scene).err().expect("refused");
+    assert_eq!(e.field, "material.flow", "{e}");
+    // Elastic: a Drucker-Prager key.
+    let elastic = "[material]\nmodel = \"elastic\"\nyoung_modulus = 1.0e9\npoisson_ratio = 0.3\n\
+                   density = 2.0e3\nflow = \"davis\"\n";
+    let e = fem_error(&FOOTING.replacen(&FOOTING[start..end], elastic, 1));
+    assert_eq!(e.field, "material.flow", "{e}");
+    assert!(e.to_string().contains("Drucker-Prager key"), "{e}");
+}
+
+fn factor_of_safety(text: &str, name: &str) -> (f64, [Option<f64>; 2]) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/slope.toml");
+    let text = replaced(text, "plots = true", "plots = false");
+    let scene = Scene::parse(&text, Some(path)).unwrap_or_else(|e| panic!("{e}"));
+    let out = common::target_tmp_dir("davis_flow", name);
+    let run = stability::run(&scene, &RunOptions::new(out)).unwrap_or_else(|e| panic!("{e}"));
+    let fos = run.factor_of_safety;
+    (fos.value.expect("a factor"), fos.bracket)
+}
+
+/// `[stability] dilatancy = "davis"` gives the factors it gave before the transform moved
+/// to `talus_bipotential::davis_equivalent` (measured 2026-11-26 on `scenes/slope.toml`
+/// with `dilatancy = "davis"`: 1.3691 in [1.3672, 1.3711], `docs/stability.md`; and with
+/// `dilatancy_angle = 10.0`: 1.4043 in [1.4023, 1.4062]). With `flow = "davis"` the material
+/// is associative before any reduction, so every dilatancy rule gives the same trials.
+#[test]
+fn stability_davis_gives_the_factor_it_gave_before() {
+    let davis = replaced(SLOPE, "dilatancy = \"fixed\"", "dilatancy = \"davis\"");
+    let (f, bracket) = factor_of_safety(&davis, "slope_davis");
+    assert_eq!(f, 1.369140625);
+    assert_eq!(bracket, [Some(1.3671875), Some(1.37109375)]);
+    let psi10 = replaced(&davis, "dilatancy_angle = 0.0 ", "dilatancy_angle = 10.0");
+    let (f, bracket) = factor_of_safety(&psi10, "slope_davis_psi10");
+    assert_eq!(f, 1.404296875);
+    assert_eq!(bracket, [Some(1.40234375), Some(1.40625)]);
+    // flow = "davis": β of the unreduced angles, then c*/F, tan φ*/F; the rule is moot.
+    let flow = with_flow(SLOPE, "davis");
+    let fixed = factor_of_safety(&flow, "slope_flow_davis_fixed");
+    let rule = factor_of_safety(
+        &replaced(&flow, "dilatancy = \"fixed\"", "dilatancy = \"davis\""),
+        "slope_flow_davis_davis",
+    );
+    assert_eq!(fixed, rule);
+    println!("slope, flow = \"davis\": F = {} in {:?}", fixed.0, fixed.1);
+}
