@@ -2,10 +2,15 @@
 //! stable and the smallest whose trial fails by the criterion, until
 //! `(hi − lo) ≤ tolerance · lo`. A trial whose solve did not converge is no evidence of
 //! failure (`criterion`): it only caps the search (the `ceiling`), never ends the bracket.
-//! The search stays within `[MIN_FACTOR, MAX_FACTOR]` (`settings`): a body still at rest
+//! The search stays within `[MIN_FACTOR, MAX_FACTOR]`: a body still at rest
 //! at `MAX_FACTOR` has no mechanism ([`Next::NoMechanism`]), one still failing at
 //! `MIN_FACTOR` has no stable factor ([`Next::NoStableFactor`]); neither gets a number.
-use super::settings::{MAX_FACTOR, MIN_FACTOR};
+
+/// The factors the search, a bracket or a first guess may reach: a strength divided or a
+/// weight multiplied by more than 100 is no longer a soil near failure (and overflows the
+/// scales of `docs/scenes.md`, 'Limits', long before 1e300).
+pub const MIN_FACTOR: f64 = 1e-2;
+pub const MAX_FACTOR: f64 = 1e2;
 
 /// Beyond the known side, the next trial multiplies (or divides) by this.
 pub const EXPANSION: f64 = 2.0;

@@ -23,10 +23,10 @@ pub const TRIAL_COLUMNS: &str = "trial,factor,outcome,first_increment,last_incre
 pub enum SearchStatus {
     /// The bracket reached the tolerance: the factor is its middle.
     Found,
-    /// Every trial came to rest up to the search's upper end (`settings::MAX_FACTOR`): no
+    /// Every trial came to rest up to the search's upper end (`bracket::MAX_FACTOR`): no
     /// mechanism, no factor.
     NoMechanism,
-    /// Every trial failed down to the search's lower end (`settings::MIN_FACTOR`).
+    /// Every trial failed down to the search's lower end (`bracket::MIN_FACTOR`).
     NoStableFactor,
     /// Stable and unconverged trials closed in with no failing trial between.
     Unbracketed,

@@ -24,11 +24,7 @@ pub struct StabilitySettings {
     pub trial_steps: usize,
 }
 
-/// The factors a bracket or a first guess may reach: a strength divided or a weight
-/// multiplied by more than 100 is no longer a soil near failure (and overflows the scales of
-/// `docs/scenes.md`, 'Limits', long before 1e300).
-pub const MIN_FACTOR: f64 = 1e-2;
-pub const MAX_FACTOR: f64 = 1e2;
+use super::bracket::{MAX_FACTOR, MIN_FACTOR};
 
 impl StabilitySettings {
     /// `None` for a scene without `[stability]`; the loading ends with the scene's
