@@ -139,29 +139,23 @@ fn a_table_below_the_ground_changes_nothing() {
 /// unit weight γ_sat − γ_w: the two brackets overlap.
 #[test]
 fn a_submerged_slope_has_the_factor_of_safety_of_the_buoyant_dry_slope() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/slope.toml");
-    let text = std::fs::read_to_string(&path).unwrap();
-    assert!(text.contains("density = 2.0e3") && text.contains("gravity = [0.0, -10.0]"));
-    let g = 10.0;
-    let buoyant = (2.0e4 - GAMMA_W) / g;
-    let dry = text.replace("density = 2.0e3", &format!("density = {buoyant:?}"));
-    let wet = format!("{text}\n[water]\nlevel = 20.0\n");
-    let factor = |text: &str, name: &str| {
-        let scene = Scene::parse(text, Some(path.clone())).unwrap();
+    let (dry, wet) = talus::analysis::verification::submerged_slope_scenes().unwrap();
+    let factor = |scene: &Scene, name: &str| {
         let out = common::target_tmp_dir("water_table", name);
-        let run = stability::run(&scene, &RunOptions::new(&out)).unwrap();
+        let run = stability::run(scene, &RunOptions::new(&out)).unwrap();
         let [lo, hi] = run.factor_of_safety.bracket;
         (lo.unwrap(), hi.unwrap())
     };
     let (dl, du) = factor(&dry, "dry");
     let (wl, wu) = factor(&wet, "submerged");
-    eprintln!("dry [{dl}, {du}], submerged [{wl}, {wu}]");
     assert!(
         dl <= wu && wl <= du,
         "brackets [{dl}, {du}] and [{wl}, {wu}] must overlap"
     );
     // And differ from the dry slope of full weight, whose factor is lower (the witness).
-    let (fl, _) = factor(&text, "full_weight");
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/slope.toml");
+    let full = Scene::from_path(&path).unwrap();
+    let (fl, _) = factor(&full, "full_weight");
     assert!(fl < dl, "full weight {fl} below buoyant {dl}");
 }
 

@@ -11,6 +11,7 @@ mod prandtl;
 mod stability;
 mod stages;
 mod triaxial;
+mod water;
 
 use std::time::Instant;
 
@@ -35,6 +36,7 @@ pub use triaxial::{
     run_triaxial, triaxial_compression, triaxial_dilatancy_ratio, triaxial_peak_deviator,
     triaxial_scene, TriaxialRun,
 };
+pub use water::{submerged_slope_case, submerged_slope_scenes};
 
 /// One verified quantity.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -115,5 +117,6 @@ pub fn all_cases(quick: bool, figures: Option<&std::path::Path>) -> Vec<CaseResu
     out.extend(slope_cases());
     out.extend(vertical_cut_case());
     out.extend(cut_in_lifts_case());
+    out.extend(submerged_slope_case());
     out
 }
