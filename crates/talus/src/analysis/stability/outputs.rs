@@ -428,16 +428,27 @@ pub fn write_mechanism(
             Some(v) => format!(" (reported F = {v:.4})"),
             None => String::new(),
         };
-        output::plot_field_on_mesh(
+        let title = scene
+            .spec
+            .title
+            .clone()
+            .unwrap_or_else(|| "factor of safety".into());
+        let subtitle = format!(
+            "mechanism: {method} {:.4}, the bracket's upper end{reported}",
+            t.factor
+        );
+        output::plot_field_map(
             &out.join("mechanism.png"),
             &mesh,
             None,
             &element_magnitude(model, &t.last_increment),
-            &format!(
-                "mechanism: {method} {:.4}, the bracket's upper end{reported}",
-                t.factor
-            ),
-            "|Δu| over the trial's last step (m)",
+            &output::FieldMap {
+                title: &title,
+                subtitle: Some(&subtitle),
+                label: "|Δu| over the trial's last step (m)",
+                clip_percentile: None,
+                resolution: 0.0,
+            },
         )
         .map_err(RunError::Output)?;
     }
