@@ -431,3 +431,34 @@ fn a_cut_dug_in_lifts_and_dug_at_once_have_one_factor_of_safety() {
     // The cut stood through its lifts: 1 < F.
     assert!(fa > 1.0, "{fa}");
 }
+
+#[test]
+fn a_stage_factor_of_safety_stopped_by_the_observer_stops_the_run_as_interrupted() {
+    use std::ops::ControlFlow;
+    let (lifts, _) = talus::analysis::verification::cut_scenes().unwrap();
+    let out = common::target_tmp_dir("stages", "fos_interrupted");
+    // Trials report `F = …` (docs/stability.md): stop at the first.
+    let stop: talus::run::Observer = std::sync::Arc::new(|p| {
+        if p.message.starts_with("F = ") {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    });
+    let options = RunOptions {
+        observer: Some(stop),
+        ..RunOptions::new(&out)
+    };
+    let err = run_scene(&lifts, &options).unwrap_err();
+    assert!(
+        matches!(err, talus::run::RunError::Interrupted { step: 13, .. }),
+        "{err}"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["status"], "interrupted");
+    let last = summary["stages"].as_array().unwrap().last().unwrap();
+    assert_eq!(last["name"], "lift 3");
+    assert_eq!(last["factor_of_safety"]["status"], "interrupted");
+    assert!(last["factor_of_safety"]["value"].is_null());
+}

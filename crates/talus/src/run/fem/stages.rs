@@ -10,7 +10,7 @@ use super::{Carried, FemOutputs, RunSummary, StageOutputs};
 use crate::analysis::stability;
 use crate::model::fem::stages::{add_release, carry, out_of_balance, StageModel, Stages};
 use crate::model::fem::{FromScene, Model, State};
-use crate::output::{FactorOfSafety, RunStatus, StageSummary};
+use crate::output::{RunStatus, StageSummary};
 use crate::run::checkpoint::{self, Checkpoint, CheckpointError};
 use crate::run::{RunError, RunOptions, RunOutputs, Span};
 use crate::scene::Scene;
@@ -62,10 +62,20 @@ pub fn run(
         let (state, release) = match &previous {
             // Resumed: the checkpoint holds the state (`execute` reads it); this one gives
             // its shape.
-            None if resumed.is_some() => (
-                stage.model.initial_state(scene)?,
-                saved.as_ref().and_then(|s| s.release.clone()),
-            ),
+            // Resumed: the checkpoint holds the state (`execute` reads it); this one only
+            // gives its shape (no K₀ check: the stage may hold ground above the surface).
+            None if resumed.is_some() => {
+                let dofs = stage.model.assembly.dofs();
+                (
+                    State::at_rest(
+                        stage.model.n_points(),
+                        dofs.n_free(),
+                        dofs.n_prescribed(),
+                        stage.model.mesh.nodes.len(),
+                    ),
+                    saved.as_ref().and_then(|s| s.release.clone()),
+                )
+            }
             None => (stage.model.initial_state(scene)?, None),
             Some((prev, prev_state)) => {
                 let state = carry(prev, prev_state, &stage, plan.spec.reset_displacements)
@@ -144,16 +154,29 @@ pub fn run(
                 .and_then(|_| outputs.curve.last().map(|c| c.1)),
             factor_of_safety: None,
         };
+        let mut interrupted = false;
         if plan.spec.factor_of_safety {
-            entry.factor_of_safety = Some(factor_of_safety(
-                scene, model, &end, &plan.name, plan.steps, options,
-            )?);
+            let found = factor_of_safety(scene, model, &end, &plan.name, plan.steps, options)?;
+            // SIGINT/SIGTERM (or a Python callback) stopped the trials: the run stops as
+            // interrupted, and a resume goes on from the last checkpoint.
+            interrupted = found.interrupted;
+            entry.factor_of_safety = Some(found.factor_of_safety);
         }
         outputs.results.results.push_stage(entry);
+        let status = match interrupted {
+            true => RunStatus::Interrupted,
+            false => RunStatus::Finished,
+        };
         outputs
             .results()
-            .summary(RunStatus::Finished, None, total)
+            .summary(status, None, total)
             .write(&options.out_dir.join("summary.json"))?;
+        if interrupted {
+            return Err(RunError::Interrupted {
+                step: plan.last_step(),
+                time: end.time,
+            });
+        }
         carried = Some(outputs.into_carried());
         drop(stepper);
         previous = Some((stage, end));
@@ -170,8 +193,8 @@ pub fn run(
     })
 }
 
-/// The factor of safety of `state` at the end of stage `name` (`[stability]`), its trials
-/// in `trials_<name>.csv`.
+/// The factor-of-safety search on `state` at the end of stage `name` (`[stability]`), its
+/// trials in `trials_<name>.csv`.
 fn factor_of_safety(
     scene: &Scene,
     model: &Model,
@@ -179,7 +202,7 @@ fn factor_of_safety(
     name: &str,
     steps: usize,
     options: &RunOptions,
-) -> Result<FactorOfSafety, RunError> {
+) -> Result<stability::StabilityRun, RunError> {
     let trials = options
         .out_dir
         .join(format!("trials_{}.csv", file_name(name)));
@@ -198,7 +221,7 @@ fn factor_of_safety(
         factor = ?found.factor_of_safety.value,
         "factor of safety"
     );
-    Ok(found.factor_of_safety)
+    Ok(found)
 }
 
 /// A stage's name as a file name: letters, digits, `-` and `_` kept, the rest `_`.
