@@ -252,17 +252,34 @@ fn run_fem(
         Ok(summary) => summary,
         Err(code) => return Ok(code.into()),
     };
-    let iterations: Vec<usize> = summary
-        .records
+    // The run's cost in one line (issue 24): accepted and failed Newton iterations, the
+    // sub-steps the halvings added and the smallest sub-step.
+    let records = &summary.records;
+    let accepted: usize = records.iter().map(|r| r.newton_iterations).sum();
+    let failed: usize = records.iter().map(|r| r.failed_newton_iterations).sum();
+    let substeps: usize = records.iter().map(|r| r.substeps).sum();
+    let worst = records
         .iter()
         .map(|r| r.max_newton_iterations)
-        .collect();
-    let worst = iterations.iter().max().copied().unwrap_or(0);
-    let last = summary.records.last();
+        .max()
+        .unwrap_or(0);
+    let smallest_h = records
+        .iter()
+        .map(|r| r.smallest_h)
+        .fold(f64::INFINITY, f64::min);
+    let last = records.last();
     println!(
-        "{} steps in {:.2} s; Newton iterations per step at most {worst}; final reaction {:.4e} {} at {:.4e} m; outputs in {}",
-        summary.records.len(),
+        "{} steps in {:.2} s; Newton iterations {accepted} accepted + {failed} failed ({:.1} \
+         per step, at most {worst} in a solve); {substeps} sub-steps, smallest h {:.3e} s; \
+         final reaction {:.4e} {} at {:.4e} m; outputs in {}",
+        records.len(),
         summary.seconds,
+        (accepted + failed) as f64 / records.len().max(1) as f64,
+        if smallest_h.is_finite() {
+            smallest_h
+        } else {
+            0.0
+        },
         last.map(|r| r.reaction_force()).unwrap_or(0.0),
         scene.spec.analysis.geometry.force_unit(),
         summary.displacements.last().copied().unwrap_or(0.0),

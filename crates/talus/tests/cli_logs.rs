@@ -110,6 +110,8 @@ fn a_factor_of_safety_search_says_each_trial_once() {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
         .join("cli_logs")
         .join("slope");
+    // A fresh folder: a rerun would otherwise warn that it cleared the last run's files.
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let out = Command::new(env!("CARGO_BIN_EXE_talus"))
         .arg("run")
@@ -128,4 +130,35 @@ fn a_factor_of_safety_search_says_each_trial_once() {
     assert!(err.contains("outcome=\"fails\""), "some trials fail: {err}");
     assert!(!err.contains("WARN"), "{err}");
     assert!(err.lines().count() <= 40, "{err}");
+}
+
+/// The run's line on stdout gives its cost: accepted and failed Newton iterations,
+/// sub-steps and the smallest sub-step, the sums and minimum of history.csv's columns.
+#[test]
+fn the_runs_line_gives_its_iterations_substeps_and_smallest_step() {
+    let out = footing_run("cost", "warn");
+    assert!(out.status.success());
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli_logs/cost/out");
+    let history = std::fs::read_to_string(dir.join("history.csv")).unwrap();
+    let header: Vec<&str> = history.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let rows: Vec<Vec<f64>> = history
+        .lines()
+        .skip(2)
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    let sum = |name: &str| rows.iter().map(|r| r[col(name)]).sum::<f64>() as usize;
+    let expected = format!(
+        "Newton iterations {} accepted + {} failed",
+        sum("newton_iterations"),
+        sum("failed_newton_iterations")
+    );
+    assert!(stdout.contains(&expected), "{expected}: {stdout}");
+    assert!(
+        stdout.contains(&format!("{} sub-steps", sum("substeps"))),
+        "{stdout}"
+    );
+    // Two steps of h = 1e-2 s, none halved.
+    assert!(stdout.contains("smallest h 1.000e-2 s"), "{stdout}");
 }
