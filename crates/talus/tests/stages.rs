@@ -462,3 +462,119 @@ fn a_stage_factor_of_safety_stopped_by_the_observer_stops_the_run_as_interrupted
     assert_eq!(last["factor_of_safety"]["status"], "interrupted");
     assert!(last["factor_of_safety"]["value"].is_null());
 }
+
+#[test]
+fn a_stage_that_raises_the_water_table_loads_the_base_with_the_saturated_weight() {
+    // The block dry at rest, then a table at y = 2 m: below it the soil weighs ρ_sat; the
+    // base carries the total weight, ρ g 4·2 + ρ_sat g 4·2 per metre, once the stage has
+    // released the change (the rollers and base hold the water's push on the sides).
+    let rho_sat = 2300.0;
+    let text = block(
+        "[[stage]]\nname = \"dry\"\nsteps = 1\n\n\
+         [[stage]]\nname = \"wet\"\nsteps = 4\nwater = { level = 2.0 }\n",
+    )
+    .replace(
+        &format!("density = {RHO}\n"),
+        &format!("density = {RHO}\nsaturated_density = {rho_sat:?}\n"),
+    )
+    .replace("[time]", "[output]\nreaction = \"base\"\n\n[time]");
+    let scene = Scene::parse(&text, None).unwrap();
+    let out = common::target_tmp_dir("stages", "water");
+    run_scene(&scene, &RunOptions::new(&out)).unwrap();
+    let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    let header: Vec<&str> = history.lines().next().unwrap().split(',').collect();
+    let col = header.iter().position(|h| *h == "base_fy").unwrap();
+    let base: Vec<f64> = history
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(col).unwrap().parse().unwrap())
+        .collect();
+    let dry = RHO * G * 16.0;
+    let wet = RHO * G * 8.0 + rho_sat * G * 8.0;
+    assert!(
+        (base[1] - dry).abs() < 1e-6 * dry,
+        "{} against {dry}",
+        base[1]
+    );
+    assert!(
+        (base[5] - wet).abs() < 1e-6 * wet,
+        "{} against {wet}",
+        base[5]
+    );
+}
+
+#[test]
+fn reset_displacements_starts_the_stage_from_zero_displacement() {
+    // The fill's weight settles the block; a last stage that changes nothing ends with that
+    // settlement, or, with reset_displacements, with none (the stresses carry on).
+    let run = |reset: bool| {
+        let text = block(&format!(
+            "[[stage]]\nname = \"ground\"\nsteps = 1\n\n\
+             [[stage]]\nname = \"fill\"\nsteps = 4\nactivate = [\"top\"]\n\n\
+             [[stage]]\nname = \"after\"\nsteps = 2\nreset_displacements = {reset}\n"
+        ))
+        .replace("surface = 4.0", "surface = 3.0");
+        let scene = Scene::parse(&text, None).unwrap();
+        let out = common::target_tmp_dir("stages", &format!("reset_{reset}"));
+        run_scene(&scene, &RunOptions::new(&out))
+            .unwrap()
+            .final_state
+    };
+    let largest = |s: &talus::model::fem::State| {
+        s.displacement
+            .iter()
+            .flat_map(|u| u.iter())
+            .fold(0.0f64, |m, v| m.max(v.abs()))
+    };
+    let (kept, reset) = (run(false), run(true));
+    assert!(
+        largest(&kept) > 1e-4,
+        "the fill settles the block: {}",
+        largest(&kept)
+    );
+    assert!(
+        largest(&reset) < 1e-8 * largest(&kept),
+        "{} after the reset",
+        largest(&reset)
+    );
+    assert_eq!(kept.sigma, reset.sigma, "the stresses carry on either way");
+}
+
+#[test]
+fn a_load_switched_on_by_stage_is_carried_at_that_stages_end() {
+    // A surcharge q = 10 kPa on the top that acts in the second stage only: the base
+    // carries the weight, then the weight and q over the 4 m width.
+    let q = 1.0e4;
+    let text = block(
+        "[[stage]]\nname = \"weight\"\nsteps = 1\n\n\
+         [[stage]]\nname = \"surcharge\"\nsteps = 4\n\n\
+         [[stage]]\nname = \"removed\"\nsteps = 4\n",
+    )
+    .replace(
+        "[initial_stress]",
+        &format!(
+            "[[traction]]\nedges = \"top\"\nvalue = [0.0, -{q:?}]\nstages = [\"surcharge\"]\n\n\
+             [initial_stress]"
+        ),
+    )
+    .replace("[time]", "[output]\nreaction = \"base\"\n\n[time]");
+    let scene = Scene::parse(&text, None).unwrap();
+    let out = common::target_tmp_dir("stages", "surcharge");
+    run_scene(&scene, &RunOptions::new(&out)).unwrap();
+    let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    let header: Vec<&str> = history.lines().next().unwrap().split(',').collect();
+    let col = header.iter().position(|h| *h == "base_fy").unwrap();
+    let base: Vec<f64> = history
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(col).unwrap().parse().unwrap())
+        .collect();
+    let weight = RHO * G * 16.0;
+    for (step, expected) in [(1, weight), (5, weight + 4.0 * q), (9, weight)] {
+        assert!(
+            (base[step] - expected).abs() < 1e-6 * expected,
+            "step {step}: {} against {expected}",
+            base[step]
+        );
+    }
+}
