@@ -178,16 +178,7 @@ where
         None if span.from > 0 => Begin::Continue(state),
         None => Begin::Fresh(state),
     };
-    steps::run_steps(
-        stepper,
-        begin,
-        span,
-        h,
-        outputs,
-        options,
-        scene.0,
-        scene.1,
-    )
+    steps::run_steps(stepper, begin, span, h, outputs, options, scene.0, scene.1)
 }
 
 /// `options` with an observer that also stops the run once `requested` says so (the
