@@ -395,11 +395,29 @@ fn bad_stages_are_refused_naming_the_field_and_the_value() {
             "traction[0].stages",
             "the scene has no [[stage]]",
         ),
+        (
+            two("water = { phreatic = [[0.0, 3.0], [0.0, 2.0]] }\n"),
+            "stage[1].water.phreatic",
+            "increase",
+        ),
+        (
+            two("water = { level = 2.0, unit_weight = -1.0 }\n"),
+            "stage[1].water.unit_weight",
+            "-1",
+        ),
     ];
     for (text, field, message) in cases {
         let (f, m) = refused(&text);
         assert_eq!(f, field, "{m}");
         assert!(m.contains(message), "{field}: {m}");
+    }
+    // A value of the wrong type is a TOML error: it names the value and the key's line.
+    for (key, value) in [("reset_displacements", "\"yes\""), ("factor_of_safety", "1")] {
+        let text = two(&format!("{key} = {value}\n"));
+        let err = Scene::parse(&text, None).unwrap_err();
+        let line = common::line_of(&text, &format!("{key} = {value}"));
+        assert_eq!(err.line, Some(line), "{err}");
+        assert!(err.message.contains("expected a boolean"), "{err}");
     }
 }
 

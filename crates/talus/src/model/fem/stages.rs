@@ -27,11 +27,9 @@ pub struct Stages {
 /// One stage: its elements (indices into the whole mesh, increasing) and its steps.
 #[derive(Debug, Clone)]
 pub struct StagePlan {
-    pub name: String,
     pub elements: Vec<usize>,
-    /// The run's steps before the stage, and the stage's own.
+    /// The run's steps before the stage.
     pub first_step: usize,
-    pub steps: usize,
     /// The water table in force and the field it came from.
     pub water: Option<(WaterSpec, String)>,
     pub spec: StageSpec,
@@ -39,7 +37,7 @@ pub struct StagePlan {
 
 impl StagePlan {
     pub fn last_step(&self) -> usize {
-        self.first_step + self.steps
+        self.first_step + self.spec.steps
     }
 }
 
@@ -65,25 +63,21 @@ impl Stages {
         let region = |field: String, name: &str| {
             super::materials::region(scene, &ground.regions, &field, name)
         };
-        // Present at the start: everything but the regions some stage builds.
+        // Present at the start: everything but the regions whose first mention, in the
+        // order the stages apply them (removals, then additions), is an addition.
         let mut active = vec![true; mesh.triangles.len()];
-        // Where each region was last removed or built: (stage, removed?).
-        let mut history: std::collections::BTreeMap<&str, (usize, bool)> = Default::default();
+        let mut seen = std::collections::BTreeSet::new();
         for (k, s) in spec.stage.iter().enumerate() {
+            seen.extend(s.deactivate.iter().map(String::as_str));
             for (j, name) in s.activate.iter().enumerate() {
                 let elements = region(format!("stage[{k}].activate[{j}]"), name)?;
-                if !history.contains_key(name.as_str()) {
-                    for &e in elements {
-                        active[e] = false;
-                    }
+                if seen.insert(name.as_str()) {
+                    elements.iter().for_each(|&e| active[e] = false);
                 }
-                history.entry(name).or_insert((k, false));
-            }
-            for name in &s.deactivate {
-                history.entry(name).or_insert((k, true));
             }
         }
-        history.clear();
+        // Where each region was last removed or built: (stage, removed?).
+        let mut history: std::collections::BTreeMap<&str, (usize, bool)> = Default::default();
         let mut water = spec.water.clone().map(|w| (w, "water".to_string()));
         let mut plans = Vec::with_capacity(spec.stage.len());
         let mut first_step = 0;
@@ -143,10 +137,8 @@ impl Stages {
                 water = Some((w.clone(), format!("stage[{k}].water")));
             }
             plans.push(StagePlan {
-                name: s.name.clone(),
                 elements,
                 first_step,
-                steps: s.steps,
                 water: water.clone(),
                 spec: s.clone(),
             });
@@ -172,7 +164,7 @@ impl Stages {
             .map(|&e| self.ground.element_material[e])
             .collect();
         let view = StageView {
-            name: &plan.name,
+            name: &plan.spec.name,
             water: plan.water.as_ref().map(|(w, f)| (w, f.clone())),
         };
         let model = build(scene, mesh, &element_material, &self.ground, Some(&view))?;

@@ -164,19 +164,36 @@ impl<'a> FemOutputs<'a> {
             model,
             &format!("{HISTORY_COLUMNS},{}{stage_column}", FEM_COLUMNS.join(",")),
         )?;
-        Ok(Self {
-            scene,
+        let carried = Carried {
             results,
+            pvd: Vec::new(),
+            curve: Vec::new(),
+            histories: Vec::new(),
+        };
+        Ok(Self::on(scene, carried, model, options, stage))
+    }
+
+    /// The outputs on `model` that go on from what `carried` recorded.
+    fn on(
+        scene: &'a Scene,
+        carried: Carried,
+        model: &'a Model,
+        options: &'a RunOptions,
+        stage: Option<StageOutputs>,
+    ) -> Self {
+        Self {
+            scene,
+            results: carried.results,
             model,
             out: &options.out_dir,
             write_fields: options.write_fields,
             reaction_nodes: reaction_nodes(model),
-            pvd: Vec::new(),
-            curve: Vec::new(),
-            histories: Vec::new(),
+            pvd: carried.pvd,
+            curve: carried.curve,
+            histories: carried.histories,
             last_steps: fields::LastSteps::default(),
             stage,
-        })
+        }
     }
 
     /// What carries on to the next stage of a staged run.
@@ -197,19 +214,11 @@ impl<'a> FemOutputs<'a> {
         options: &'a RunOptions,
         stage: StageOutputs,
     ) -> Result<Self, RunError> {
-        Ok(FemOutputs {
-            scene,
+        let carried = Carried {
             results: carried.results.rebind(scene, model)?,
-            model,
-            out: &options.out_dir,
-            write_fields: options.write_fields,
-            reaction_nodes: reaction_nodes(model),
-            pvd: carried.pvd,
-            curve: carried.curve,
-            histories: carried.histories,
-            last_steps: fields::LastSteps::default(),
-            stage: Some(stage),
-        })
+            ..carried
+        };
+        Ok(Self::on(scene, carried, model, options, Some(stage)))
     }
 }
 

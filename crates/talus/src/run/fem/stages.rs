@@ -45,7 +45,7 @@ pub fn run(
                 .and_then(|v| serde_json::from_value(v).ok());
             let k = saved
                 .as_ref()
-                .and_then(|s| stages.plans.iter().position(|p| p.name == s.name))
+                .and_then(|s| stages.plans.iter().position(|p| p.spec.name == s.name))
                 .ok_or_else(|| CheckpointError::Corrupt {
                     path: checkpoint::path(&options.out_dir),
                     why: "it names no stage of this scene".into(),
@@ -86,7 +86,7 @@ pub fn run(
                 let release = Release {
                     force,
                     t0,
-                    t1: t0 + h * plan.steps as f64,
+                    t1: t0 + h * plan.spec.steps as f64,
                 };
                 (state, Some(release))
             }
@@ -96,15 +96,15 @@ pub fn run(
                 .map_err(|e| scene.error(&format!("stage[{k}].steps"), e))?;
         }
         tracing::info!(
-            stage = plan.name.as_str(),
+            stage = plan.spec.name.as_str(),
             elements = stage.elements.len(),
             free_dofs = stage.model.assembly.dofs().n_free(),
-            steps = plan.steps,
+            steps = plan.spec.steps,
             "stage"
         );
         let column = StageOutputs {
             index: k,
-            name: plan.name.clone(),
+            name: plan.spec.name.clone(),
             last_step: plan.last_step(),
             release,
         };
@@ -139,7 +139,7 @@ pub fn run(
         }
         records.extend(reports);
         let mut entry = StageSummary {
-            name: plan.name.clone(),
+            name: plan.spec.name.clone(),
             first_step: plan.first_step + 1,
             last_step: plan.last_step(),
             time: end.time,
@@ -156,7 +156,14 @@ pub fn run(
         };
         let mut interrupted = false;
         if plan.spec.factor_of_safety {
-            let found = factor_of_safety(scene, model, &end, &plan.name, plan.steps, options)?;
+            let found = factor_of_safety(
+                scene,
+                model,
+                &end,
+                &plan.spec.name,
+                plan.spec.steps,
+                options,
+            )?;
             // SIGINT/SIGTERM (or a Python callback) stopped the trials: the run stops as
             // interrupted, and a resume goes on from the last checkpoint.
             interrupted = found.interrupted;
