@@ -412,7 +412,10 @@ fn bad_stages_are_refused_naming_the_field_and_the_value() {
         assert!(m.contains(message), "{field}: {m}");
     }
     // A value of the wrong type is a TOML error: it names the value and the key's line.
-    for (key, value) in [("reset_displacements", "\"yes\""), ("factor_of_safety", "1")] {
+    for (key, value) in [
+        ("reset_displacements", "\"yes\""),
+        ("factor_of_safety", "1"),
+    ] {
         let text = two(&format!("{key} = {value}\n"));
         let err = Scene::parse(&text, None).unwrap_err();
         let line = common::line_of(&text, &format!("{key} = {value}"));
