@@ -83,13 +83,19 @@ pub fn run(root: &Path) -> Result<bool, String> {
     for line in ratios {
         println!("{line}");
     }
-    println!("\nFooting: seconds per step and peak memory");
+    println!("\nFooting: seconds per step, accepted and failed Newton iterations, peak memory");
     let rows: Vec<&str> = outputs[3].lines().filter(|l| l.starts_with('|')).collect();
     if rows.len() < 3 {
         println!("footing_steps: table not found in the benchmark output");
         ok = false;
     }
     for line in rows {
+        println!("{line}");
+    }
+    for line in outputs[3]
+        .lines()
+        .filter(|l| l.contains("wall non-associative / associative"))
+    {
         println!("{line}");
     }
     let column = &outputs[4];

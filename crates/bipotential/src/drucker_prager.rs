@@ -33,6 +33,8 @@ pub struct DruckerPrager {
     phi: f64,
     theta: f64,
     k_d: f64,
+    /// Duvaut–Lions `τ` (s); `None`: rate-independent.
+    relaxation_time: Option<f64>,
 }
 
 fn invalid(name: &'static str, value: f64, expected: &'static str) -> MaterialError {
@@ -118,7 +120,22 @@ impl DruckerPrager {
             phi,
             theta: p.dilatancy_angle.to_radians(),
             k_d,
+            relaxation_time: None,
         })
+    }
+
+    /// This material with Duvaut–Lions relaxation time `τ` (s, finite and > 0;
+    /// `docs/derivations.md`, 'Duvaut–Lions relaxation'); `None`: rate-independent.
+    pub fn with_relaxation_time(self, tau: Option<f64>) -> Result<Self, MaterialError> {
+        Ok(Self {
+            relaxation_time: tau.map(crate::check_relaxation_time).transpose()?,
+            ..self
+        })
+    }
+
+    /// The Duvaut–Lions `τ` (s), if relaxed.
+    pub fn relaxation_time(&self) -> Option<f64> {
+        self.relaxation_time
     }
 
     pub fn parameters(&self) -> &DruckerPragerParameters {

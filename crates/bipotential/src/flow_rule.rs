@@ -1,6 +1,8 @@
 use nalgebra::{SMatrix, SVector};
 use talus_cone::{Projection, Projector, Region, SecondOrderCone, VonMisesCylinder};
 
+use crate::Relaxation;
+
 /// The elastic domain of one point: a Drucker-Prager cone or, at φ = 0, a von Mises
 /// cylinder; the whole space for a material that never yields.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -61,20 +63,28 @@ impl<const D: usize> Projector<D> for YieldSet<D> {
 ///
 /// `κ = k_d (tan φ − tan θ) / √3` for Drucker-Prager in Mandel notation; `κ = 0` is
 /// associative. In a cone's own axis coordinates (the Siconos files) `κ` is eq. 20's `α`.
+///
+/// With a [`Relaxation`] `N` (Duvaut–Lions, `docs/derivations.md`, 'Duvaut–Lions
+/// relaxation') the rule holds at the shifted stress `p = σ + N z`:
+/// `F = p − P_K(p − ρ y(z))`; without one, the rate-independent map above, untouched.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FlowRule<const D: usize> {
     set: YieldSet<D>,
     kappa: f64,
+    relaxation: Option<Relaxation>,
 }
 
 /// `F(σ) = σ − P_K(σ − ρ y(z))` at one point and the blocks of its generalized Jacobian:
-/// `dF = (I − D) dσ + ρ G dz` with `D ∈ ∂P_K`, `G = D J_y`, `J_y = I + κ n uᵀ`.
+/// `dF = (I − D) dσ + ρ G dz` with `D ∈ ∂P_K`, `G = D J_y`, `J_y = I + κ n uᵀ`; with a
+/// relaxation `N`, `G = D J_y + (I − D) N / ρ` (`docs/derivations.md`, 'Duvaut–Lions
+/// relaxation').
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NaturalMapLinearization<const D: usize> {
     pub residual: SVector<f64, D>,
-    /// `D`, the Clarke Jacobian of the projection at `σ − ρ y(z)`.
+    /// `D`, the Clarke Jacobian of the projection at `σ − ρ y(z)` (`p − ρ y(z)` relaxed).
     pub projection_jacobian: SMatrix<f64, D, D>,
-    /// `G = D J_y`; equals `D` when the rule is associative.
+    /// `G = D J_y` (`+ (I − D) N / ρ` relaxed); equals `D` when the rule is associative
+    /// and not relaxed.
     pub coupling: SMatrix<f64, D, D>,
     pub region: Region,
 }
@@ -85,6 +95,7 @@ impl<const D: usize> FlowRule<D> {
         Self {
             set: YieldSet::Cone(cone),
             kappa,
+            relaxation: None,
         }
     }
 
@@ -93,6 +104,7 @@ impl<const D: usize> FlowRule<D> {
         Self {
             set: YieldSet::Everywhere,
             kappa: 0.0,
+            relaxation: None,
         }
     }
 
@@ -101,7 +113,21 @@ impl<const D: usize> FlowRule<D> {
         Self {
             set: YieldSet::Cylinder(cylinder),
             kappa: 0.0,
+            relaxation: None,
         }
+    }
+
+    /// This rule with Duvaut–Lions relaxation `N` (`None`: rate-independent). An elastic
+    /// point has no overstress and keeps `None`.
+    pub fn with_relaxation(self, relaxation: Option<Relaxation>) -> Self {
+        Self {
+            relaxation: relaxation.filter(|_| !matches!(self.set, YieldSet::Everywhere)),
+            ..self
+        }
+    }
+
+    pub fn relaxation(&self) -> Option<&Relaxation> {
+        self.relaxation.as_ref()
     }
 
     pub fn yield_set(&self) -> &YieldSet<D> {
@@ -134,6 +160,10 @@ impl<const D: usize> FlowRule<D> {
         z: &SVector<f64, D>,
         rho: f64,
     ) -> SVector<f64, D> {
+        if let Some(relaxation) = &self.relaxation {
+            let p = sigma + relaxation.apply(z);
+            return p - self.set.project(&(p - self.shifted(z) * rho)).point;
+        }
         sigma - self.set.project(&(sigma - self.shifted(z) * rho)).point
     }
 
@@ -147,6 +177,9 @@ impl<const D: usize> FlowRule<D> {
         z: &SVector<f64, D>,
         rho: f64,
     ) -> NaturalMapLinearization<D> {
+        if let Some(relaxation) = &self.relaxation {
+            return self.relaxed_linearization(relaxation, sigma, z, rho);
+        }
         let (y, jy) = match self.set.axis().filter(|_| self.kappa != 0.0) {
             None => (*z, None),
             Some(&n) => {
@@ -168,6 +201,40 @@ impl<const D: usize> FlowRule<D> {
             projection_jacobian: d,
             coupling,
             region: p.region,
+        }
+    }
+}
+
+impl<const D: usize> FlowRule<D> {
+    /// `F = p − P_K(p − ρ y(z))`, `p = σ + N z`: `dF = (I − D) dσ + [(I − D) N + ρ D J_y] dz`
+    /// (`docs/derivations.md`, 'Duvaut–Lions relaxation', eq. DL4).
+    fn relaxed_linearization(
+        &self,
+        relaxation: &Relaxation,
+        sigma: &SVector<f64, D>,
+        z: &SVector<f64, D>,
+        rho: f64,
+    ) -> NaturalMapLinearization<D> {
+        let p = sigma + relaxation.apply(z);
+        let mut y = *z;
+        let mut jy = None;
+        if let Some(&n) = self.set.axis().filter(|_| self.kappa != 0.0) {
+            let zt = z - n * z.dot(&n);
+            let r = zt.norm();
+            y += n * (self.kappa * r);
+            jy = (r > 0.0).then(|| n * (zt / r).transpose() * self.kappa);
+        }
+        let (proj, d) = self.set.project_with_jacobian(&(p - y * rho));
+        let mut coupling = match jy {
+            Some(extra) => d + d * extra,
+            None => d,
+        };
+        coupling += (SMatrix::<f64, D, D>::identity() - d) * relaxation.matrix::<D>() / rho;
+        NaturalMapLinearization {
+            residual: p - proj.point,
+            projection_jacobian: d,
+            coupling,
+            region: proj.region,
         }
     }
 }

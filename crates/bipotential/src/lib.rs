@@ -23,6 +23,7 @@ mod error;
 mod flow_rule;
 pub mod mandel;
 mod material;
+mod relaxation;
 
 pub use cone_fit::ConeFit;
 pub use davis::{davis_beta, davis_equivalent};
@@ -30,6 +31,7 @@ pub use drucker_prager::{DruckerPrager, DruckerPragerParameters};
 pub use error::MaterialError;
 pub use flow_rule::{FlowRule, NaturalMapLinearization, YieldSet};
 pub use material::{Elastic, Material};
+pub use relaxation::{check_relaxation_time, Relaxation};
 pub use talus_cone::{Projector, Region, SMatrix, SVector};
 
 // The README's example, compiled and run as a doctest (`cargo test --doc`).

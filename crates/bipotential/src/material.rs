@@ -6,7 +6,7 @@ use nalgebra::{SMatrix, SVector};
 use talus_cone::SecondOrderCone;
 
 use crate::mandel::{self, hydrostatic_axis};
-use crate::{DruckerPrager, FlowRule, MaterialError, YieldSet};
+use crate::{DruckerPrager, FlowRule, MaterialError, Relaxation, YieldSet};
 
 /// Isotropic linear elasticity: `E > 0` (Pa), `ν ∈ (−1, 0.5)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -69,6 +69,13 @@ impl Material {
         }
     }
 
+    pub fn poisson_ratio(&self) -> f64 {
+        match self {
+            Material::DruckerPrager(m) => m.parameters().poisson_ratio,
+            Material::Elastic(m) => m.poisson_ratio,
+        }
+    }
+
     /// The Drucker-Prager material, if this is one.
     pub fn drucker_prager(&self) -> Option<&DruckerPrager> {
         match self {
@@ -77,10 +84,36 @@ impl Material {
         }
     }
 
+    /// The Duvaut–Lions relaxation time `τ` (s) of a relaxed Drucker-Prager material.
+    pub fn relaxation_time(&self) -> Option<f64> {
+        self.drucker_prager()
+            .and_then(DruckerPrager::relaxation_time)
+    }
+
+    /// [`Material::flow_rule`] of a point of volume `V` (its compliance block is `V S₀`) in a
+    /// step of length `h` (s), with the material's Duvaut–Lions relaxation
+    /// `N = (τ/h)(V S₀)⁻¹` ([`Relaxation::duvaut_lions`]); exactly [`Material::flow_rule`]
+    /// without `τ`.
+    pub fn point_flow_rule<const D: usize>(
+        &self,
+        pore_pressure: f64,
+        h: f64,
+        volume: f64,
+    ) -> Result<FlowRule<D>, MaterialError> {
+        let rule = self.flow_rule::<D>(pore_pressure);
+        let Some(tau) = self.relaxation_time() else {
+            return Ok(rule);
+        };
+        let relaxation =
+            Relaxation::duvaut_lions(tau, h, volume, self.young_modulus(), self.poisson_ratio())?;
+        Ok(rule.with_relaxation(Some(relaxation)))
+    }
+
     /// The flow rule of a point under the pore pressure `p_w` (Pa, compression positive):
     /// the yield set translated by `−p_w I` (its apex moves by `−√3 p_w e`, `e` the unit
     /// hydrostatic axis); without pore pressure, [`DruckerPrager::flow_rule`] exactly. A
-    /// von Mises cylinder and an elastic point do not move.
+    /// von Mises cylinder and an elastic point do not move. Rate-independent: a relaxed
+    /// material's point rule is [`Material::point_flow_rule`].
     pub fn flow_rule<const D: usize>(&self, pore_pressure: f64) -> FlowRule<D> {
         match self {
             Material::Elastic(_) => FlowRule::elastic(),

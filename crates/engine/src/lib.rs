@@ -13,6 +13,7 @@ mod ramp;
 mod report;
 mod run;
 mod settings;
+mod step_control;
 mod stepper;
 
 pub use collapse::{
@@ -23,7 +24,8 @@ pub use discretization::{Discretization, Loading, Problem};
 pub use ramp::{Ramp, RampError};
 pub use report::{Predictor, StepError, StepReport};
 pub use run::{Collapsed, Failed, Run};
-pub use settings::{PredictorRule, StepSettings, MPM_HALVING_MEMORY};
+pub use settings::{PredictorRule, StepSettings};
+pub use step_control::{Growth, StepControl, MAX_PATIENCE};
 pub use stepper::{Stepper, StepperMemory};
 
 // The README's example (a FEM model stepped with talus-fem alone), compiled and run as a

@@ -22,7 +22,7 @@ pub struct StepReport<S> {
     /// The step asked for (s).
     pub h: f64,
     /// Sub-steps taken: 1 unless a failed solve split the step, or the step started at a
-    /// remembered sub-step size (`StepSettings::halving_memory`). A solve that ends at its
+    /// smaller sub-step size the step control kept (`StepControl`). A solve that ends at its
     /// round-off floor is accepted, not split (see `statuses`).
     pub substeps: usize,
     /// Smallest sub-step used (s).

@@ -1,13 +1,14 @@
 //! The stepper: each step of `h` is one or more sub-steps, each the reduced problem
 //! `h z = Wσ + q` of eqs. 15–16 built by a [`Discretization`] and solved by talus-ssn's
-//! semi-smooth Newton from a predictor; a sub-step whose solve fails is redone as two
-//! halves (`docs/solver.md`, "Time stepping").
+//! semi-smooth Newton from a predictor; the step control ([`StepControl`]) picks the
+//! sub-step sizes (`docs/solver.md`, "Time stepping").
 use std::time::Instant;
 
 use talus_ssn::{Report, SolveError, Solver};
 
 use crate::{
-    Discretization, Predictor, PredictorRule, Problem, StepError, StepReport, StepSettings,
+    Discretization, Predictor, PredictorRule, Problem, StepControl, StepError, StepReport,
+    StepSettings,
 };
 
 /// Advances a discretization's state step by step. For a discretization whose operator
@@ -21,18 +22,22 @@ pub struct Stepper<D: Discretization> {
     /// solve starts from σₙ + h σ̇, which under steady loading is second-order close to the
     /// answer.
     stress_rate: Option<Vec<f64>>,
-    /// The sub-step level the next step starts at, and the steps taken at it without a
-    /// halving (`StepSettings::halving_memory`).
-    memory_level: usize,
-    clean_steps: usize,
+    /// The sub-step size the next step starts at, and what the control learned.
+    control: StepControl,
 }
+
+/// Solvers of a fixed operator kept at once, one per sub-step size: the sizes in use
+/// (the current one and its neighbours) without a factorization's memory per level.
+const FIXED_SOLVERS: usize = 3;
 
 /// The [`Stepper`]'s own state between steps ([`Stepper::memory`]).
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StepperMemory {
     pub stress_rate: Option<Vec<f64>>,
-    pub memory_level: usize,
-    pub clean_steps: usize,
+    /// Absent from checkpoints written before the step control (their steps restart at
+    /// the full h).
+    #[serde(default)]
+    pub control: StepControl,
 }
 
 /// How a sub-step failed.
@@ -55,8 +60,7 @@ impl<D: Discretization> Stepper<D> {
             settings,
             fixed: Vec::new(),
             stress_rate: None,
-            memory_level: 0,
-            clean_steps: 0,
+            control: StepControl::default(),
         }
     }
 
@@ -79,18 +83,17 @@ impl<D: Discretization> Stepper<D> {
         self.stress_rate = rate;
     }
 
-    /// Halvings the next step starts with (`StepSettings::halving_memory`): 0 = full h.
+    /// Halvings the next step starts with ([`StepControl`]): 0 = full h.
     pub fn remembered_halvings(&self) -> usize {
-        self.memory_level
+        self.control.level.min(self.settings.max_halvings)
     }
 
     /// What the next step depends on besides the state: the stress rate of the predictor
-    /// and the halving memory (a checkpoint).
+    /// and the step control's memory (a checkpoint).
     pub fn memory(&self) -> StepperMemory {
         StepperMemory {
             stress_rate: self.stress_rate.clone(),
-            memory_level: self.memory_level,
-            clean_steps: self.clean_steps,
+            control: self.control.clone(),
         }
     }
 
@@ -102,14 +105,14 @@ impl<D: Discretization> Stepper<D> {
     /// 'Checkpoints and resume').
     pub fn restore_memory(&mut self, memory: StepperMemory) {
         self.stress_rate = memory.stress_rate;
-        self.memory_level = memory.memory_level;
-        self.clean_steps = memory.clean_steps;
+        self.control = memory.control;
     }
 
-    /// One step of `h` (s). A sub-step whose solve fails is redone as two halves, down to
-    /// `h / 2^max_halvings`; past that the step fails and `state` is left as it was before
-    /// the step. With `halving_memory > 0` the step starts at the sub-step size the last
-    /// halved step converged with.
+    /// One step of `h` (s), as sub-steps of `h / 2^level` chosen by the step control
+    /// ([`StepControl`], `docs/solver.md`, 'The step control'): a sub-step whose solve fails
+    /// is retried at half the size, down to `h / 2^max_halvings`; past that the step fails
+    /// and `state` is left as it was before the step. The size the step ends with, and
+    /// what the control learned, carry over to the next step.
     pub fn advance(
         &mut self,
         state: &mut D::State,
@@ -123,87 +126,80 @@ impl<D: Discretization> Stepper<D> {
         }
         let start = Instant::now();
         let mut report = StepReport::new(self.discretization.time(state), h);
-        // Start at the sub-step the last halved step converged with (its failed attempts
-        // at larger sizes would most likely fail again), still within max_halvings.
-        let remember = self.settings.halving_memory > 0;
-        let level = if remember {
-            self.memory_level.min(self.settings.max_halvings)
-        } else {
-            0
-        };
+        let max_level = self.settings.max_halvings;
+        let growth = self.settings.growth;
+        // A failed step leaves the control as it found it, as it leaves the state.
+        let control_before = self.control.clone();
+        self.control.level = self.control.level.min(max_level);
         let mut trial = state.clone();
-        let parts = 1usize << level;
-        for _ in 0..parts {
-            self.advance_level(&mut trial, h / parts as f64, level, &mut report)?;
-        }
-        *state = trial;
-        if remember {
-            let deepest = (h / report.smallest_h).log2().round() as usize;
-            if deepest > level {
-                self.memory_level = deepest;
-                self.clean_steps = 0;
-            } else {
-                self.clean_steps += 1;
-                if self.clean_steps >= self.settings.halving_memory {
-                    self.memory_level = level.saturating_sub(1);
-                    self.clean_steps = 0;
+        // Progress in units of h / 2^max_level.
+        let end = 1usize << max_level;
+        let mut position = 0;
+        while position < end {
+            let level = self.control.level;
+            let parts = 1usize << level;
+            let mut attempt = trial.clone();
+            match self.substep(&mut attempt, h / parts as f64, &mut report) {
+                Ok(iterations) => {
+                    trial = attempt;
+                    position += end / parts;
+                    self.control
+                        .accepted(position, iterations, max_level, &growth);
+                }
+                Err(SubstepError::NotConverged(r, iterations, backtracks)) => {
+                    report.failed_newton_iterations += iterations;
+                    report.failed_backtracks += backtracks;
+                    report.solve_seconds += r.seconds;
+                    let sub_h = h / parts as f64;
+                    if !self.control.failed(max_level, &growth) {
+                        self.control = control_before;
+                        return Err(StepError::NotConverged {
+                            time: self.discretization.time(&trial) + sub_h,
+                            h: sub_h,
+                            halvings: level,
+                            report_status: r.status,
+                            iterations: r.iterations,
+                            residual: r.residual / r.scale,
+                        });
+                    }
+                    // Halving is the step control at work, not a fault: a step that fails
+                    // after its halvings is the error.
+                    tracing::debug!(
+                        time = self.discretization.time(&trial),
+                        h = sub_h,
+                        status = %r.status,
+                        iterations = r.iterations,
+                        negative_pivots = ?r.negative_pivots,
+                        merits = ?r.merit_history.iter().map(|m| (m / r.scale) as f32).collect::<Vec<_>>(),
+                        "sub-step did not converge: halving it"
+                    );
+                }
+                Err(SubstepError::Fatal(e)) => {
+                    self.control = control_before;
+                    return Err(match e {
+                        StepErrorKind::Solver(e) => StepError::Solver(e),
+                        StepErrorKind::Discretization(e) => StepError::Discretization(e),
+                    });
                 }
             }
         }
+        *state = trial;
         report.time = self.discretization.time(state);
         report.seconds = start.elapsed().as_secs_f64();
         Ok(report)
     }
 
-    fn advance_level(
-        &mut self,
-        state: &mut D::State,
-        h: f64,
-        level: usize,
-        report: &mut StepReport<D::Stats>,
-    ) -> Result<(), StepError<D::Error>> {
-        let mut trial = state.clone();
-        match self.substep(&mut trial, h, report) {
-            Ok(()) => {
-                *state = trial;
-                Ok(())
-            }
-            Err(SubstepError::NotConverged(r, iterations, backtracks)) => {
-                report.failed_newton_iterations += iterations;
-                report.failed_backtracks += backtracks;
-                report.solve_seconds += r.seconds;
-                if level >= self.settings.max_halvings {
-                    return Err(StepError::NotConverged {
-                        time: self.discretization.time(state) + h,
-                        h,
-                        halvings: level,
-                        report_status: r.status,
-                        iterations: r.iterations,
-                        residual: r.residual / r.scale,
-                    });
-                }
-                // Halving is the step control at work, not a fault: a step that fails after
-                // its halvings is the error.
-                tracing::debug!(
-                    time = self.discretization.time(state),
-                    h,
-                    status = %r.status,
-                    "step did not converge: halving h"
-                );
-                self.advance_level(state, 0.5 * h, level + 1, report)?;
-                self.advance_level(state, 0.5 * h, level + 1, report)
-            }
-            Err(SubstepError::Fatal(StepErrorKind::Solver(e))) => Err(StepError::Solver(e)),
-            Err(SubstepError::Fatal(StepErrorKind::Discretization(e))) => {
-                Err(StepError::Discretization(e))
-            }
-        }
-    }
-
-    /// The solver for a fixed operator of step `h`, built on first use.
+    /// The solver for a fixed operator of step `h`, built on first use; at most
+    /// [`FIXED_SOLVERS`] are kept, the least recently used dropped first.
     fn fixed_solver(&mut self, h: f64) -> Result<usize, SubstepError<D::Error>> {
         if let Some(p) = self.fixed.iter().position(|(hh, _)| *hh == h) {
-            return Ok(p);
+            // Most recently used last.
+            let entry = self.fixed.remove(p);
+            self.fixed.push(entry);
+            return Ok(self.fixed.len() - 1);
+        }
+        if self.fixed.len() >= FIXED_SOLVERS {
+            self.fixed.remove(0);
         }
         let system = match self.discretization.fixed_system(h) {
             Some(Ok(s)) => s,
@@ -229,7 +225,7 @@ impl<D: Discretization> Stepper<D> {
         state: &mut D::State,
         h: f64,
         report: &mut StepReport<D::Stats>,
-    ) -> Result<(), SubstepError<D::Error>> {
+    ) -> Result<usize, SubstepError<D::Error>> {
         let disc = &self.discretization;
         let loading = disc.loading(state, h);
         let (mut substep, problem) = disc.begin(state, h).map_err(fatal_disc)?;
@@ -299,6 +295,13 @@ impl<D: Discretization> Stepper<D> {
                 }
                 Err(e) => return Err(fatal_solver(e)),
             };
+            tracing::debug!(
+                h,
+                iterations = r.iterations,
+                negative_pivots = ?r.negative_pivots,
+                merits = ?r.merit_history.iter().map(|m| (m / r.scale) as f32).collect::<Vec<_>>(),
+                "sub-step solve"
+            );
             if solves == 0 {
                 report.first_solve_iterations += r.iterations;
                 report.first_solve_backtracks += r.backtracks;
@@ -369,7 +372,7 @@ impl<D: Discretization> Stepper<D> {
         }
         report.stats = Some(stats);
         report.solve_seconds += solve_seconds;
-        Ok(())
+        Ok(iterations)
     }
 }
 

@@ -152,25 +152,43 @@ impl Model {
         &self.compliances[self.point_material[p]]
     }
 
-    /// Each Gauss point's flow rule: its material's, under its pore pressure.
+    /// Each Gauss point's rate-independent flow rule: its material's, under its pore
+    /// pressure. The rules of a step of length `h` are [`Model::step_flow_rules`].
     pub fn flow_rules(&self) -> Vec<FlowRule<4>> {
         (0..self.n_points())
             .map(|p| self.material_at(p).flow_rule::<4>(self.pore_pressure[p]))
             .collect()
     }
 
-    /// [`Model::flow_rules`] at time `t` (s) when the pore pressure follows a ramp; `None`
-    /// when it is constant (the rules of [`Model::reduced_system`] hold).
-    pub fn flow_rules_at(&self, t: f64) -> Option<Vec<FlowRule<4>>> {
+    /// Each Gauss point's flow rule in a step of length `h` (s): [`Model::flow_rules`], with
+    /// the Duvaut–Lions relaxation `N = (τ/h)(V_p S₀)⁻¹` of a material that has a
+    /// relaxation time (`Material::point_flow_rule`); exactly [`Model::flow_rules`] without.
+    pub fn step_flow_rules(&self, h: f64) -> Result<Vec<FlowRule<4>>, FemError> {
+        self.point_rules(1.0, h)
+    }
+
+    /// [`Model::step_flow_rules`] at time `t` (s) when the pore pressure follows a ramp;
+    /// `None` when it is constant (the rules of [`Model::reduced_system`] hold).
+    pub fn flow_rules_at(&self, t: f64, h: f64) -> Option<Result<Vec<FlowRule<4>>, FemError>> {
         let f = self.pore_pressure_ramp.as_ref()?.at(t);
-        Some(
-            (0..self.n_points())
-                .map(|p| {
-                    self.material_at(p)
-                        .flow_rule::<4>(f * self.pore_pressure[p])
-                })
-                .collect(),
-        )
+        Some(self.point_rules(f, h))
+    }
+
+    /// The step rules under `factor` times the pore pressure.
+    fn point_rules(&self, factor: f64, h: f64) -> Result<Vec<FlowRule<4>>, FemError> {
+        let volumes = &self.assembly.gauss_volumes;
+        (0..self.n_points())
+            .map(|p| {
+                let material = self.material_at(p);
+                let pore_pressure = factor * self.pore_pressure[p];
+                if material.relaxation_time().is_none() {
+                    return Ok(material.flow_rule::<4>(pore_pressure));
+                }
+                material
+                    .point_flow_rule::<4>(pore_pressure, h, volumes[p])
+                    .map_err(|e| FemError::invalid("relaxation_time", e.to_string()))
+            })
+            .collect()
     }
 
     /// Sets the materials again (strength reduction: the same points, weaker materials);

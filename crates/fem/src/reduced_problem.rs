@@ -54,7 +54,13 @@ impl Model {
             lumped_mass: asm.lumped_mass_free.clone(),
             h,
         });
-        ReducedSystem::try_new(operator, vec![0.0; 4 * asm.n_points()], self.flow_rules())
+        let rules = self
+            .step_flow_rules(h)
+            .map_err(|e| SolveError::InvalidInput {
+                field: "rules",
+                reason: e.to_string(),
+            })?;
+        ReducedSystem::try_new(operator, vec![0.0; 4 * asm.n_points()], rules)
     }
 
     /// `S_p = V_p S₀` of each Gauss point with its material's compliance: the `S` of
@@ -182,8 +188,11 @@ impl Discretization for Model {
     fn begin(&self, state: &State, h: f64) -> Result<(Loads, Problem), Self::Error> {
         let loads = self.loads_at(state.time + h);
         let q = self.reduced_rhs_with(state, h, &loads);
-        let problem = match self.flow_rules_at(state.time + h) {
-            Some(rules) => Problem::RhsAndRules(q, rules),
+        let problem = match self.flow_rules_at(state.time + h, h) {
+            Some(Ok(rules)) => Problem::RhsAndRules(q, rules),
+            // Only a relaxation can fail, and it does not depend on the pore pressure: the
+            // fixed system of this `h` fails the same way and the engine reports it.
+            Some(Err(_)) => Problem::Rhs(q),
             None => Problem::Rhs(q),
         };
         Ok((loads, problem))

@@ -3,7 +3,7 @@
 //! velocities and boundary forces that follow from its stress.
 use faer::sparse::{SparseColMat, Triplet};
 use nalgebra::{SMatrix, SVector};
-use talus_bipotential::FlowRule;
+use talus_bipotential::{FlowRule, Material};
 use talus_ssn::{
     reduced_rhs, FreeVelocities, Operator, PrescribedVelocities, ReducedSystem, Structured,
 };
@@ -90,10 +90,11 @@ pub(crate) fn numbering(
 /// zeroed: it then strains nothing, exactly as the prescribed velocity 0 it is, and the
 /// Newton matrix keeps the pattern of the sub-step (the engine keeps its analysis). Each
 /// particle takes the flow rule and `S_p = V_p S₀` of its material (`rules`, indexed by
-/// `Particles::material`, checked when the sub-step began).
+/// `Particles::material`, checked when the sub-step began), with the material's Duvaut–Lions
+/// relaxation `N = (τ/h) S_p⁻¹` if it has one (`Material::point_flow_rule`).
 pub(crate) fn pass_system(
     conditions: &[NodeCondition],
-    rules: &[(FlowRule<4>, SMatrix<f64, 4, 4>)],
+    rules: &[(FlowRule<4>, SMatrix<f64, 4, 4>, Material)],
     particles: &Particles,
     prep: &Prepared,
     contact: &[Contact],
@@ -130,12 +131,17 @@ pub(crate) fn pass_system(
     let mut compliance_blocks = Vec::with_capacity(n_p);
     let mut flow_rules = Vec::with_capacity(n_p);
     for p in 0..n_p {
-        let (flow_rule, compliance) = &rules[particles.material_of(p)];
+        let (flow_rule, compliance, material) = &rules[particles.material_of(p)];
         let s_p = compliance * particles.volume[p];
         let s = s_p * SVector::<f64, 4>::from(particles.stress[p]);
         s_sigma[4 * p..4 * p + 4].copy_from_slice(s.as_slice());
         compliance_blocks.push(s_p);
-        flow_rules.push(*flow_rule);
+        flow_rules.push(match material.relaxation_time() {
+            None => *flow_rule,
+            Some(_) => material
+                .point_flow_rule::<4>(0.0, h, particles.volume[p])
+                .map_err(|e| MpmError::invalid("relaxation_time", e.to_string()))?,
+        });
     }
     let mut v_free = vec![0.0; prep.mass_free.len()];
     let mut f_free = vec![0.0; prep.mass_free.len()];

@@ -21,6 +21,12 @@ pub struct MpmSettings {
     /// `R = exp(h ω)`), so that a rigid rotation carries the stress with it and the
     /// stress update is objective. Default true.
     pub rotate_stress: bool,
+    /// Start each sub-step's friction walls from the stick/slide states the last stresses
+    /// predict ([`crate::Substep`]; `docs/mpm-performance.md`, 'The matched column') instead
+    /// of every node stuck. The passes settle the states to the same tolerance either way;
+    /// the prediction saves the passes (and their Newton iterations) that a flowing body
+    /// spends leaving the all-stuck start. Default true.
+    pub contact_predictor: bool,
 }
 
 impl Default for MpmSettings {
@@ -29,6 +35,7 @@ impl Default for MpmSettings {
             flip_ratio: 0.95,
             flip_reference_time: Some(1e-3),
             rotate_stress: true,
+            contact_predictor: true,
         }
     }
 }

@@ -30,7 +30,7 @@ impl MpmStepper {
         self.stepper.settings()
     }
 
-    /// Halvings the next step starts with (`StepSettings::halving_memory`).
+    /// Halvings the next step starts with (`talus_engine::StepControl`).
     pub fn remembered_halvings(&self) -> usize {
         self.stepper.remembered_halvings()
     }

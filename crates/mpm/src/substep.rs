@@ -4,16 +4,18 @@
 //! [`Substep::finish`] (grid velocities, G2P). The Newton solves are the caller's.
 use talus_ssn::ReducedSystem;
 
-use crate::contact::{self, Contact, MAX_CONTACT_PASSES};
+use crate::boundary::NodeCondition;
+use crate::contact::{self, Contact, ContactChanges, MAX_CONTACT_PASSES};
 use crate::error::MpmError;
 use crate::loads::SubstepLoads;
 use crate::particles::Particles;
 use crate::reduced_problem::{
-    free_strain_operator, numbering, pass_system, solved, PassView, Prepared, Solved,
+    free_strain_operator, numbering, pass_system, solved, Dof, PassView, Prepared, Solved,
 };
 use crate::rotation::rotate;
 use crate::transfer::{
-    avoid_empty_nodes, grid_to_particle, particles_to_grid_with, stencils, velocity_gradient,
+    add_internal_force, avoid_empty_nodes, grid_to_particle, particles_to_grid_with, stencils,
+    velocity_gradient,
 };
 use crate::Mpm;
 
@@ -25,6 +27,7 @@ pub struct Substep {
     contact: Vec<Contact>,
     view: PassView,
     passes: usize,
+    changes: Vec<ContactChanges>,
     last: Option<Solved>,
 }
 
@@ -43,7 +46,9 @@ pub struct SubstepStats {
 
 impl Mpm {
     /// P2G (eq. 11) and the reduced problem of eq. 16 for a sub-step of `h` from
-    /// `particles`, with every friction node stuck, under the constant loads.
+    /// `particles`, under the constant loads, with the friction nodes in the stick/slide
+    /// states the particles' stresses predict (`MpmSettings::contact_predictor`; every node
+    /// stuck without it).
     pub fn begin_substep(
         &self,
         particles: &Particles,
@@ -95,7 +100,17 @@ impl Mpm {
         let friction_nodes: Vec<usize> = (0..prep.mass.len())
             .filter(|&i| prep.active[i] && conditions[i].friction.is_some())
             .collect();
-        let contact = vec![Contact::Stick; prep.mass.len()];
+        let mut contact = vec![Contact::Stick; prep.mass.len()];
+        if self.settings().contact_predictor && !friction_nodes.is_empty() {
+            let reaction = stuck_reactions(conditions, &prep, particles, &friction_nodes, h);
+            contact::predict(
+                conditions,
+                &friction_nodes,
+                &reaction,
+                &prep.v_old,
+                &mut contact,
+            );
+        }
         let (system, view) = pass_system(conditions, self.rules(), particles, &prep, &contact, h)?;
         Ok((
             Substep {
@@ -105,11 +120,49 @@ impl Mpm {
                 contact,
                 view,
                 passes: 0,
+                changes: Vec::new(),
                 last: None,
             },
             system,
         ))
     }
+}
+
+/// The force each friction node's wall would apply to hold it at its prescribed normal
+/// velocity and at rest tangentially under the particles' stresses `σₙ`:
+/// `M (v − vₙ)/h + Bᵀσₙ − f`, the reaction of `reduced_problem::solved` at the start of the
+/// sub-step (zero on other nodes).
+fn stuck_reactions(
+    conditions: &[NodeCondition],
+    prep: &Prepared,
+    particles: &Particles,
+    friction_nodes: &[usize],
+    h: f64,
+) -> Vec<[f64; 2]> {
+    let n_nodes = prep.mass.len();
+    let mut internal = vec![[0.0; 2]; n_nodes];
+    add_internal_force(
+        &prep.stencils,
+        &particles.volume,
+        particles.stress.as_flattened(),
+        &prep.active,
+        &mut internal,
+    );
+    let mut reaction = vec![[0.0; 2]; n_nodes];
+    for &i in friction_nodes {
+        if conditions[i].friction.is_none() {
+            continue;
+        }
+        for a in 0..2 {
+            let v = match prep.dofs[i][a] {
+                Dof::Prescribed(v) => v,
+                _ => 0.0,
+            };
+            reaction[i][a] =
+                prep.mass[i] * (v - prep.v_old[i][a]) / h + internal[i][a] - prep.force[i][a];
+        }
+    }
+    reaction
 }
 
 impl Substep {
@@ -126,13 +179,15 @@ impl Substep {
     ) -> Result<Option<ReducedSystem<4>>, MpmError> {
         self.passes += 1;
         let s = solved(particles, &self.prep, &self.view, sigma, z, self.h);
-        let changed = contact::update(
+        let changes = contact::update(
             mpm.conditions(),
             &self.friction_nodes,
             &s.reaction,
             &s.v_new,
             &mut self.contact,
         );
+        self.changes.push(changes);
+        let changed = changes.any();
         self.last = Some(s);
         if !changed || self.passes >= MAX_CONTACT_PASSES {
             if changed {
@@ -153,6 +208,22 @@ impl Substep {
         )?;
         self.view = view;
         Ok(Some(system))
+    }
+
+    /// What each solve so far changed in the friction walls' states (one entry per
+    /// [`Substep::after_solve`]; the last is empty once they settled).
+    pub fn contact_changes(&self) -> &[ContactChanges] {
+        &self.changes
+    }
+
+    /// Friction nodes stuck and sliding in the current pass.
+    pub fn contact_states(&self) -> (usize, usize) {
+        let sliding = self
+            .friction_nodes
+            .iter()
+            .filter(|&&i| matches!(self.contact[i], Contact::Slide(_)))
+            .count();
+        (self.friction_nodes.len() - sliding, sliding)
     }
 
     /// G2P (eqs. 13–14) from the last solve's stress `sigma`: plastic strain, volumes,

@@ -35,7 +35,7 @@ pub use operator::{Operator, Structured};
 pub use problem::ReducedSystem;
 pub use reduced_rhs::{reduced_rhs, FreeVelocities, PrescribedVelocities};
 pub use report::{Report, RoundOffFloor, Status};
-pub use settings::{LineSearch, LinearSolver, Rho, Settings, Stall};
+pub use settings::{Fold, LineSearch, LinearSolver, Rho, Settings, Stall};
 pub use siconos_system::reduced_system_from_siconos;
 pub use solver::Solver;
 

@@ -13,6 +13,9 @@ pub enum Status {
     /// The merit did not fall by [`Stall::decrease`](crate::Stall) over
     /// [`Stall::window`](crate::Stall) iterations, far above the round-off floor.
     Stalled,
+    /// The merit stagnated while the Newton matrix had negative pivots
+    /// ([`Fold`](crate::Fold)): the signature of a time step past its fold.
+    Folded,
     /// No step length gave sufficient decrease of `‖F‖²`.
     LineSearchFailed,
     /// The Newton matrix was singular or its solve inaccurate.
@@ -29,6 +32,7 @@ impl Status {
             Status::RoundOffFloor => "round_off_floor",
             Status::MaxIterations => "max_iterations",
             Status::Stalled => "stalled",
+            Status::Folded => "folded",
             Status::LineSearchFailed => "line_search_failed",
             Status::SingularJacobian => "singular_jacobian",
             Status::NonFinite => "non_finite",
@@ -78,6 +82,11 @@ pub struct Report {
     /// Schur steps whose no-pivot LU refused a pivot or gave an inaccurate direction, and
     /// were solved by the pivoting LU instead (`docs/solver.md`, "The factorization").
     pub pivoting_fallbacks: usize,
+    /// Negative pivots of each no-pivot LU factorization of the Newton matrix, in order
+    /// (empty for Cholesky, pivoting and stress-sized steps): a converged non-associative
+    /// step has none; a step past its fold shows them (`docs/solver.md`, 'Early signs of
+    /// a fold').
+    pub negative_pivots: Vec<usize>,
     /// Smallest and largest ρ over the points.
     pub rho_range: (f64, f64),
     /// `Some` exactly when the status is `RoundOffFloor`.
@@ -99,6 +108,7 @@ impl Report {
             schur_steps: 0,
             stress_sized_steps: 0,
             pivoting_fallbacks: 0,
+            negative_pivots: Vec::new(),
             rho_range,
             round_off_floor: None,
         }

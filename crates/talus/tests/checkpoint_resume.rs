@@ -49,7 +49,7 @@ fn footing() -> PathBuf {
 
 /// The column collapse a = 2, 40 steps, VTUs and snapshots every 10; at most 10 Newton
 /// iterations, so that steps 1 to 13 are halved and the stepper remembers it (the
-/// halving memory, `StepSettings::halving_memory`) across the checkpoint of step 10.
+/// step control, `talus_engine::StepControl`) across the checkpoint of step 10.
 fn column() -> PathBuf {
     scene(
         "column_a2.toml",
@@ -310,7 +310,7 @@ fn mpm_column_killed_half_way_then_resumed_matches_the_uninterrupted_run() {
     let saved: serde_json::Value = serde_json::from_slice(&bytes[at + 1..]).unwrap();
     if step <= 13 {
         assert!(
-            saved["stepper"]["memory_level"].as_u64() > Some(0),
+            saved["stepper"]["control"]["level"].as_u64() > Some(0),
             "the set-up must carry a halving over the checkpoint: {}",
             saved["stepper"]
         );

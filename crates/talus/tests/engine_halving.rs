@@ -108,10 +108,9 @@ fn fem_footing_halves_through_the_engine() {
 fn mpm_column_halves_through_the_engine() {
     let (mpm, particles) = sand_column::small_column();
     // The column of `crates/mpm/tests/halving_memory.rs`: its first step from rest takes 42 iterations
-    // at h = 1/60 s and 26 at h/2; one halving allowed, no memory.
+    // at h = 1/60 s and 26 at h/2; one halving allowed.
     let mut settings = StepSettings {
         max_halvings: 1,
-        halving_memory: 0,
         ..StepSettings::mpm()
     };
     settings.solver.max_iterations = 34;

@@ -113,6 +113,8 @@ fn every_shipped_mpm_scene_parses_and_builds() {
             "column_a1.toml",
             "column_a2.toml",
             "column_a4.toml",
+            "column_newton.toml",
+            "column_newton_fine.toml",
             "mpm_footing.toml"
         ]
     );

@@ -1,6 +1,8 @@
 //! Factor of safety (`docs/stability.md`): the published cases of `talus verify`, the
 //! bracket, the by-hand check of the criterion, and the errors of `[stability]`.
-use talus::analysis::verification::{slope_cases, vertical_cut_case, CaseResult};
+use talus::analysis::verification::{
+    slope_cases, vertical_cut_case, vertical_cut_fenicsx_case, CaseResult,
+};
 use talus::scene::Scene;
 
 fn assert_passed(results: &[CaseResult]) {
@@ -84,6 +86,12 @@ fn slope_factor_of_safety_bracket_and_by_hand() {
 #[test]
 fn vertical_cut_stability_number() {
     assert_passed(&vertical_cut_case());
+}
+
+/// γH_c/c of FEniCSx's vertical cut (φ = ψ = 30°) within 2% of Chen's (1975) 6.69.
+#[test]
+fn fenicsx_vertical_cut_stability_number() {
+    assert_passed(&vertical_cut_fenicsx_case());
 }
 
 const SLOPE: &str = include_str!("../../../scenes/slope.toml");

@@ -498,6 +498,25 @@ impl SymmetricPatternLu {
         Some(smallest)
     }
 
+    /// Negative pivots `u_jj` of the last successful factorization: `det A < 0` when their
+    /// number is odd. The Newton matrix `K` of a converged step has none; a
+    /// non-associative step past its fold shows them (`docs/solver.md`, 'Why the full step
+    /// fails there'). `None` before a successful factorization.
+    pub fn negative_pivots(&self) -> Option<usize> {
+        if !self.factorized {
+            return None;
+        }
+        let sym = &*self.symbolic;
+        let mut count = 0;
+        for s in 0..sym.n_supernodes() {
+            let (ncols, npat) = sym.shape(s);
+            let nrows = ncols + npat;
+            let ls = &self.values[sym.value_ptr[s]..sym.value_ptr[s + 1]];
+            count += (0..ncols).filter(|&j| ls[j * nrows + j] < 0.0).count();
+        }
+        Some(count)
+    }
+
     /// Solves `A x = b` in place with the last successful factorization.
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
         let sym = &*self.symbolic;

@@ -16,7 +16,8 @@ use crate::factorization::{SupernodalCholesky, SymbolicSymmetricPatternLu, Symme
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Factorized {
     Cholesky,
-    NoPivotLu,
+    /// With the number of negative pivots (`SymmetricPatternLu::negative_pivots`).
+    NoPivotLu(usize),
     /// The pivoting LU, because the no-pivot LU refused a pivot or its direction failed
     /// the accuracy check.
     PivotingLu,
@@ -133,7 +134,8 @@ impl SchurFactor {
                                 );
                             }
                             no_pivot.solve_in_place(rhs);
-                            return Ok(Factorized::NoPivotLu);
+                            let negative = no_pivot.negative_pivots().unwrap_or(0);
+                            return Ok(Factorized::NoPivotLu(negative));
                         }
                         Err(breakdown) => {
                             tracing::debug!(%breakdown, "no-pivot LU refused: pivoting LU");

@@ -25,7 +25,7 @@ impl<const D: usize> Solver<D> {
                 self.direction_stress_sized()?;
             }
             let accurate = self.direction_is_accurate();
-            if !accurate && used == Some(Factorized::NoPivotLu) {
+            if !accurate && matches!(used, Some(Factorized::NoPivotLu(_))) {
                 tracing::warn!("inaccurate no-pivot LU direction: retried with pivoting");
                 pivoting = true;
                 continue;
@@ -33,6 +33,9 @@ impl<const D: usize> Solver<D> {
             match used {
                 Some(f) => {
                     report.schur_steps += 1;
+                    if let Factorized::NoPivotLu(negative) = f {
+                        report.negative_pivots.push(negative);
+                    }
                     if f == Factorized::PivotingLu && !forced {
                         report.pivoting_fallbacks += 1;
                     }

@@ -67,6 +67,20 @@ impl<const D: usize> Solver<D> {
                     break;
                 }
             }
+            if let Some(fold) = self.settings.fold {
+                if report.iterations >= fold.after
+                    && report.negative_pivots.len() >= fold.window
+                    && report.negative_pivots[report.negative_pivots.len() - fold.window..]
+                        .iter()
+                        .filter(|&&n| n > 0)
+                        .count()
+                        >= fold.indefinite
+                    && stopping::no_decrease(&report.merit_history, fold.window, fold.decrease)
+                {
+                    report.status = Status::Folded;
+                    break;
+                }
+            }
             if report.iterations == self.settings.max_iterations {
                 report.status = Status::MaxIterations;
                 break;
@@ -124,6 +138,7 @@ impl<const D: usize> Solver<D> {
             report.status,
             Status::MaxIterations
                 | Status::Stalled
+                | Status::Folded
                 | Status::LineSearchFailed
                 | Status::SingularJacobian
         ) {

@@ -90,6 +90,15 @@ fn validate(settings: &Settings) -> Result<(), SolveError> {
             ));
         }
     }
+    if let Some(fold) = settings.fold {
+        if !(fold.window >= 1 && fold.indefinite >= 1 && fold.decrease > 0.0 && fold.decrease < 1.0)
+        {
+            return Err(invalid(
+                "settings.fold",
+                format!("{fold:?}: need window ≥ 1, indefinite ≥ 1, 0 < decrease < 1"),
+            ));
+        }
+    }
     if let Some(ls) = settings.line_search {
         if !(ls.armijo > 0.0 && ls.armijo < 0.5 && ls.shrink > 0.0 && ls.shrink < 1.0) {
             return Err(invalid(

@@ -14,6 +14,8 @@ use super::{
 /// written are checked, then replaced by Davis's associated equivalent
 /// (`DruckerPragerParameters::davis_equivalent`, the transform `[stability] dilatancy =
 /// "davis"` uses too): `ψ* = φ*`, so every flow rule of the material is associative.
+/// `relaxation_time` (finite, > 0) is checked and kept by
+/// `DruckerPrager::with_relaxation_time`.
 pub fn material(
     scene: &impl Locate,
     field: &str,
@@ -43,6 +45,7 @@ pub fn material(
                 ("dilatancy_angle", m.dilatancy_angle.is_some()),
                 ("cone_fit", m.cone_fit.is_some()),
                 ("flow", m.flow.is_some()),
+                ("relaxation_time", m.relaxation_time.is_some()),
             ];
             if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
                 return Err(scene.error(
@@ -98,7 +101,9 @@ pub fn material(
                         )
                     })?,
             };
-            Ok(Material::DruckerPrager(dp))
+            Ok(Material::DruckerPrager(
+                dp.with_relaxation_time(m.relaxation_time).map_err(named)?,
+            ))
         }
     }
 }

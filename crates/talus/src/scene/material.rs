@@ -88,6 +88,10 @@ pub struct MaterialSpec {
     /// `material[k].flow` and its line; [`MaterialSpec::flow`] reads it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub flow: Option<String>,
+    /// Duvaut–Lions relaxation time τ (s), Drucker-Prager only; absent: rate-independent
+    /// (`docs/scenes.md`, 'Regions and materials'). Checked by `check::material`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub relaxation_time: Option<f64>,
     #[serde(default)]
     pub density: Option<f64>,
     /// Below a water table (kg/m³); default `density`.

@@ -56,6 +56,11 @@ impl SolverSpec {
     /// The method's preset `base` (`StepSettings::fem()` or `::mpm()`) with this section's
     /// keys.
     pub fn step_settings(&self, base: StepSettings) -> StepSettings {
+        // `stall_window = 0` turns off both early ends of a failing solve.
+        let fold = match self.stall_window {
+            Some(0) => None,
+            _ => base.solver.fold,
+        };
         let stall = match self.stall_window {
             None => base.solver.stall,
             Some(0) => None,
@@ -82,6 +87,7 @@ impl SolverSpec {
                     None
                 },
                 stall,
+                fold,
                 ..base.solver
             },
             max_halvings: self.max_step_halvings,

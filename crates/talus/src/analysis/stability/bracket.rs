@@ -30,6 +30,9 @@ pub struct Bracket {
     /// Trials whose outcome contradicted an earlier one (a stable `F` above a failing one):
     /// the failing one is kept, so the bracket never widens.
     pub contradictions: Vec<f64>,
+    /// The width `upper − lo` before each guided trial inside the bracket
+    /// ([`Bracket::next_guided`]): a guess that did not halve it is followed by a bisection.
+    widths: Vec<f64>,
 }
 
 /// What to do next.
@@ -81,6 +84,7 @@ impl Bracket {
             pending,
             range: [MIN_FACTOR, MAX_FACTOR],
             contradictions: Vec::new(),
+            widths: Vec::new(),
         }
     }
 
@@ -115,6 +119,69 @@ impl Bracket {
             (None, _, Some(up)) if up <= min => Next::Unbracketed,
             (None, _, Some(up)) => Next::Try((up / EXPANSION).max(min)),
             // Nothing tried yet and nothing pending cannot happen (`new` queues one).
+            (None, _, None) => Next::Try(1.0),
+        }
+    }
+
+    /// The next trial steered by `guide` (`continuation`): the same ends as
+    /// [`Bracket::next_trial`] (`Done`, `Unbracketed`, `NoMechanism`, `NoStableFactor`),
+    /// the same halving while only failing trials are known, but
+    /// - beyond the largest stable `lo` with nothing above: just above the estimate
+    ///   (`estimate · (1 + 0.45 tolerance)`), at least `lo · (1 + 0.9 tolerance)` (a
+    ///   failure there ends the search) and at most `lo · guide.expansion`; `lo ·
+    ///   guide.expansion` without an estimate;
+    /// - inside `[lo, upper]`: when one trial can end the search (`lo (1 + tol) ≥ upper /
+    ///   (1 + tol)`), the point of that interval nearest the estimate; otherwise just
+    ///   below or above the estimate (the side away from the nearer end), kept a tenth of
+    ///   the width from either end; the middle without an estimate, or when the last
+    ///   guided trial did not halve the width (so the search never crawls).
+    pub fn next_guided(&mut self, guide: &super::continuation::Guide) -> Next {
+        while let Some(f) = self.pending.pop() {
+            if self.open(f) {
+                return Next::Try(f);
+            }
+        }
+        let [min, max] = self.range;
+        let tol = self.tolerance;
+        let estimate = guide.estimate.filter(|e| e.is_finite());
+        match (self.lo, self.hi, self.upper()) {
+            (Some(lo), Some(hi), _) if hi - lo <= tol * lo => Next::Done { lo, hi },
+            (Some(lo), _, Some(up)) if up - lo <= tol * lo => Next::Unbracketed,
+            (Some(lo), _, Some(up)) => {
+                let width = up - lo;
+                let crawled = match self.widths[..] {
+                    [.., last] => width > 0.5 * last,
+                    [] => false,
+                };
+                self.widths.push(width);
+                let (a, b) = (up / (1.0 + tol), lo * (1.0 + tol));
+                let f = match estimate {
+                    // Either outcome ends the search.
+                    _ if a <= b => estimate.map_or(0.5 * (a + b), |e| e.clamp(a, b)),
+                    Some(e) if !crawled && e > lo && e < up => {
+                        let aim = if e - lo > up - e {
+                            e * (1.0 - 0.45 * tol)
+                        } else {
+                            e * (1.0 + 0.45 * tol)
+                        };
+                        aim.clamp(lo + 0.1 * width, up - 0.1 * width)
+                    }
+                    _ => 0.5 * (lo + up),
+                };
+                Next::Try(f)
+            }
+            (Some(lo), _, None) if lo >= max => Next::NoMechanism { up_to: lo },
+            (Some(lo), _, None) => {
+                let far = lo * guide.expansion.max(1.0 + tol);
+                let f = match estimate {
+                    Some(e) => (e * (1.0 + 0.45 * tol)).clamp(lo * (1.0 + 0.9 * tol), far),
+                    None => far,
+                };
+                Next::Try(f.min(max))
+            }
+            (None, Some(hi), _) if hi <= min => Next::NoStableFactor { down_to: hi },
+            (None, _, Some(up)) if up <= min => Next::Unbracketed,
+            (None, _, Some(up)) => Next::Try((up / EXPANSION).max(min)),
             (None, _, None) => Next::Try(1.0),
         }
     }
@@ -258,5 +325,81 @@ mod tests {
         // A threshold just below the upper end is still bracketed.
         let (lo, hi, _) = search(99.0, 0.005, 1.0, None);
         assert!(lo <= 99.0 && 99.0 < hi && hi <= MAX_FACTOR, "{lo} {hi}");
+    }
+
+    /// The guided search against a known threshold, with an estimate that is exact,
+    /// 3% high, 5% low or nonsense: every bracket holds the threshold and ends within the
+    /// tolerance, and a good estimate ends it in fewer trials than bisection.
+    fn guided(
+        threshold: f64,
+        tol: f64,
+        estimate: impl Fn(f64) -> Option<f64>,
+    ) -> (f64, f64, usize) {
+        let mut b = Bracket::new(tol, 1.0, None);
+        for n in 1..200 {
+            let guide = super::super::continuation::Guide {
+                estimate: estimate(threshold),
+                expansion: 2.0,
+            };
+            match b.next_guided(&guide) {
+                Next::Try(f) => b.record(
+                    f,
+                    if f > threshold {
+                        Outcome::Fails
+                    } else {
+                        Outcome::Stable
+                    },
+                ),
+                Next::Done { lo, hi } => return (lo, hi, n - 1),
+                other => panic!("{other:?}"),
+            }
+        }
+        panic!("no convergence");
+    }
+
+    #[test]
+    fn guided_search_keeps_the_bracket_and_its_tolerance() {
+        for threshold in [0.45, 1.0, 1.38, 6.69, 40.0] {
+            let (_, _, blind) = search(threshold, 0.005, 1.0, None);
+            let estimates: [(&str, Box<dyn Fn(f64) -> Option<f64>>); 5] = [
+                ("exact", Box::new(Some)),
+                ("high", Box::new(|t| Some(1.03 * t))),
+                ("low", Box::new(|t| Some(0.95 * t))),
+                ("none", Box::new(|_| None)),
+                ("nonsense", Box::new(|_| Some(77.0))),
+            ];
+            for (name, e) in estimates {
+                let (lo, hi, trials) = guided(threshold, 0.005, e);
+                assert!(
+                    lo <= threshold && threshold < hi,
+                    "{name}: {lo} {hi} {threshold}"
+                );
+                assert!(hi - lo <= 0.005 * lo, "{name}: {lo} {hi}");
+                assert!(trials < 40, "{name}: {trials}");
+                if name == "exact" && threshold > 1.0 {
+                    assert!(trials < blind, "{name} {threshold}: {trials} vs {blind}");
+                }
+            }
+        }
+    }
+
+    /// Unconverged trials cap the guided search as they cap the blind one.
+    #[test]
+    fn guided_search_never_ends_on_an_unconverged_trial() {
+        let guide = super::super::continuation::Guide {
+            estimate: Some(1.5),
+            expansion: 2.0,
+        };
+        let mut b = Bracket::new(0.01, 1.0, None);
+        assert_eq!(b.next_guided(&guide), Next::Try(1.0));
+        b.record(1.0, Outcome::Stable);
+        let Next::Try(f) = b.next_guided(&guide) else {
+            panic!()
+        };
+        assert!((f - 1.5 * (1.0 + 0.45 * 0.01)).abs() < 1e-12, "{f}");
+        b.record(f, Outcome::Unknown);
+        assert_eq!(b.hi, None);
+        b.record(1.005, Outcome::Unknown);
+        assert_eq!(b.next_guided(&guide), Next::Unbracketed);
     }
 }

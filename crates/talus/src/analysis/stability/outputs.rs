@@ -13,10 +13,11 @@ use crate::output::{
 use crate::run::{io_err, RunError, RunOptions, StepProgress};
 use crate::scene::{Scene, StabilityMethod};
 
-use super::{Analysis, Bracket, Equilibrium, Next, Trial};
+use super::{Analysis, Bracket, Equilibrium, Next, Planner, Trial, Verdict};
+use crate::model::fem::State;
 
 /// `history.csv`'s columns: one row per trial, row 0 the loading (`docs/stability.md`).
-pub const TRIAL_COLUMNS: &str = "trial,factor,outcome,first_increment,last_increment,growth,rest_level,steps,newton_iterations,seconds";
+pub const TRIAL_COLUMNS: &str = "trial,factor,outcome,first_increment,last_increment,growth,rest_level,steps,newton_iterations,seconds,start,moved";
 
 /// How the search ended: `summary.json`'s `factor_of_safety.status`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -66,9 +67,25 @@ pub struct StabilityRun {
 /// does not converge ends the run with its error, `summary.json` saying so
 /// (`collapsed`, `not_converged`), and no trials.
 pub fn run(scene: &Scene, options: &RunOptions) -> Result<StabilityRun, RunError> {
+    run_with(scene, options, true)
+}
+
+/// [`run`] with the search before issue 24: every trial from the loading's equilibrium,
+/// doubling, then bisection (`StabilitySettings::continuation = false`). For comparisons,
+/// and for a check pinned to that search's factors.
+pub fn run_blind(scene: &Scene, options: &RunOptions) -> Result<StabilityRun, RunError> {
+    run_with(scene, options, false)
+}
+
+fn run_with(
+    scene: &Scene,
+    options: &RunOptions,
+    continuation: bool,
+) -> Result<StabilityRun, RunError> {
     let start = Instant::now();
     let mut analysis = Analysis::new(scene)?
         .ok_or_else(|| scene.error("stability", "the scene has no [stability] section"))?;
+    analysis.settings.continuation = continuation;
     let out = &options.out_dir;
     std::fs::create_dir_all(out).map_err(io_err(out))?;
     let summary_path = out.join("summary.json");
@@ -210,7 +227,7 @@ pub fn search(
     };
     line(TRIAL_COLUMNS.to_string())?;
     line(format!(
-        "0,1,equilibrium,,{:.6e},,{:.6e},{},{},{:.6e}",
+        "0,1,equilibrium,,{:.6e},,{:.6e},{},{},{:.6e},,0",
         equilibrium.last_increment,
         super::criterion::REST * analysis.criterion.scale,
         equilibrium.steps,
@@ -219,32 +236,60 @@ pub fn search(
     ))?;
 
     let s = &analysis.settings;
-    let (max_trials, tolerance) = (s.max_trials, s.tolerance);
+    let (max_trials, tolerance, continuation) = (s.max_trials, s.tolerance, s.continuation);
     let mut bracket = Bracket::new(tolerance, s.first_guess, s.bracket);
+    // An elastic body moves by `U` per unit factor of gravity increase (its loading moved
+    // it by `U` under the weight of F = 1); strength reduction moves an elastic body not at all.
+    let mut planner = Planner::new(match analysis.settings.method {
+        StabilityMethod::GravityIncrease => Some(analysis.criterion.scale),
+        StabilityMethod::StrengthReduction => None,
+    });
+    // The end state of the largest stable trial, the next trials' start (continuation).
+    let mut stable_state: Option<(State, f64)> = None;
     let mut trials: Vec<Trial> = Vec::new();
     let mut end = None;
     let mut interrupted = false;
     while trials.len() < max_trials {
-        let f = match bracket.next_trial() {
+        let next = if continuation {
+            bracket.next_guided(&planner.guide())
+        } else {
+            bracket.next_trial()
+        };
+        let f = match next {
             Next::Try(f) => f,
             other => {
                 end = Some(other);
                 break;
             }
         };
-        let trial = match analysis.trial(f, &equilibrium.state) {
+        let start = match &stable_state {
+            Some((state, lo)) if *lo < f => (state, Some(*lo)),
+            _ => (&equilibrium.state, None),
+        };
+        let (trial, state) = match analysis.trial_from(f, start, &equilibrium.state) {
             Ok(t) => t,
             Err(e) => return Err(analysis.error(e).into()),
         };
         tracing::info!(
             factor = f,
+            start = trial.start.unwrap_or(1.0),
             outcome = trial.verdict.name(),
             steps = trial.steps(),
             iterations = trial.newton_iterations,
+            moved = trial.moved,
             "trial"
         );
         line(trial_row(trials.len() + 1, &trial, analysis))?;
         bracket.record(f, trial.verdict.outcome());
+        if trial.fails() {
+            planner.failing(f, trial.moved);
+        }
+        if trial.verdict == Verdict::Stable {
+            planner.stable(f, trial.moved);
+            if continuation && bracket.lo == Some(f) {
+                stable_state = Some((state, f));
+            }
+        }
         let stop = options.observer.as_ref().is_some_and(|observe| {
             // One call per trial: `step` counts trials (`docs/stability.md`).
             observe(&StepProgress {
@@ -325,7 +370,7 @@ fn empty_summary(status: RunStatus, steps: usize, requested: usize, time: f64) -
 fn trial_row(k: usize, t: &Trial, analysis: &Analysis) -> String {
     let opt = |v: Option<f64>| v.map(|v| format!("{v:.6e}")).unwrap_or_default();
     format!(
-        "{k},{:.10e},{},{},{},{},{:.6e},{},{},{:.6e}",
+        "{k},{:.16e},{},{},{},{},{:.6e},{},{},{:.6e},{},{:.6e}",
         t.factor,
         t.verdict.name(),
         opt(t.increments.first().copied()),
@@ -334,7 +379,9 @@ fn trial_row(k: usize, t: &Trial, analysis: &Analysis) -> String {
         super::criterion::REST * analysis.criterion.scale,
         t.steps(),
         t.newton_iterations,
-        t.seconds
+        t.seconds,
+        opt(t.start),
+        t.moved
     )
 }
 

@@ -22,6 +22,12 @@ pub struct StabilitySettings {
     pub monitor: Option<(usize, String)>,
     pub max_trials: usize,
     pub trial_steps: usize,
+    /// Each trial starts from the largest stable trial's end state and the next factor
+    /// is extrapolated from the stable trials' load–displacement curve
+    /// (`docs/stability.md`, 'Search'); `false`: every trial from the equilibrium, the
+    /// blind doubling and bisection (the search before issue 24, kept for comparison).
+    /// No scene key: `true` for every scene.
+    pub continuation: bool,
 }
 
 use super::bracket::{MAX_FACTOR, MIN_FACTOR};
@@ -172,6 +178,7 @@ impl StabilitySettings {
             monitor,
             max_trials,
             trial_steps,
+            continuation: true,
         }))
     }
 }

@@ -1,5 +1,7 @@
 //! One trial factor `F`: the model with the strength divided (or gravity multiplied) by `F`,
-//! stepped by the engine from the equilibrium state until the criterion decides.
+//! stepped by the engine from a start state until the criterion decides. The search starts
+//! each trial from the state of the largest stable trial so far (the loading's equilibrium
+//! before any): `docs/stability.md`, 'Procedure'.
 use std::time::Instant;
 
 use crate::model::fem::{Model, State};
@@ -11,6 +13,9 @@ use super::criterion::{Criterion, Verdict};
 #[derive(Debug, Clone)]
 pub struct Trial {
     pub factor: f64,
+    /// The factor of the state the trial started from: the largest stable trial's, or
+    /// the loading's equilibrium (`None`).
+    pub start: Option<f64>,
     pub verdict: Verdict,
     /// The criterion's measure per completed step: the displacement increment (m).
     pub increments: Vec<f64>,
@@ -21,10 +26,15 @@ pub struct Trial {
     pub error: Option<String>,
     /// The displacement increment of the last completed step at every node (m).
     pub last_increment: Vec<[f64; 2]>,
-    /// Accumulated plastic strain increment of the trial per Gauss point.
+    /// Accumulated plastic strain increment of the trial (from its start state) per Gauss
+    /// point.
     pub plastic_increment: Vec<f64>,
     /// The stress at the trial's end (Mandel, per Gauss point, flat; Pa).
     pub stress: Vec<f64>,
+    /// The criterion's measure (at the monitored node, or the largest over the body) of
+    /// the displacement at the trial's end from the search's equilibrium (m): the
+    /// load–displacement curve the next factor is extrapolated from (`continuation`).
+    pub moved: f64,
 }
 
 impl Trial {
@@ -53,9 +63,35 @@ pub fn run_trial(
     h: f64,
     criterion: &Criterion,
 ) -> Trial {
+    run_trial_from(
+        model,
+        settings,
+        (equilibrium, None),
+        equilibrium,
+        factor,
+        h,
+        criterion,
+    )
+    .0
+}
+
+/// Steps `model` (already set to the trial's factor) from `start`, the state of the trial
+/// at factor `start.1` (`None`: `equilibrium` itself), by `h` until `criterion` decides;
+/// the trial and its end state. `equilibrium` is the search's: the displacement
+/// [`Trial::moved`] is measured from it (the plastic strain of the trial from `start`).
+pub fn run_trial_from(
+    model: &Model,
+    settings: StepSettings,
+    start: (&State, Option<f64>),
+    equilibrium: &State,
+    factor: f64,
+    h: f64,
+    criterion: &Criterion,
+) -> (Trial, State) {
+    let (start_state, start_factor) = start;
     let start = Instant::now();
     let mut stepper = Stepper::new(model, settings);
-    let mut state = equilibrium.clone();
+    let mut state = start_state.clone();
     let mut increments = Vec::new();
     let mut last_increment = vec![[0.0; 2]; state.displacement.len()];
     let mut newton_iterations = 0;
@@ -84,11 +120,19 @@ pub fn run_trial(
     let plastic_increment = state
         .plastic_strain
         .iter()
-        .zip(&equilibrium.plastic_strain)
+        .zip(&start_state.plastic_strain)
         .map(|(a, b)| a - b)
         .collect();
-    Trial {
+    let total: Vec<[f64; 2]> = state
+        .displacement
+        .iter()
+        .zip(&equilibrium.displacement)
+        .map(|(a, b)| [a[0] - b[0], a[1] - b[1]])
+        .collect();
+    let moved = criterion.measure(&total);
+    let trial = Trial {
         factor,
+        start: start_factor,
         verdict,
         increments,
         newton_iterations,
@@ -96,6 +140,8 @@ pub fn run_trial(
         error,
         last_increment,
         plastic_increment,
-        stress: state.sigma,
-    }
+        stress: state.sigma.clone(),
+        moved,
+    };
+    (trial, state)
 }

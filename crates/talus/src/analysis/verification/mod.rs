@@ -29,7 +29,8 @@ pub use layered_footing::{
 pub use material_point::{apex_return, associative_normality, dilatancy_ratio};
 pub use prandtl::{prandtl, prandtl_refinement, PrandtlRun};
 pub use stability::{
-    case_dir, slope_by_hand, slope_cases, vertical_cut_case, CUT_REFERENCE, SLOPE_REFERENCE,
+    case_dir, slope_by_hand, slope_cases, vertical_cut_case, vertical_cut_fenicsx_case,
+    CHEN_REFERENCE, CUT_REFERENCE, SLOPE_REFERENCE,
 };
 pub use stages::{cut_in_lifts_case, cut_scenes, staged_factor, CUT_IN_LIFTS};
 pub use triaxial::{
@@ -116,6 +117,7 @@ pub fn all_cases(quick: bool, figures: Option<&std::path::Path>) -> Vec<CaseResu
     // Each stamps its own seconds (the slope's by-hand runs apart from its search).
     out.extend(slope_cases());
     out.extend(vertical_cut_case());
+    out.extend(vertical_cut_fenicsx_case());
     out.extend(cut_in_lifts_case());
     out.extend(submerged_slope_case());
     out

@@ -1,7 +1,9 @@
 //! Factors of safety against published values (`docs/stability.md`): the 2:1 slope of
 //! Griffiths & Lane (1999), example 1, by strength reduction (`scenes/slope.toml`), and the
 //! critical height of a vertical cut in undrained clay by gravity increase
-//! (`scenes/vertical_cut.toml`). The slope's factor `F` is also checked by hand: the scene
+//! (`scenes/vertical_cut.toml`), and the vertical cut of FEniCSx's Mohr-Coulomb tutorial
+//! against Chen's 6.69 (`scenes/vertical_cut_fenicsx.toml`). The slope's factor `F` is
+//! also checked by hand: the scene
 //! without `[stability]`, its strength divided by `0.98 F` and by `1.02 F` in the file,
 //! comes to rest and fails by the criterion.
 use std::path::{Path, PathBuf};
@@ -19,6 +21,10 @@ pub const SLOPE_REFERENCE: f64 = 1.38;
 /// The stability number `γH_c/c` of a vertical cut in Tresca soil: Pastor, Thai &
 /// Francescato (2000) bound it by 3.772 and 3.786 (limit analysis); the middle.
 pub const CUT_REFERENCE: f64 = 3.779;
+/// Chen's (1975) stability number `γH/c` of a vertical cut in associative Mohr-Coulomb soil
+/// with φ = 30° (limit analysis), the reference of FEniCSx's tutorial "Plasticity of
+/// Mohr-Coulomb with apex-smoothing" (Latyshev & Bleyer, dolfinx-external-operator).
+pub const CHEN_REFERENCE: f64 = 6.69;
 
 fn scene_path(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -198,6 +204,40 @@ pub fn vertical_cut_case() -> Vec<CaseResult> {
         seconds: start.elapsed().as_secs_f64(),
         source: "Pastor, Thai & Francescato (2000), IJNAMG 24(2): 3.772 ≤ γH_c/c ≤ 3.786 \
                  (Taylor 1948: 3.85)"
+            .into(),
+    }]
+}
+
+/// The FEniCSx tutorial's vertical cut by gravity increase (`scenes/vertical_cut_fenicsx.toml`,
+/// 48 × 40 P2, the plane-strain Drucker-Prager match of Mohr-Coulomb φ = ψ = 30°): its
+/// factor is `γH/c` at collapse (γH/c = 1 at F = 1). The mesh is 1% stiff there
+/// (`docs/stability.md`, 'Verification': 24 × 20 gives +2.4%, 96 × 80 −0.06%): the
+/// tolerance is 2%.
+pub fn vertical_cut_fenicsx_case() -> Vec<CaseResult> {
+    let start = Instant::now();
+    let computed = Scene::from_path(&scene_path("vertical_cut_fenicsx.toml"))
+        .ok()
+        .and_then(|scene| {
+            let spec = &scene.spec;
+            let material = spec.material.single()?;
+            let gamma = material.density? * spec.gravity?[1].abs();
+            let (h, c) = (1.0, material.cohesion());
+            let run =
+                crate::analysis::stability::run(&scene, &options("vertical-cut-fenicsx")).ok()?;
+            Some(run.factor_of_safety.value? * gamma * h / c)
+        });
+    vec![CaseResult {
+        case: "vertical_cut_fenicsx_gravity_increase_chen".into(),
+        quantity: "γH_c/c = F γH/c (scenes/vertical_cut_fenicsx.toml, P2 48×40, φ = ψ = 30°)"
+            .into(),
+        reference: CHEN_REFERENCE,
+        computed: computed.unwrap_or(f64::NAN),
+        tolerance: 0.02,
+        check: Check::Relative,
+        seconds: start.elapsed().as_secs_f64(),
+        source: "Chen (1975), Limit Analysis and Soil Plasticity: γH_c/c = 6.69 for φ = 30°; \
+                 the FEniCSx tutorial 'Plasticity of Mohr-Coulomb with apex-smoothing' \
+                 (Latyshev & Bleyer): L = 1.2 H, fixed base and back, E/c = 6778/3.45, ν = 0.25"
             .into(),
     }]
 }
