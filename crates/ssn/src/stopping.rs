@@ -4,6 +4,8 @@
 //! of `z = Wσ + q`, whose error is about `ε (|W| |σ| + |q|)` componentwise (the large
 //! quasi-static terms cancel in `z`). Measured with the stopping test's ρ, that is the
 //! floor a Newton iteration can reach; below it, steps only move round-off around.
+use talus_bipotential::FlowRule;
+
 use crate::operator::{Operator, PointBlocks};
 
 /// The solve ends at the floor only when its residual is within this factor of the
@@ -26,6 +28,7 @@ pub(crate) fn floor_estimate<const D: usize>(
     sigma: &[f64],
     q: &[f64],
     residual_rho: &[f64],
+    rules: &[FlowRule<D>],
 ) -> f64 {
     let mut bound: Vec<f64> = q.iter().map(|v| v.abs()).collect();
     match operator {
@@ -73,10 +76,19 @@ pub(crate) fn floor_estimate<const D: usize>(
         }
     }
     let sigma_inf = sigma.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    // A relaxed rule reads z through `p = σ + N z` as well as `ρ y(z)` (`docs/derivations.md`,
+    // 'Duvaut–Lions relaxation'): z's rounding reaches F scaled by ρ + ‖N‖.
+    let gain = |i: usize, rho: f64| {
+        rho + rules
+            .get(i)
+            .and_then(|r| r.relaxation())
+            .map_or(0.0, |n| n.deviatoric().max(n.volumetric()))
+    };
     let worst = bound
         .chunks(D)
         .zip(residual_rho)
-        .map(|(b, rho)| rho * b.iter().fold(0.0f64, |m, v| m.max(*v)))
+        .enumerate()
+        .map(|(i, (b, rho))| gain(i, *rho) * b.iter().fold(0.0f64, |m, v| m.max(*v)))
         .fold(sigma_inf, f64::max);
     f64::EPSILON * worst
 }
@@ -140,6 +152,7 @@ mod tests {
             &[1e8, 1e8],
             &[0.0, 0.0],
             &[0.5, 1.0],
+            &[],
         );
         assert_eq!(phi, 2e8 * f64::EPSILON);
     }

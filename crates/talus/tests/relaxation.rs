@@ -315,3 +315,30 @@ fn tau_table_on_the_paper_footing() {
         previous = worst;
     }
 }
+
+/// With `relaxation_time = h` the paper footing (32 × 14, 300 steps of h = 1e-2 s) takes
+/// every step whole, at most 15 Newton iterations in any (issue 24's target): the step
+/// problem is unique for τ ≥ μ h (eq. DL6), and its solves reach the round-off floor of the
+/// relaxed map, whose `N z` term scales z's rounding by ρ + ‖N‖ (`talus-ssn`'s
+/// `stopping::floor_estimate`). Measured 2026-11-26: 5.3 iterations per step, at most 10;
+/// before the floor counted `N`, 57.4 per step over 4 798 sub-steps.
+#[test]
+fn the_paper_footing_with_tau_equal_to_h_takes_every_step_whole() {
+    let scene = fem(&with_tau(FOOTING, "1.0e-2"));
+    let model = Model::from_scene(&scene).unwrap();
+    let mut state = model.initial_state(&scene).unwrap();
+    let mut stepper = Stepper::new(&model, scene.spec.solver.fem());
+    let h = scene.spec.time.step;
+    assert_eq!(h, 1e-2, "τ = h");
+    for k in 1..=scene.spec.time.steps {
+        let r = stepper
+            .advance(&mut state, h)
+            .unwrap_or_else(|e| panic!("step {k}: {e}"));
+        assert_eq!(r.substeps, 1, "step {k} was split");
+        assert!(
+            r.max_newton_iterations <= 15,
+            "step {k}: {} iterations",
+            r.max_newton_iterations
+        );
+    }
+}

@@ -175,6 +175,7 @@ impl<const D: usize> Solver<D> {
             sigma,
             &self.problem.q,
             &self.residual_rho,
+            &self.problem.rules,
         );
         (residual <= stopping::FLOOR_FACTOR * estimate).then_some(RoundOffFloor {
             reached: residual,
