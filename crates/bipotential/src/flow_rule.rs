@@ -152,7 +152,9 @@ impl<const D: usize> FlowRule<D> {
         z + n * (self.kappa * zt.norm())
     }
 
-    /// `F(σ) = σ − P_K(σ − ρ y(z))`; zero exactly when (σ, −z) satisfy the flow rule.
+    /// `F(σ) = σ − P_K(σ − ρ y(z))`; zero exactly when (σ, −z) satisfy the flow rule. With
+    /// a relaxation `N`, `σ` is read as `p = σ + N z` (`docs/derivations.md`, 'Duvaut–Lions
+    /// relaxation', eq. DL4).
     #[inline]
     pub fn natural_map_residual(
         &self,
@@ -160,16 +162,23 @@ impl<const D: usize> FlowRule<D> {
         z: &SVector<f64, D>,
         rho: f64,
     ) -> SVector<f64, D> {
-        if let Some(relaxation) = &self.relaxation {
-            let p = sigma + relaxation.apply(z);
-            return p - self.set.project(&(p - self.shifted(z) * rho)).point;
+        let p = self.relaxed(sigma, z);
+        p - self.set.project(&(p - self.shifted(z) * rho)).point
+    }
+
+    /// `p = σ + N z`, or `σ` without relaxation.
+    #[inline]
+    fn relaxed(&self, sigma: &SVector<f64, D>, z: &SVector<f64, D>) -> SVector<f64, D> {
+        match &self.relaxation {
+            Some(n) => sigma + n.apply(z),
+            None => *sigma,
         }
-        sigma - self.set.project(&(sigma - self.shifted(z) * rho)).point
     }
 
     /// The residual and its Jacobian blocks. At `z_t = 0` the gradient of `‖z_t‖` is taken
     /// as 0, an element of its Clarke subdifferential (`docs/derivations.md`, 'Clarke elements
-    /// at the kinks').
+    /// at the kinks'). With a relaxation, `dF = (I − D) dσ + [(I − D) N + ρ D J_y] dz`
+    /// (eq. DL4).
     #[inline]
     pub fn natural_map_linearization(
         &self,
@@ -177,9 +186,6 @@ impl<const D: usize> FlowRule<D> {
         z: &SVector<f64, D>,
         rho: f64,
     ) -> NaturalMapLinearization<D> {
-        if let Some(relaxation) = &self.relaxation {
-            return self.relaxed_linearization(relaxation, sigma, z, rho);
-        }
         let (y, jy) = match self.set.axis().filter(|_| self.kappa != 0.0) {
             None => (*z, None),
             Some(&n) => {
@@ -190,46 +196,16 @@ impl<const D: usize> FlowRule<D> {
                 (y, jy)
             }
         };
-        let (p, d) = self.set.project_with_jacobian(&(sigma - y * rho));
-        // G = D (I + κ n uᵀ) = D + (D n)(κ u)ᵀ.
-        let coupling = match jy {
-            Some(extra) => d + d * extra,
-            None => d,
-        };
-        NaturalMapLinearization {
-            residual: sigma - p.point,
-            projection_jacobian: d,
-            coupling,
-            region: p.region,
-        }
-    }
-}
-
-impl<const D: usize> FlowRule<D> {
-    /// `F = p − P_K(p − ρ y(z))`, `p = σ + N z`: `dF = (I − D) dσ + [(I − D) N + ρ D J_y] dz`
-    /// (`docs/derivations.md`, 'Duvaut–Lions relaxation', eq. DL4).
-    fn relaxed_linearization(
-        &self,
-        relaxation: &Relaxation,
-        sigma: &SVector<f64, D>,
-        z: &SVector<f64, D>,
-        rho: f64,
-    ) -> NaturalMapLinearization<D> {
-        let p = sigma + relaxation.apply(z);
-        let mut y = *z;
-        let mut jy = None;
-        if let Some(&n) = self.set.axis().filter(|_| self.kappa != 0.0) {
-            let zt = z - n * z.dot(&n);
-            let r = zt.norm();
-            y += n * (self.kappa * r);
-            jy = (r > 0.0).then(|| n * (zt / r).transpose() * self.kappa);
-        }
+        let p = self.relaxed(sigma, z);
         let (proj, d) = self.set.project_with_jacobian(&(p - y * rho));
+        // G = D (I + κ n uᵀ) = D + (D n)(κ u)ᵀ.
         let mut coupling = match jy {
             Some(extra) => d + d * extra,
             None => d,
         };
-        coupling += (SMatrix::<f64, D, D>::identity() - d) * relaxation.matrix::<D>() / rho;
+        if let Some(n) = &self.relaxation {
+            coupling += (SMatrix::<f64, D, D>::identity() - d) * n.matrix::<D>() / rho;
+        }
         NaturalMapLinearization {
             residual: p - proj.point,
             projection_jacobian: d,

@@ -31,7 +31,8 @@ pub use drucker_prager::{DruckerPrager, DruckerPragerParameters};
 pub use error::MaterialError;
 pub use flow_rule::{FlowRule, NaturalMapLinearization, YieldSet};
 pub use material::{Elastic, Material};
-pub use relaxation::{check_relaxation_time, Relaxation};
+pub(crate) use relaxation::check_relaxation_time;
+pub use relaxation::Relaxation;
 pub use talus_cone::{Projector, Region, SMatrix, SVector};
 
 // The README's example, compiled and run as a doctest (`cargo test --doc`).

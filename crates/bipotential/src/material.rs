@@ -90,10 +90,19 @@ impl Material {
             .and_then(DruckerPrager::relaxation_time)
     }
 
-    /// [`Material::flow_rule`] of a point of volume `V` (its compliance block is `V S₀`) in a
-    /// step of length `h` (s), with the material's Duvaut–Lions relaxation
-    /// `N = (τ/h)(V S₀)⁻¹` ([`Relaxation::duvaut_lions`]); exactly [`Material::flow_rule`]
-    /// without `τ`.
+    /// The Duvaut–Lions relaxation `N = (τ/h)(V S₀)⁻¹` ([`Relaxation::duvaut_lions`]) of a
+    /// point of volume `V` (its compliance block is `V S₀`) in a step of length `h` (s);
+    /// `None` without `τ`.
+    pub fn relaxation(&self, h: f64, volume: f64) -> Result<Option<Relaxation>, MaterialError> {
+        self.relaxation_time()
+            .map(|tau| {
+                Relaxation::duvaut_lions(tau, h, volume, self.young_modulus(), self.poisson_ratio())
+            })
+            .transpose()
+    }
+
+    /// [`Material::flow_rule`] with the point's [`Material::relaxation`]; exactly
+    /// [`Material::flow_rule`] without `τ`.
     pub fn point_flow_rule<const D: usize>(
         &self,
         pore_pressure: f64,
@@ -101,12 +110,7 @@ impl Material {
         volume: f64,
     ) -> Result<FlowRule<D>, MaterialError> {
         let rule = self.flow_rule::<D>(pore_pressure);
-        let Some(tau) = self.relaxation_time() else {
-            return Ok(rule);
-        };
-        let relaxation =
-            Relaxation::duvaut_lions(tau, h, volume, self.young_modulus(), self.poisson_ratio())?;
-        Ok(rule.with_relaxation(Some(relaxation)))
+        Ok(rule.with_relaxation(self.relaxation(h, volume)?))
     }
 
     /// The flow rule of a point under the pore pressure `p_w` (Pa, compression positive):

@@ -29,7 +29,7 @@ fn positive(name: &'static str, value: f64, expected: &'static str) -> Result<f6
 }
 
 /// The relaxation time `τ` (s) as a material takes it: finite and > 0.
-pub fn check_relaxation_time(tau: f64) -> Result<f64, MaterialError> {
+pub(crate) fn check_relaxation_time(tau: f64) -> Result<f64, MaterialError> {
     positive("relaxation_time", tau, "a finite τ > 0 (s)")
 }
 
@@ -41,7 +41,7 @@ fn hydrostatic_axis<const D: usize>() -> SVector<f64, D> {
 
 impl Relaxation {
     /// `N = a (I − e eᵀ) + b e eᵀ` from its two moduli, each finite and > 0.
-    pub fn try_new(deviatoric: f64, volumetric: f64) -> Result<Self, MaterialError> {
+    fn try_new(deviatoric: f64, volumetric: f64) -> Result<Self, MaterialError> {
         Ok(Self {
             deviatoric: positive("relaxation.deviatoric", deviatoric, "a finite value > 0")?,
             volumetric: positive("relaxation.volumetric", volumetric, "a finite value > 0")?,

@@ -4,7 +4,7 @@
 mod common;
 
 use approx::assert_relative_eq;
-use common::return_map;
+use common::{central_differences, return_map};
 use talus_bipotential::mandel::{deviator, hydrostatic_axis, trace};
 use talus_bipotential::{
     ConeFit, DruckerPrager, DruckerPragerParameters, FlowRule, Region, SMatrix, SVector,
@@ -160,18 +160,7 @@ fn fd_blocks_case<const D: usize>(
     let lin = rule.natural_map_linearization(&sigma, &z, rho);
     let h_s = 1e-6 * sigma.norm().max(1.0);
     let h_z = 1e-6 * z.norm().max(1e-12);
-    let mut d_sigma = SMatrix::<f64, D, D>::zeros();
-    let mut d_z = SMatrix::<f64, D, D>::zeros();
-    for j in 0..D {
-        let mut e = SVector::<f64, D>::zeros();
-        e[j] = 1.0;
-        let fp = rule.natural_map_residual(&(sigma + e * h_s), &z, rho);
-        let fm = rule.natural_map_residual(&(sigma - e * h_s), &z, rho);
-        d_sigma.set_column(j, &((fp - fm) / (2.0 * h_s)));
-        let fp = rule.natural_map_residual(&sigma, &(z + e * h_z), rho);
-        let fm = rule.natural_map_residual(&sigma, &(z - e * h_z), rho);
-        d_z.set_column(j, &((fp - fm) / (2.0 * h_z)));
-    }
+    let (d_sigma, d_z) = central_differences(rule, sigma, z, rho, h_s, h_z);
     let expected_sigma = SMatrix::<f64, D, D>::identity() - lin.projection_jacobian;
     let expected_z = lin.coupling * rho;
     assert!(

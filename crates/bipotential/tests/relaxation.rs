@@ -4,7 +4,7 @@
 //! modulus of eq. DL6.
 mod common;
 
-use common::return_map;
+use common::{central_differences, return_map};
 use talus_bipotential::mandel::{deviator, hydrostatic_axis, identity};
 use talus_bipotential::{
     ConeFit, DruckerPrager, DruckerPragerParameters, FlowRule, Region, Relaxation, SMatrix,
@@ -62,18 +62,7 @@ fn fd_case<const D: usize>(
     assert!((lin.residual - f).amax() <= 1e-12 * sigma.norm());
     let h_s = 1e-6 * sigma.norm();
     let h_z = 1e-6 * z.norm();
-    let mut d_sigma = SMatrix::<f64, D, D>::zeros();
-    let mut d_z = SMatrix::<f64, D, D>::zeros();
-    for j in 0..D {
-        let mut e = SVector::<f64, D>::zeros();
-        e[j] = 1.0;
-        let fp = rule.natural_map_residual(&(sigma + e * h_s), &z, rho);
-        let fm = rule.natural_map_residual(&(sigma - e * h_s), &z, rho);
-        d_sigma.set_column(j, &((fp - fm) / (2.0 * h_s)));
-        let fp = rule.natural_map_residual(&sigma, &(z + e * h_z), rho);
-        let fm = rule.natural_map_residual(&sigma, &(z - e * h_z), rho);
-        d_z.set_column(j, &((fp - fm) / (2.0 * h_z)));
-    }
+    let (d_sigma, d_z) = central_differences(rule, sigma, z, rho, h_s, h_z);
     let expected_sigma = SMatrix::<f64, D, D>::identity() - lin.projection_jacobian;
     let expected_z = lin.coupling * rho;
     assert!(

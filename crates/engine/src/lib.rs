@@ -25,7 +25,7 @@ pub use ramp::{Ramp, RampError};
 pub use report::{Predictor, StepError, StepReport};
 pub use run::{Collapsed, Failed, Run};
 pub use settings::{PredictorRule, StepSettings};
-pub use step_control::{Growth, StepControl, MAX_PATIENCE};
+pub use step_control::{Growth, StepControl};
 pub use stepper::{Stepper, StepperMemory};
 
 // The README's example (a FEM model stepped with talus-fem alone), compiled and run as a

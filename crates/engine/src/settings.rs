@@ -15,6 +15,9 @@ pub enum PredictorRule {
     Elastic,
     /// σₙ (MPM's default: the particles' stresses of the last step).
     Previous,
+    /// The elastic predictor when the sub-step's problem is associative
+    /// (`ReducedSystem::is_associative`), σₙ otherwise.
+    ElasticIfAssociative,
 }
 
 /// How the engine steps: the Newton settings, and what it does when a solve fails.

@@ -8,7 +8,7 @@
 
 /// Patience never exceeds this many sub-steps: a hard stretch that ends is left after at
 /// most this many sub-steps at the smaller size.
-pub const MAX_PATIENCE: usize = 64;
+const MAX_PATIENCE: usize = 64;
 
 /// How the control grows the sub-step back ([`crate::StepSettings::growth`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -72,7 +72,7 @@ impl StepControl {
             return;
         }
         self.streak += 1;
-        let level = self.level.min(max_level);
+        let level = self.level;
         // The doubled sub-step must start on its own grid.
         let tiles = level > 0 && position % (1usize << (max_level - level + 1)) == 0;
         if tiles && self.streak >= self.patience(level, growth) {

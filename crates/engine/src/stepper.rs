@@ -257,7 +257,14 @@ impl<D: Discretization> Stepper<D> {
         // out of rest or after a jump in the loading rate, the elastic predictor.
         let sigma_n = disc.stress(state).to_vec();
         let mut sigma = sigma_n.clone();
-        let rule = self.settings.predictor;
+        // `ElasticIfAssociative` is decided on this sub-step's own flow rules.
+        let rule = match self.settings.predictor {
+            PredictorRule::ElasticIfAssociative if solver.problem().is_associative() => {
+                PredictorRule::Elastic
+            }
+            PredictorRule::ElasticIfAssociative => PredictorRule::Previous,
+            rule => rule,
+        };
         let rate = match rule {
             PredictorRule::Extrapolated if !loading.jumps => self.stress_rate.take(),
             _ => None,

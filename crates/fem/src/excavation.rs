@@ -218,23 +218,8 @@ pub fn restrict_state(
     kept_elements: &[usize],
     node_map: &[Option<usize>],
 ) -> Result<State, FemError> {
+    // The state's sizes are checked by `transfer_state`.
     let n_nodes = full.mesh.nodes.len();
-    let n_points = full.n_points();
-    if state.sigma.len() != 4 * n_points
-        || state.plastic_strain.len() != n_points
-        || state.displacement.len() != n_nodes
-    {
-        return Err(FemError::invalid(
-            "state",
-            format!(
-                "{} stresses, {} plastic strains and {} displacements for a model of {n_points} \
-                 Gauss points (× 4) and {n_nodes} nodes",
-                state.sigma.len(),
-                state.plastic_strain.len(),
-                state.displacement.len()
-            ),
-        ));
-    }
     if node_map.len() != n_nodes {
         return Err(FemError::invalid(
             "node_map",

@@ -179,13 +179,8 @@ impl Model {
         let volumes = &self.assembly.gauss_volumes;
         (0..self.n_points())
             .map(|p| {
-                let material = self.material_at(p);
-                let pore_pressure = factor * self.pore_pressure[p];
-                if material.relaxation_time().is_none() {
-                    return Ok(material.flow_rule::<4>(pore_pressure));
-                }
-                material
-                    .point_flow_rule::<4>(pore_pressure, h, volumes[p])
+                self.material_at(p)
+                    .point_flow_rule::<4>(factor * self.pore_pressure[p], h, volumes[p])
                     .map_err(|e| FemError::invalid("relaxation_time", e.to_string()))
             })
             .collect()

@@ -192,8 +192,7 @@ impl Discretization for Model {
             Some(Ok(rules)) => Problem::RhsAndRules(q, rules),
             // Only a relaxation can fail, and it does not depend on the pore pressure: the
             // fixed system of this `h` fails the same way and the engine reports it.
-            Some(Err(_)) => Problem::Rhs(q),
-            None => Problem::Rhs(q),
+            Some(Err(_)) | None => Problem::Rhs(q),
         };
         Ok((loads, problem))
     }

@@ -1,5 +1,7 @@
 //! Coulomb friction on the walls, settled by an active set over successive solves of one
-//! sub-step: from the states the last stresses predict ([`predict`]), or every node stuck;
+//! sub-step: from the states the last stresses predict (`MpmSettings::contact_predictor`:
+//! [`update`] applied to the reactions that would hold every friction node at rest), or every
+//! node stuck;
 //! a node whose tangential reaction exceeds μ times its normal one
 //! slides under the force μ R_n; a sliding node whose velocity turns against that force
 //! sticks again.
@@ -16,44 +18,19 @@ pub(crate) enum Contact {
 /// Passes of the friction active set before the last one is accepted.
 pub(crate) const MAX_CONTACT_PASSES: usize = 8;
 
-/// The contact states a sub-step's first solve starts from (`MpmSettings::contact_predictor`):
-/// the rule of [`update`] applied to the reactions the last stresses `σₙ` would need to hold
-/// every friction node at rest, `R = M (0 − vₙ)/h + Bᵀσₙ − f` (the stress predictor's own
-/// reactions). A node under a body that slides needs more than μ Rₙ to stop and starts
-/// sliding; one at rest, or where σₙ presses little, starts stuck. The passes then settle the
-/// states as before: only their start changes.
-pub(crate) fn predict(
-    conditions: &[NodeCondition],
-    friction_nodes: &[usize],
-    stuck_reaction: &[[f64; 2]],
-    velocity: &[[f64; 2]],
-    contact: &mut [Contact],
-) {
-    for &i in friction_nodes {
-        contact[i] = Contact::Stick;
-    }
-    update(
-        conditions,
-        friction_nodes,
-        stuck_reaction,
-        velocity,
-        contact,
-    );
-}
-
-/// What one update of the friction nodes changed.
+/// What one update of the friction nodes changed (logged per friction pass).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct ContactChanges {
+pub(crate) struct ContactChanges {
     /// Nodes that went from stick to slide, and from slide to stick.
-    pub to_slide: usize,
-    pub to_stick: usize,
+    to_slide: usize,
+    to_stick: usize,
     /// Sliding nodes whose friction force moved by more than the settling tolerance.
-    pub forces: usize,
+    forces: usize,
 }
 
 impl ContactChanges {
     /// Whether any state changed enough to solve again.
-    pub fn any(&self) -> bool {
+    pub(crate) fn any(&self) -> bool {
         self.to_slide + self.to_stick + self.forces > 0
     }
 }

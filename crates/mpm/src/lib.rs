@@ -61,7 +61,6 @@ mod substep;
 pub mod transfer;
 
 pub use boundary::{GridBoundary, PrescribedVelocity, Wall, WallCondition};
-pub use contact::ContactChanges;
 pub use discretization::{GroupForces, MpmState, MpmStepReport};
 pub use error::MpmError;
 pub use grid::{Grid, Stencil};

@@ -19,7 +19,7 @@ pub struct Mpm {
     conditions: Vec<NodeCondition>,
     materials: Vec<Material>,
     /// Each material's flow rule and compliance `S₀` (1/Pa), built once.
-    rules: Vec<(FlowRule<4>, SMatrix<f64, 4, 4>, Material)>,
+    rules: Vec<(FlowRule<4>, SMatrix<f64, 4, 4>)>,
     gravity: [f64; 2],
     settings: MpmSettings,
 }
@@ -87,7 +87,7 @@ impl Mpm {
             boundary,
             rules: materials
                 .iter()
-                .map(|m| (m.flow_rule::<4>(0.0), m.compliance::<4>(), *m))
+                .map(|m| (m.flow_rule::<4>(0.0), m.compliance::<4>()))
                 .collect(),
             materials: materials.to_vec(),
             gravity,
@@ -120,9 +120,9 @@ impl Mpm {
         &self.materials
     }
 
-    /// Each material's rate-independent flow rule, compliance `S₀` and the material (for its
-    /// relaxation, `reduced_problem::pass_system`).
-    pub(crate) fn rules(&self) -> &[(FlowRule<4>, SMatrix<f64, 4, 4>, Material)] {
+    /// Each material's rate-independent flow rule and compliance `S₀`, in the order of
+    /// [`Mpm::materials`].
+    pub(crate) fn rules(&self) -> &[(FlowRule<4>, SMatrix<f64, 4, 4>)] {
         &self.rules
     }
 

@@ -91,10 +91,11 @@ pub(crate) fn numbering(
 /// Newton matrix keeps the pattern of the sub-step (the engine keeps its analysis). Each
 /// particle takes the flow rule and `S_p = V_p S₀` of its material (`rules`, indexed by
 /// `Particles::material`, checked when the sub-step began), with the material's Duvaut–Lions
-/// relaxation `N = (τ/h) S_p⁻¹` if it has one (`Material::point_flow_rule`).
+/// relaxation `N = (τ/h) S_p⁻¹` if it has one (`Material::relaxation`).
 pub(crate) fn pass_system(
     conditions: &[NodeCondition],
-    rules: &[(FlowRule<4>, SMatrix<f64, 4, 4>, Material)],
+    rules: &[(FlowRule<4>, SMatrix<f64, 4, 4>)],
+    materials: &[Material],
     particles: &Particles,
     prep: &Prepared,
     contact: &[Contact],
@@ -131,17 +132,16 @@ pub(crate) fn pass_system(
     let mut compliance_blocks = Vec::with_capacity(n_p);
     let mut flow_rules = Vec::with_capacity(n_p);
     for p in 0..n_p {
-        let (flow_rule, compliance, material) = &rules[particles.material_of(p)];
+        let m = particles.material_of(p);
+        let (flow_rule, compliance) = &rules[m];
         let s_p = compliance * particles.volume[p];
         let s = s_p * SVector::<f64, 4>::from(particles.stress[p]);
         s_sigma[4 * p..4 * p + 4].copy_from_slice(s.as_slice());
         compliance_blocks.push(s_p);
-        flow_rules.push(match material.relaxation_time() {
-            None => *flow_rule,
-            Some(_) => material
-                .point_flow_rule::<4>(0.0, h, particles.volume[p])
-                .map_err(|e| MpmError::invalid("relaxation_time", e.to_string()))?,
-        });
+        let relaxation = materials[m]
+            .relaxation(h, particles.volume[p])
+            .map_err(|e| MpmError::invalid("relaxation_time", e.to_string()))?;
+        flow_rules.push(flow_rule.with_relaxation(relaxation));
     }
     let mut v_free = vec![0.0; prep.mass_free.len()];
     let mut f_free = vec![0.0; prep.mass_free.len()];

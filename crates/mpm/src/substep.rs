@@ -4,8 +4,7 @@
 //! [`Substep::finish`] (grid velocities, G2P). The Newton solves are the caller's.
 use talus_ssn::ReducedSystem;
 
-use crate::boundary::NodeCondition;
-use crate::contact::{self, Contact, ContactChanges, MAX_CONTACT_PASSES};
+use crate::contact::{self, Contact, MAX_CONTACT_PASSES};
 use crate::error::MpmError;
 use crate::loads::SubstepLoads;
 use crate::particles::Particles;
@@ -27,7 +26,6 @@ pub struct Substep {
     contact: Vec<Contact>,
     view: PassView,
     passes: usize,
-    changes: Vec<ContactChanges>,
     last: Option<Solved>,
 }
 
@@ -102,8 +100,10 @@ impl Mpm {
             .collect();
         let mut contact = vec![Contact::Stick; prep.mass.len()];
         if self.settings().contact_predictor && !friction_nodes.is_empty() {
-            let reaction = stuck_reactions(conditions, &prep, particles, &friction_nodes, h);
-            contact::predict(
+            // The states the last stresses imply: `update` from all stuck, on the reactions
+            // that would hold the friction nodes at rest.
+            let reaction = stuck_reactions(&prep, particles, &friction_nodes, h);
+            contact::update(
                 conditions,
                 &friction_nodes,
                 &reaction,
@@ -111,7 +111,15 @@ impl Mpm {
                 &mut contact,
             );
         }
-        let (system, view) = pass_system(conditions, self.rules(), particles, &prep, &contact, h)?;
+        let (system, view) = pass_system(
+            conditions,
+            self.rules(),
+            self.materials(),
+            particles,
+            &prep,
+            &contact,
+            h,
+        )?;
         Ok((
             Substep {
                 h,
@@ -120,7 +128,6 @@ impl Mpm {
                 contact,
                 view,
                 passes: 0,
-                changes: Vec::new(),
                 last: None,
             },
             system,
@@ -133,7 +140,6 @@ impl Mpm {
 /// `M (v − vₙ)/h + Bᵀσₙ − f`, the reaction of `reduced_problem::solved` at the start of the
 /// sub-step (zero on other nodes).
 fn stuck_reactions(
-    conditions: &[NodeCondition],
     prep: &Prepared,
     particles: &Particles,
     friction_nodes: &[usize],
@@ -150,9 +156,6 @@ fn stuck_reactions(
     );
     let mut reaction = vec![[0.0; 2]; n_nodes];
     for &i in friction_nodes {
-        if conditions[i].friction.is_none() {
-            continue;
-        }
         for a in 0..2 {
             let v = match prep.dofs[i][a] {
                 Dof::Prescribed(v) => v,
@@ -186,7 +189,7 @@ impl Substep {
             &s.v_new,
             &mut self.contact,
         );
-        self.changes.push(changes);
+        tracing::debug!(pass = self.passes, ?changes, "friction pass");
         let changed = changes.any();
         self.last = Some(s);
         if !changed || self.passes >= MAX_CONTACT_PASSES {
@@ -201,6 +204,7 @@ impl Substep {
         let (system, view) = pass_system(
             mpm.conditions(),
             mpm.rules(),
+            mpm.materials(),
             particles,
             &self.prep,
             &self.contact,
@@ -208,22 +212,6 @@ impl Substep {
         )?;
         self.view = view;
         Ok(Some(system))
-    }
-
-    /// What each solve so far changed in the friction walls' states (one entry per
-    /// [`Substep::after_solve`]; the last is empty once they settled).
-    pub fn contact_changes(&self) -> &[ContactChanges] {
-        &self.changes
-    }
-
-    /// Friction nodes stuck and sliding in the current pass.
-    pub fn contact_states(&self) -> (usize, usize) {
-        let sliding = self
-            .friction_nodes
-            .iter()
-            .filter(|&&i| matches!(self.contact[i], Contact::Slide(_)))
-            .count();
-        (self.friction_nodes.len() - sliding, sliding)
     }
 
     /// G2P (eqs. 13–14) from the last solve's stress `sigma`: plastic strain, volumes,

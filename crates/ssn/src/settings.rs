@@ -80,18 +80,13 @@ impl Stall {
 }
 
 /// Ends early a solve that shows the signature of a time step past its fold
-/// (`docs/solver.md`, 'The step control'): from iteration `after` on, a merit `‖F_ρ‖₂` that
-/// has not fallen below `decrease` times its value `window` iterations earlier while the
-/// Newton matrix had negative pivots in at least `indefinite` of those iterations
+/// (`docs/solver.md`, 'The step control'): the [`Stall`] rule of `stall`, while the Newton
+/// matrix had negative pivots in at least `indefinite` of its window's iterations
 /// ([`Status::Folded`](crate::Status::Folded)). Converged non-associative solves also meet
 /// negative pivots, but mostly in their first iterations and with a falling merit.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Fold {
-    pub after: usize,
-    /// Iterations looked back; at least 1.
-    pub window: usize,
-    /// Required decrease over the window, in (0, 1).
-    pub decrease: f64,
+    pub stall: Stall,
     /// Iterations of the window whose factorization had a negative pivot; at least 1.
     pub indefinite: usize,
 }
@@ -101,9 +96,11 @@ impl Fold {
     /// pivots. Chosen on the 104×48 footing's steps 1–41 (78 converged and 10 failed
     /// solves): it ends 9 of the 10 failures early and none of the converged solves.
     pub const DEFAULT: Self = Self {
-        after: 10,
-        window: 3,
-        decrease: 0.5,
+        stall: Stall {
+            after: 10,
+            window: 3,
+            decrease: 0.5,
+        },
         indefinite: 2,
     };
 }

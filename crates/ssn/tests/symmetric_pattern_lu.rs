@@ -185,3 +185,28 @@ fn smallest_pivot_ratio_of_a_two_by_two_matrix_is_det_over_diagonal_product() {
     let ratio = lu.smallest_pivot_ratio().unwrap();
     assert!((ratio - 10.0 / 12.0).abs() < 1e-15, "{ratio}");
 }
+
+/// The number of negative pivots gives the sign of `det A`: [[1, 2], [2, 1]] (det −3) has
+/// one whichever column the ordering takes first (pivots 1 and −3), [[4, 1], [2, 3]]
+/// (det 10) none.
+#[test]
+fn negative_pivots_count_the_sign_of_the_determinant() {
+    let count = |a: [[f64; 2]; 2]| {
+        let triplets: Vec<_> = (0..2)
+            .flat_map(|i| (0..2).map(move |j| Triplet::new(i, j, a[i][j])))
+            .collect();
+        let m = SparseColMat::<usize, f64>::try_new_from_triplets(2, 2, &triplets).unwrap();
+        let symbolic = Arc::new(SymbolicSymmetricPatternLu::try_new(m.symbolic()).unwrap());
+        let mut lu = SymmetricPatternLu::new(symbolic);
+        assert_eq!(lu.negative_pivots(), None, "before a factorization");
+        lu.factorize(m.val(), DEFAULT_PIVOT_TOLERANCE).unwrap();
+        lu.negative_pivots().unwrap()
+    };
+    assert_eq!(count([[1.0, 2.0], [2.0, 1.0]]), 1);
+    assert_eq!(count([[4.0, 1.0], [2.0, 3.0]]), 0);
+    assert_eq!(
+        count([[-1.0, 0.5], [0.5, -2.0]]),
+        2,
+        "det > 0, two negative pivots"
+    );
+}

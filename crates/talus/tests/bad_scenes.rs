@@ -5,17 +5,12 @@ use talus::run::RunOptions;
 use talus::run::HISTORY_COLUMNS;
 use talus::scene::{builtin_footing, Scene};
 
-fn footing_with(from: &str, to: &str) -> String {
-    let text = include_str!("../../../scenes/footing.toml");
-    assert!(text.contains(from), "test setup: `{from}` not in the scene");
-    text.replacen(from, to, 1)
-}
+mod common;
 
-fn line_of(text: &str, needle: &str) -> usize {
-    text.lines()
-        .position(|l| l.contains(needle))
-        .expect("needle in text")
-        + 1
+use common::line_of;
+
+fn footing_with(from: &str, to: &str) -> String {
+    common::replaced(common::FOOTING, from, to)
 }
 
 #[test]

@@ -7,23 +7,17 @@
 mod common;
 
 use talus::analysis::stability;
-use talus::model::fem::{FromScene, Model, ReactionForce};
+use talus::model::fem::{FromScene, Model};
 use talus::model::mpm::MpmModel;
 use talus::run::RunOptions;
 use talus::scene::{MpmScene, Scene, SceneError};
 use talus_bipotential::{davis_beta, davis_equivalent, Material};
-use talus_engine::Stepper;
 
-const FOOTING: &str = include_str!("../../../scenes/footing.toml");
+use common::{footing_soil, footing_two_layers, replaced, FOOTING};
 const COLUMN: &str = include_str!("../../../scenes/column_a1.toml");
 const SLOPE: &str = include_str!("../../../scenes/slope.toml");
 
 const FIT: &str = "cone_fit = \"plane_strain\"\n";
-
-fn replaced(text: &str, from: &str, to: &str) -> String {
-    assert!(text.contains(from), "test setup: `{from}` not in the scene");
-    text.replacen(from, to, 1)
-}
 
 /// `text` with `flow = "..."` after its first `cone_fit` line.
 fn with_flow(text: &str, flow: &str) -> String {
@@ -124,19 +118,8 @@ fn davis_builds_the_as_given_material_of_the_equivalent_strength() {
     assert_ne!(materials(FOOTING), written);
 
     // A [[material]] list: the upper layer Davis, the lower one as given.
-    let start = FOOTING.find("[material]").unwrap();
-    let end = FOOTING[start..].find("\n\n").unwrap() + start;
-    let soil = &FOOTING[start + "[material]\n".len()..end];
-    let layered = |upper: &str| {
-        format!(
-            "{}[[region]]\nname = \"upper\"\nbox = [[-1.0, -0.4], [1.0, 0.0]]\n\n\
-             [[region]]\nname = \"lower\"\nbox = [[-1.0, -1.0], [1.0, -0.4]]\n\n\
-             [[material]]\nname = \"upper\"\nregions = [\"upper\"]\n{upper}\n\n\
-             [[material]]\nname = \"lower\"\nregions = [\"lower\"]\n{soil}{}",
-            &FOOTING[..start],
-            &FOOTING[end..]
-        )
-    };
+    let soil = footing_soil();
+    let layered = |upper: &str| footing_two_layers(upper, soil);
     let list = materials(&layered(&with_flow(soil, "davis")));
     assert_eq!(list[0], written[0]);
     assert_eq!(list[1], materials(FOOTING)[0]);
@@ -162,27 +145,12 @@ fn davis_builds_the_as_given_material_of_the_equivalent_strength() {
     assert_ne!(mpm(COLUMN), mpm(&column_written));
 }
 
-fn bits(v: &[f64]) -> Vec<u64> {
-    v.iter().map(|x| x.to_bits()).collect()
-}
-
 /// `flow = "davis"` on an associative material (ψ = φ, β = 1) changes nothing: the same
-/// material, and the same steps bit for bit. At φ = 30° `atan(tan φ)` and the degrees'
-/// round trip are not exact in floating point: the transform must not be applied there.
+/// material and the same flow rules at every Gauss point, so the same steps bit for bit (a
+/// run is a function of the model). At φ = 30° `atan(tan φ)` and the degrees' round trip
+/// are not exact in floating point: the transform must not be applied there.
 #[test]
 fn davis_on_an_associative_material_changes_nothing() {
-    let steps = |text: &str| {
-        let scene = fem(text);
-        let model = Model::from_scene(&scene).unwrap();
-        let mut state = model.initial_state(&scene).unwrap();
-        let mut stepper = Stepper::new(&model, scene.spec.solver.fem());
-        let mut reactions = Vec::new();
-        for _ in 0..10 {
-            let r = stepper.advance(&mut state, scene.spec.time.step).unwrap();
-            reactions.push(r.reaction_force());
-        }
-        (bits(&reactions), bits(&state.sigma))
-    };
     for phi in ["27.0", "30.0"] {
         let associative = replaced(
             &replaced(
@@ -195,9 +163,8 @@ fn davis_on_an_associative_material_changes_nothing() {
         );
         let davis = with_flow(&associative, "davis");
         assert_eq!(materials(&davis), materials(&associative), "φ = {phi}°");
-        if phi == "30.0" {
-            assert_eq!(steps(&davis), steps(&associative));
-        }
+        let rules = |text: &str| Model::from_scene(&fem(text)).unwrap().flow_rules();
+        assert_eq!(rules(&davis), rules(&associative), "φ = {phi}°");
     }
     // A φ = 0 (Tresca) material is associative too: unchanged.
     let tresca = replaced(
@@ -259,18 +226,7 @@ fn a_bad_flow_is_refused_naming_the_field_and_the_choices() {
         assert!(m.contains(needle), "`{needle}` not in: {m}");
     }
     // In a list: the second material.
-    let start = FOOTING.find("[material]").unwrap();
-    let end = FOOTING[start..].find("\n\n").unwrap() + start;
-    let soil = &FOOTING[start + "[material]\n".len()..end];
-    let list = format!(
-        "{}[[region]]\nname = \"upper\"\nbox = [[-1.0, -0.4], [1.0, 0.0]]\n\n\
-         [[region]]\nname = \"lower\"\nbox = [[-1.0, -1.0], [1.0, -0.4]]\n\n\
-         [[material]]\nname = \"upper\"\nregions = [\"upper\"]\n{soil}\n\n\
-         [[material]]\nname = \"lower\"\nregions = [\"lower\"]\n{}{}",
-        &FOOTING[..start],
-        with_flow(soil, "Davis"),
-        &FOOTING[end..]
-    );
+    let list = footing_two_layers(footing_soil(), &with_flow(footing_soil(), "Davis"));
     let e = fem_error(&list);
     assert_eq!(e.field, "material[1].flow", "{e}");
     assert!(e.to_string().contains("\"Davis\""), "{e}");
@@ -281,13 +237,22 @@ fn a_bad_flow_is_refused_naming_the_field_and_the_choices() {
     // Elastic: a Drucker-Prager key.
     let elastic = "[material]\nmodel = \"elastic\"\nyoung_modulus = 1.0e9\npoisson_ratio = 0.3\n\
                    density = 2.0e3\nflow = \"davis\"\n";
-    let e = fem_error(&FOOTING.replacen(&FOOTING[start..end], elastic, 1));
+    let e = fem_error(&replaced(
+        FOOTING,
+        &format!("[material]\n{}", footing_soil()),
+        elastic,
+    ));
     assert_eq!(e.field, "material.flow", "{e}");
     assert!(e.to_string().contains("Drucker-Prager key"), "{e}");
 }
 
+/// `scenes/slope.toml`'s path (its mesh file is beside it).
+fn slope_path() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/slope.toml")
+}
+
 fn factor_of_safety(text: &str, name: &str) -> (f64, [Option<f64>; 2]) {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/slope.toml");
+    let path = slope_path();
     let text = replaced(text, "plots = true", "plots = false");
     let scene = Scene::parse(&text, Some(path)).unwrap_or_else(|e| panic!("{e}"));
     let out = common::target_tmp_dir("davis_flow", name);
@@ -302,7 +267,8 @@ fn factor_of_safety(text: &str, name: &str) -> (f64, [Option<f64>; 2]) {
 /// to `talus_bipotential::davis_equivalent` (measured 2026-11-26 on `scenes/slope.toml`
 /// with `dilatancy = "davis"`: 1.3691 in [1.3672, 1.3711], `docs/stability.md`; and with
 /// `dilatancy_angle = 10.0`: 1.4043 in [1.4023, 1.4062]). With `flow = "davis"` the material
-/// is associative before any reduction, so every dilatancy rule gives the same trials.
+/// is associative before any reduction, so every dilatancy rule gives the same trials
+/// (F ≥ 1).
 #[test]
 fn stability_davis_gives_the_factor_it_gave_before() {
     let davis = replaced(SLOPE, "dilatancy = \"fixed\"", "dilatancy = \"davis\"");
@@ -313,13 +279,37 @@ fn stability_davis_gives_the_factor_it_gave_before() {
     let (f, bracket) = factor_of_safety(&psi10, "slope_davis_psi10");
     assert_eq!(f, 1.404296875);
     assert_eq!(bracket, [Some(1.40234375), Some(1.40625)]);
-    // flow = "davis": β of the unreduced angles, then c*/F, tan φ*/F; the rule is moot.
+    // flow = "davis": β of the unreduced angles, then c*/F, tan φ*/F. For F ≥ 1 (a
+    // search tries F = 1 first and none below: the slope's history.csv) the rule is moot:
+    // each builds the same reduced materials (`Analysis::set_factor`, the reduction every
+    // trial runs with), so the searches' trials are the same. Below 1, "fixed" keeps
+    // ψ_F = min(ψ*, φ*_F) = φ* < φ*_F (`stability/strength.rs`, `Strength::reduced`).
     let flow = with_flow(SLOPE, "davis");
-    let fixed = factor_of_safety(&flow, "slope_flow_davis_fixed");
-    let rule = factor_of_safety(
-        &replaced(&flow, "dilatancy = \"fixed\"", "dilatancy = \"davis\""),
-        "slope_flow_davis_davis",
-    );
-    assert_eq!(fixed, rule);
-    println!("slope, flow = \"davis\": F = {} in {:?}", fixed.0, fixed.1);
+    let reduced = |rule: &str, f: f64| {
+        let text = replaced(
+            &flow,
+            "dilatancy = \"fixed\"",
+            &format!("dilatancy = \"{rule}\""),
+        );
+        let scene = Scene::parse(&text, Some(slope_path())).unwrap_or_else(|e| panic!("{e}"));
+        let mut analysis = stability::Analysis::new(&scene)
+            .unwrap()
+            .expect("[stability]");
+        analysis.set_factor(f).unwrap();
+        analysis.model.materials.clone()
+    };
+    let unreduced = reduced("fixed", 1.0);
+    for f in [0.5, 1.0, 1.37, 2.0] {
+        let fixed = reduced("fixed", f);
+        if f != 1.0 {
+            assert_ne!(fixed, unreduced, "F = {f} reduces");
+        }
+        let davis = reduced("davis", f);
+        assert_eq!(reduced("scaled", f), davis, "F = {f}, dilatancy = scaled");
+        if f >= 1.0 {
+            assert_eq!(fixed, davis, "F = {f}, dilatancy = fixed");
+        } else {
+            assert_ne!(fixed, davis, "F = {f}: fixed keeps ψ below φ_F");
+        }
+    }
 }

@@ -107,7 +107,7 @@ fn fem_footing_halves_through_the_engine() {
 #[test]
 fn mpm_column_halves_through_the_engine() {
     let (mpm, particles) = sand_column::small_column();
-    // The column of `crates/mpm/tests/halving_memory.rs`: its first step from rest takes 42 iterations
+    // The column of `crates/mpm/tests/step_control.rs`: its first step from rest takes 42 iterations
     // at h = 1/60 s and 26 at h/2; one halving allowed.
     let mut settings = StepSettings {
         max_halvings: 1,

@@ -15,57 +15,8 @@ use talus::run::mpm::{resume_mpm_scene, run_mpm_scene};
 use talus::run::{checkpoint, RunError, RunOptions};
 use talus::scene::{MpmScene, SceneError, SceneFile};
 
-/// A stiff elastic block (0.2 m × 0.2 m, 256 particles) and a sand column (0.15 m × 0.3 m,
-/// 72 particles) 0.3 m apart on a fixed floor, against a slip left wall.
-const BLOCK_AND_COLUMN: &str = r#"title = "elastic block beside a sand column"
-gravity = [0.0, -9.81]
-
-[grid]
-origin = [0.0, 0.0]
-spacing = 0.05
-cells = [24, 8]
-
-[[body]]
-rectangle = [[0.1, 0.0], [0.3, 0.2]]
-particles_per_cell = 4
-material = "block"
-
-[[body]]
-rectangle = [[0.6, 0.0], [0.75, 0.3]]
-material = "sand"
-
-[[material]]
-name = "block"
-model = "elastic"
-young_modulus = 1.0e8
-poisson_ratio = 0.25
-density = 2400.0
-
-[[material]]
-name = "sand"
-young_modulus = 1.0e7
-poisson_ratio = 0.3
-friction_angle = 30.0
-cohesion = 0.0
-dilatancy_angle = 0.0
-cone_fit = "plane_strain"
-density = 1800.0
-
-[[wall]]
-side = "left"
-condition = "slip"
-
-[[wall]]
-side = "bottom"
-condition = "fixed"
-
-[time]
-step = 4.0e-3
-steps = 20
-
-[output]
-vtu_every = 0
-"#;
+// 256 block particles, 72 sand (`common::BLOCK_AND_COLUMN`).
+use common::BLOCK_AND_COLUMN;
 
 const N_BLOCK: usize = 16 * 16; // 0.2 m / (0.05 m / 4) per axis
 const N_COLUMN: usize = 6 * 12; // 0.15 m / 0.025 m × 0.3 m / 0.025 m
@@ -85,11 +36,7 @@ fn out_dir(name: &str) -> PathBuf {
 }
 
 fn with(from: &str, to: &str) -> String {
-    assert!(
-        BLOCK_AND_COLUMN.contains(from),
-        "test setup: `{from}` not in the scene"
-    );
-    BLOCK_AND_COLUMN.replacen(from, to, 1)
+    common::replaced(BLOCK_AND_COLUMN, from, to)
 }
 
 fn scene(text: &str) -> MpmScene {

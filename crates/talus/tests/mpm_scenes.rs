@@ -9,6 +9,10 @@ use talus::run::RunOptions;
 use talus::run::HISTORY_COLUMNS;
 use talus::scene::{MpmScene, SceneError, SceneFile};
 
+mod common;
+
+use common::line_of;
+
 const SCENES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes");
 
 /// A 4 cm square column of sand, 16 particles, on a rough floor against a smooth wall.
@@ -62,18 +66,7 @@ fn out_dir(name: &str) -> PathBuf {
 }
 
 fn tiny_with(from: &str, to: &str) -> String {
-    assert!(
-        TINY_COLUMN.contains(from),
-        "test setup: `{from}` not in the scene"
-    );
-    TINY_COLUMN.replacen(from, to, 1)
-}
-
-fn line_of(text: &str, needle: &str) -> usize {
-    text.lines()
-        .position(|l| l.contains(needle))
-        .expect("needle in text")
-        + 1
+    common::replaced(TINY_COLUMN, from, to)
 }
 
 /// The error building the MPM scene `text` gives (parse or model).

@@ -19,11 +19,18 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("output_folder")
 }
 
-/// `scenes/footing.toml` with `steps` steps, VTUs every 5, no plots (`extra` replacements
-/// too), written to `root()/file`.
+/// `scenes/footing.toml` on 8 × 4 cells (folder handling does not depend on the mesh) with
+/// `steps` steps, VTUs every 5, no plots (`extra` replacements too), written to
+/// `root()/file`.
 fn footing(file: &str, steps: usize, extra: &[(&str, &str)]) -> PathBuf {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/footing.toml");
-    let mut text = std::fs::read_to_string(path).unwrap();
+    let mut edits = vec![("cells = [32, 14]", "cells = [8, 4]")];
+    edits.extend_from_slice(extra);
+    paper_footing(file, steps, &edits)
+}
+
+/// As [`footing`] on the paper's 32 × 14 cells: for a run still going when the test acts.
+fn paper_footing(file: &str, steps: usize, extra: &[(&str, &str)]) -> PathBuf {
+    let mut text = common::FOOTING.to_string();
     let steps = format!("steps = {steps}");
     let replacements = [
         ("steps = 300", steps.as_str()),
@@ -123,10 +130,23 @@ fn assert_unchanged(dir: &Path, before: &BTreeMap<String, Vec<u8>>) {
 
 /// The step column of `history.csv`.
 fn history_steps(out: &Path) -> Vec<usize> {
+    common::history_column(out, "step")
+        .into_iter()
+        .map(|s| s as usize)
+        .collect()
+}
+
+/// The rows of `history.csv` without its `seconds` column (the wall time).
+fn history_without_seconds(out: &Path) -> Vec<Vec<String>> {
     let text = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let seconds = header.iter().position(|h| *h == "seconds").unwrap();
     text.lines()
-        .skip(1)
-        .map(|l| l.split(',').next().unwrap().parse().unwrap())
+        .map(|l| {
+            let mut row: Vec<String> = l.split(',').map(str::to_string).collect();
+            row.remove(seconds);
+            row
+        })
         .collect()
 }
 
@@ -204,7 +224,7 @@ fn forge(out: &Path, header: &str, payload: &serde_json::Value) {
 
 #[test]
 fn two_resumes_of_one_folder_at_once_one_proceeds_and_every_step_is_once() {
-    let scene = footing("together.toml", 60, &[]);
+    let scene = paper_footing("together.toml", 60, &[]);
     let out = out_dir("together");
     interrupted(&scene, &out, 5, 5);
     let folder = out.display().to_string();
@@ -267,7 +287,7 @@ fn a_folder_in_use_is_refused_to_a_run_and_a_resume_and_left_as_it_was() {
 
 #[test]
 fn sigint_releases_the_folder_after_the_step_in_progress() {
-    let scene = footing("sigint.toml", 300, &[]);
+    let scene = paper_footing("sigint.toml", 300, &[]);
     let out = out_dir("sigint");
     let child = talus(&[
         "run",
@@ -471,16 +491,26 @@ fn another_runs_checkpoint_copied_into_a_folder_is_refused() {
     assert_refused(&resume(&mine), &words);
     assert_unchanged(&mine, &before);
 
-    // The same scene run again elsewhere is the same computation: its checkpoint (the
-    // key leaves out the wall time) continues this folder as its own would.
+    // The same scene run again elsewhere is the same computation: its checkpoint of step
+    // 10 (the key leaves out the wall time) continues this folder as its own would, each
+    // step once, every row (but the wall time) that of the uninterrupted run.
+    let uninterrupted = history_without_seconds(&theirs);
     let again = out_dir("copied_again");
-    assert_ok(&run(&scene, &again, Some(5)));
+    interrupted(&scene, &again, 5, 10);
     std::fs::copy(
         again.join("checkpoint/last.checkpoint"),
         theirs.join("checkpoint/last.checkpoint"),
     )
     .unwrap();
-    assert_ok(&resume(&theirs));
+    let o = resume(&theirs);
+    assert_ok(&o);
+    assert!(
+        stderr(&o).contains("checkpoint of step 10"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(history_steps(&theirs), (0..=20).collect::<Vec<_>>());
+    assert_eq!(history_without_seconds(&theirs), uninterrupted);
 }
 
 #[test]

@@ -6,10 +6,9 @@ use talus::model::fem::{FromScene, Model};
 use talus::model::mpm::MpmModel;
 use talus::scene::{MpmScene, Scene, SceneError};
 
-fn with(text: &str, from: &str, to: &str) -> String {
-    assert!(text.contains(from), "test setup: `{from}` not in the scene");
-    text.replacen(from, to, 1)
-}
+mod common;
+
+use common::replaced as with;
 
 fn fem(from: &str, to: &str) -> (String, SceneError) {
     let text = with(include_str!("../../../scenes/footing.toml"), from, to);

@@ -14,14 +14,15 @@ use talus::run::fem::run_scene;
 use talus::run::RunOptions;
 use talus::scene::Scene;
 
+mod common;
+
 const FOOTING: &str = include_str!("../../../scenes/footing.toml");
 
 /// `text` with each `(from, to)` replaced once; `from` must be present.
 fn edited(text: &str, edits: &[(&str, &str)]) -> String {
     let mut text = text.to_string();
     for (from, to) in edits {
-        assert!(text.contains(from), "test setup: `{from}` not in the scene");
-        text = text.replacen(from, to, 1);
+        text = common::replaced(&text, from, to);
     }
     text
 }

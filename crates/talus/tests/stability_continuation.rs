@@ -8,7 +8,8 @@
 //! Drucker, Prager & Greenberg 1952), so a bracket from another path must agree.
 mod common;
 
-use talus::analysis::stability::{self, Analysis, Criterion, StabilityRun, Verdict};
+use talus::analysis::stability::{self, Analysis, StabilityRun, Trial, Verdict};
+use talus::model::fem::State;
 use talus::run::RunOptions;
 use talus::scene::Scene;
 
@@ -32,13 +33,15 @@ fn bracket(run: &StabilityRun) -> (f64, f64) {
     (lo.expect("lo"), hi.expect("hi"))
 }
 
-/// The criterion of the scene, its scale `U` from the loading (as `search` sets it).
-fn criterion(scene: &Scene) -> Criterion {
-    let mut analysis = Analysis::new(scene).unwrap().unwrap();
-    let equilibrium = analysis.equilibrium(scene).unwrap();
-    let mut c = analysis.criterion.clone();
-    c.set_scale(&equilibrium.state.displacement);
-    c
+/// The end state of the stable trial at `f` of `trials`, re-run from the equilibrium
+/// along its chain of starts (the criterion's steps as the analysis has them).
+fn end_state(analysis: &mut Analysis, trials: &[Trial], f: f64, equilibrium: &State) -> State {
+    let t = trials.iter().find(|t| t.factor == f).expect("a trial");
+    let start = t.start.map(|s| end_state(analysis, trials, s, equilibrium));
+    let start = (start.as_ref().unwrap_or(equilibrium), t.start);
+    let (again, state) = analysis.trial_from(f, start, equilibrium).unwrap();
+    assert_eq!(again.verdict, Verdict::Stable, "F = {f} again");
+    state.expect("a stable trial's state")
 }
 
 #[test]
@@ -79,51 +82,53 @@ fn the_continued_search_brackets_what_the_blind_search_brackets() {
         );
         assert!(hn - ln <= 0.005 * ln && ho - lo <= 0.005 * lo);
 
-        // The bracket's meaning: the lower end a trial the criterion calls stable, the
-        // upper one a trial it calls failing, judged again from their increments.
-        let c = criterion(&scene);
-        let judged = |f: f64| {
+        // The bracket's meaning, checked beyond the search's steps: its ends run again
+        // from their start states for 30 steps, the lower one comes to rest, the upper
+        // one fails (a trial merely not at rest within the search's steps would not).
+        let mut analysis = Analysis::new(&scene).unwrap().unwrap();
+        let equilibrium = analysis.equilibrium(&scene).unwrap().state;
+        analysis.criterion.set_scale(&equilibrium.displacement);
+        assert!(analysis.settings.continuation);
+        let trial_steps = analysis.criterion.max_steps;
+        for f in [ln, hn] {
             let t = new.trials.iter().find(|t| t.factor == f).expect("a trial");
-            let n = (1..=t.increments.len())
-                .find(|&n| c.judge(&t.increments[..n]).is_some())
-                .expect("a verdict");
-            assert_eq!(
-                n,
-                t.increments.len(),
-                "{method} F = {f}: judged at its last step"
+            // The start states re-run with the search's steps, the end with 30.
+            let start = t
+                .start
+                .map(|s| end_state(&mut analysis, &new.trials, s, &equilibrium));
+            analysis.criterion.max_steps = 30;
+            let start = (start.as_ref().unwrap_or(&equilibrium), t.start);
+            let (again, _) = analysis.trial_from(f, start, &equilibrium).unwrap();
+            analysis.criterion.max_steps = trial_steps;
+            println!(
+                "{method}: F = {f} from {:?} again: {:?} in {} steps",
+                t.start,
+                again.verdict,
+                again.steps()
             );
-            (t.verdict, c.judge(&t.increments).unwrap())
-        };
-        assert_eq!(judged(ln), (Verdict::Stable, Verdict::Stable), "{method}");
-        let (v, again) = judged(hn);
-        assert!(v.fails() && again.fails(), "{method}: {v:?} {again:?}");
-
-        // Each trial started from the largest stable trial before it and below it (the
-        // equilibrium before any), and only stable trials are starts.
-        for (k, t) in new.trials.iter().enumerate() {
-            let expected = new.trials[..k]
-                .iter()
-                .filter(|p| p.verdict == Verdict::Stable && p.factor < t.factor)
-                .map(|p| p.factor)
-                .fold(None, |m: Option<f64>, f| Some(m.map_or(f, |m| m.max(f))));
-            // A stable trial above a failing one is no start (the bracket ignores it).
-            if let (Some(e), Some(s)) = (expected, t.start) {
-                assert!(
-                    s <= e,
-                    "{method}: trial {k} from {s}, largest stable below {e}"
-                );
+            if f == ln {
+                assert_eq!(again.verdict, Verdict::Stable, "{method} F = {f}");
+            } else {
+                assert!(again.fails(), "{method} F = {f}: {:?}", again.verdict);
             }
-            assert!(
-                t.start.is_none_or(|s| new.trials[..k]
-                    .iter()
-                    .any(|p| p.factor == s && p.verdict == Verdict::Stable)),
-                "{method}: trial {k} starts from {:?}",
-                t.start
-            );
-            assert!(
-                t.start.is_some() == expected.is_some(),
-                "{method}: trial {k}"
-            );
+        }
+
+        // Each trial started from the largest stable trial before it below the smallest
+        // failing one before it (the equilibrium before any), and below its own factor.
+        for (k, t) in new.trials.iter().enumerate() {
+            let earlier = &new.trials[..k];
+            let hi = earlier
+                .iter()
+                .filter(|p| p.fails())
+                .map(|p| p.factor)
+                .fold(f64::INFINITY, f64::min);
+            let expected = earlier
+                .iter()
+                .filter(|p| p.verdict == Verdict::Stable && p.factor < hi)
+                .map(|p| p.factor)
+                .reduce(f64::max);
+            assert_eq!(t.start, expected, "{method}: trial {k} at F = {}", t.factor);
+            assert!(t.start.is_none_or(|s| s < t.factor), "{method}: trial {k}");
         }
         // The blind search restarts every trial from the equilibrium.
         assert!(old.trials.iter().all(|t| t.start.is_none()));

@@ -164,18 +164,10 @@ fn a_region_built_carries_its_weight_at_the_stages_end() {
     let out = common::target_tmp_dir("stages", "construction");
     let run = run_scene(&scene, &RunOptions::new(&out)).unwrap();
     assert_eq!(run.records.len(), 5);
-    let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
-    let header: Vec<&str> = history.lines().next().unwrap().split(',').collect();
-    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
-    let rows: Vec<Vec<f64>> = history
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-        .collect();
-    assert_eq!(rows.len(), 6, "step 0 and five steps, numbered on");
-    let stage: Vec<f64> = rows.iter().map(|r| r[col("stage")]).collect();
+    let stage = common::history_column(&out, "stage");
+    assert_eq!(stage.len(), 6, "step 0 and five steps, numbered on");
     assert_eq!(stage, [0.0, 0.0, 1.0, 1.0, 1.0, 1.0]);
-    let base_fy: Vec<f64> = rows.iter().map(|r| r[col("base_fy")]).collect();
+    let base_fy = common::history_column(&out, "base_fy");
     let w = |a: f64| RHO * G * a;
     for (step, expected) in [(1, w(12.0)), (5, w(16.0))] {
         assert!(
@@ -502,14 +494,7 @@ fn a_stage_that_raises_the_water_table_loads_the_base_with_the_saturated_weight(
     let scene = Scene::parse(&text, None).unwrap();
     let out = common::target_tmp_dir("stages", "water");
     run_scene(&scene, &RunOptions::new(&out)).unwrap();
-    let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
-    let header: Vec<&str> = history.lines().next().unwrap().split(',').collect();
-    let col = header.iter().position(|h| *h == "base_fy").unwrap();
-    let base: Vec<f64> = history
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').nth(col).unwrap().parse().unwrap())
-        .collect();
+    let base = common::history_column(&out, "base_fy");
     let dry = RHO * G * 16.0;
     let wet = RHO * G * 8.0 + rho_sat * G * 8.0;
     assert!(
@@ -582,14 +567,7 @@ fn a_load_switched_on_by_stage_is_carried_at_that_stages_end() {
     let scene = Scene::parse(&text, None).unwrap();
     let out = common::target_tmp_dir("stages", "surcharge");
     run_scene(&scene, &RunOptions::new(&out)).unwrap();
-    let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
-    let header: Vec<&str> = history.lines().next().unwrap().split(',').collect();
-    let col = header.iter().position(|h| *h == "base_fy").unwrap();
-    let base: Vec<f64> = history
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').nth(col).unwrap().parse().unwrap())
-        .collect();
+    let base = common::history_column(&out, "base_fy");
     let weight = RHO * G * 16.0;
     for (step, expected) in [(1, weight), (5, weight + 4.0 * q), (9, weight)] {
         assert!(

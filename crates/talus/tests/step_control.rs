@@ -9,6 +9,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+mod common;
+
 /// `(sub-steps, accepted, failed)` Newton iterations per step of `talus run` on the folding
 /// footing with `dilatancy_angle` as given, after `steps` steps.
 fn run(name: &str, dilatancy: &str, steps: usize) -> Vec<(usize, usize, usize)> {
@@ -55,25 +57,16 @@ fn run(name: &str, dilatancy: &str, steps: usize) -> Vec<(usize, usize, usize)> 
         "{name}: {}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let history = std::fs::read_to_string(dir.join("out/history.csv")).unwrap();
-    let mut lines = history.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let out = dir.join("out");
+    let column = |name: &str| common::history_column(&out, name);
     let (s, a, f) = (
-        col("substeps"),
-        col("newton_iterations"),
-        col("failed_newton_iterations"),
+        column("substeps"),
+        column("newton_iterations"),
+        column("failed_newton_iterations"),
     );
-    lines
-        .skip(1) // step 0, the initial state
-        .map(|l| {
-            let v: Vec<&str> = l.split(',').collect();
-            (
-                v[s].parse().unwrap(),
-                v[a].parse().unwrap(),
-                v[f].parse().unwrap(),
-            )
-        })
+    // Step 0, the initial state, left out.
+    (1..s.len())
+        .map(|k| (s[k] as usize, a[k] as usize, f[k] as usize))
         .collect()
 }
 

@@ -14,7 +14,7 @@ mod common;
 use std::f64::consts::SQRT_2;
 use std::path::{Path, PathBuf};
 
-use common::{array, target_tmp_dir};
+use common::{array, replaced, target_tmp_dir};
 use std::ops::ControlFlow;
 use std::sync::Arc;
 use talus::output::{
@@ -401,8 +401,7 @@ fn coarse_footing(steps: usize, vtu_every: usize) -> String {
         ("vtu_every = 30", &format!("vtu_every = {vtu_every}")),
         ("plots = true", "plots = false"),
     ] {
-        assert!(text.contains(from), "test setup: `{from}` not in the scene");
-        text = text.replacen(from, to, 1);
+        text = replaced(&text, from, to);
     }
     text
 }
@@ -600,58 +599,12 @@ fn a_resumed_run_writes_the_same_plastic_strain_increment() {
 
 // ------------------------------------------------------------------ MPM displacement
 
-/// A stiff elastic block (256 particles, material 0) and a sand column (72 particles,
-/// material 1) 0.3 m apart on a fixed floor (`tests/mpm_materials.rs`).
-const BLOCK_AND_COLUMN: &str = r#"title = "elastic block beside a sand column"
-gravity = [0.0, -9.81]
-
-[grid]
-origin = [0.0, 0.0]
-spacing = 0.05
-cells = [24, 8]
-
-[[body]]
-rectangle = [[0.1, 0.0], [0.3, 0.2]]
-particles_per_cell = 4
-material = "block"
-
-[[body]]
-rectangle = [[0.6, 0.0], [0.75, 0.3]]
-material = "sand"
-
-[[material]]
-name = "block"
-model = "elastic"
-young_modulus = 1.0e8
-poisson_ratio = 0.25
-density = 2400.0
-
-[[material]]
-name = "sand"
-young_modulus = 1.0e7
-poisson_ratio = 0.3
-friction_angle = 30.0
-cohesion = 0.0
-dilatancy_angle = 0.0
-cone_fit = "plane_strain"
-density = 1800.0
-
-[[wall]]
-side = "left"
-condition = "slip"
-
-[[wall]]
-side = "bottom"
-condition = "fixed"
-
-[time]
-step = 4.0e-3
-steps = 3
-
-[output]
-vtu_every = 1
-plots = false
-"#;
+/// The block and column of `tests/mpm_materials.rs` (`common::BLOCK_AND_COLUMN`): 256
+/// block particles (material 0), 72 sand (material 1); 3 steps, a VTU each.
+fn block_and_column() -> String {
+    let text = replaced(common::BLOCK_AND_COLUMN, "steps = 20", "steps = 3");
+    replaced(&text, "vtu_every = 0", "vtu_every = 1\nplots = false")
+}
 
 /// A particle's `displacement` is its position minus its position at t = 0: 0 at step 0,
 /// and over each step its change equals the change of the written position. The
@@ -659,7 +612,7 @@ plots = false
 /// so there is no `strain` (`docs/mpm.md`).
 #[test]
 fn mpm_displacement_is_the_position_change() {
-    let scene = match SceneFile::parse(BLOCK_AND_COLUMN, None) {
+    let scene = match SceneFile::parse(&block_and_column(), None) {
         Ok(SceneFile::Mpm(scene)) => scene,
         Ok(SceneFile::Fem(_)) => panic!("parsed as a FEM scene"),
         Err(e) => panic!("{e}"),

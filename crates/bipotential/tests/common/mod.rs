@@ -1,4 +1,5 @@
-//! Shared by the flow-rule tests: a one-point implicit return by the natural map.
+//! Shared by the flow-rule tests: a one-point implicit return by the natural map, the
+//! natural map's Jacobian blocks by central differences.
 use talus_bipotential::{DruckerPrager, FlowRule, SMatrix, SVector};
 
 /// Solves `F(σ) = σ − P_K(σ − ρ y(z)) = 0` with `z = S (σ − σ_trial)` (one material point,
@@ -37,4 +38,29 @@ pub fn return_map<const D: usize>(
         "local return did not converge: {res:e}"
     );
     (sigma, z)
+}
+
+/// `(∂F/∂σ, ∂F/∂z)` of the natural-map residual `F(σ, z)` at `(σ, z, ρ)` by central
+/// differences of steps `h_s` (in σ) and `h_z` (in z), column by column.
+pub fn central_differences<const D: usize>(
+    rule: &FlowRule<D>,
+    sigma: SVector<f64, D>,
+    z: SVector<f64, D>,
+    rho: f64,
+    h_s: f64,
+    h_z: f64,
+) -> (SMatrix<f64, D, D>, SMatrix<f64, D, D>) {
+    let mut d_sigma = SMatrix::<f64, D, D>::zeros();
+    let mut d_z = SMatrix::<f64, D, D>::zeros();
+    for j in 0..D {
+        let mut e = SVector::<f64, D>::zeros();
+        e[j] = 1.0;
+        let fp = rule.natural_map_residual(&(sigma + e * h_s), &z, rho);
+        let fm = rule.natural_map_residual(&(sigma - e * h_s), &z, rho);
+        d_sigma.set_column(j, &((fp - fm) / (2.0 * h_s)));
+        let fp = rule.natural_map_residual(&sigma, &(z + e * h_z), rho);
+        let fm = rule.natural_map_residual(&sigma, &(z - e * h_z), rho);
+        d_z.set_column(j, &((fp - fm) / (2.0 * h_z)));
+    }
+    (d_sigma, d_z)
 }

@@ -474,28 +474,30 @@ impl SymmetricPatternLu {
         Ok(())
     }
 
+    /// `(j, u_jj)` in the permuted order, of the last successful factorization (`None`
+    /// before one).
+    fn pivots(&self) -> Option<impl Iterator<Item = (usize, f64)> + '_> {
+        let sym = &*self.symbolic;
+        self.factorized.then(|| {
+            (0..sym.n_supernodes()).flat_map(move |s| {
+                let begin = sym.supernode_begin[s];
+                let (ncols, npat) = sym.shape(s);
+                let nrows = ncols + npat;
+                let ls = &self.values[sym.value_ptr[s]..sym.value_ptr[s + 1]];
+                (0..ncols).map(move |j| (begin + j, ls[j * nrows + j]))
+            })
+        })
+    }
+
     /// `min_j |u_jj| / |a_jj|` of the last successful factorization (columns with
     /// `a_jj = 0` skipped): how far the factorization stayed from the pivot guard.
     /// `None` before a successful factorization.
     pub fn smallest_pivot_ratio(&self) -> Option<f64> {
-        if !self.factorized {
-            return None;
-        }
-        let sym = &*self.symbolic;
-        let mut smallest = f64::INFINITY;
-        for s in 0..sym.n_supernodes() {
-            let begin = sym.supernode_begin[s];
-            let (ncols, npat) = sym.shape(s);
-            let nrows = ncols + npat;
-            let ls = &self.values[sym.value_ptr[s]..sym.value_ptr[s + 1]];
-            for j in 0..ncols {
-                let reference = self.reference[begin + j];
-                if reference > 0.0 {
-                    smallest = smallest.min(ls[j * nrows + j].abs() / reference);
-                }
-            }
-        }
-        Some(smallest)
+        let ratios = self.pivots()?.filter_map(|(j, u)| {
+            let reference = self.reference[j];
+            (reference > 0.0).then(|| u.abs() / reference)
+        });
+        Some(ratios.fold(f64::INFINITY, f64::min))
     }
 
     /// Negative pivots `u_jj` of the last successful factorization: `det A < 0` when their
@@ -503,18 +505,7 @@ impl SymmetricPatternLu {
     /// non-associative step past its fold shows them (`docs/solver.md`, 'Why the full step
     /// fails there'). `None` before a successful factorization.
     pub fn negative_pivots(&self) -> Option<usize> {
-        if !self.factorized {
-            return None;
-        }
-        let sym = &*self.symbolic;
-        let mut count = 0;
-        for s in 0..sym.n_supernodes() {
-            let (ncols, npat) = sym.shape(s);
-            let nrows = ncols + npat;
-            let ls = &self.values[sym.value_ptr[s]..sym.value_ptr[s + 1]];
-            count += (0..ncols).filter(|&j| ls[j * nrows + j] < 0.0).count();
-        }
-        Some(count)
+        Some(self.pivots()?.filter(|&(_, u)| u < 0.0).count())
     }
 
     /// Solves `A x = b` in place with the last successful factorization.

@@ -10,7 +10,13 @@ use super::{inf_norm, Solver};
 use crate::error::invalid;
 use crate::operator::{apply, block};
 use crate::stopping;
-use crate::{Report, RoundOffFloor, SolveError, Status};
+use crate::{Report, RoundOffFloor, SolveError, Stall, Status};
+
+/// The [`Stall`] rule at the current iterate.
+fn stalled(report: &Report, stall: &Stall) -> bool {
+    report.iterations >= stall.after
+        && stopping::no_decrease(&report.merit_history, stall.window, stall.decrease)
+}
 
 impl<const D: usize> Solver<D> {
     /// Solves from `sigma` (or from 0 without warm start) and leaves the last iterate in it.
@@ -59,23 +65,24 @@ impl<const D: usize> Solver<D> {
                     break;
                 }
             }
-            if let Some(stall) = self.settings.stall {
-                if report.iterations >= stall.after
-                    && stopping::no_decrease(&report.merit_history, stall.window, stall.decrease)
-                {
-                    report.status = Status::Stalled;
-                    break;
-                }
+            if self
+                .settings
+                .stall
+                .is_some_and(|stall| stalled(&report, &stall))
+            {
+                report.status = Status::Stalled;
+                break;
             }
             if let Some(fold) = self.settings.fold {
-                if report.iterations >= fold.after
-                    && report.negative_pivots.len() >= fold.window
-                    && report.negative_pivots[report.negative_pivots.len() - fold.window..]
+                let pivots = &report.negative_pivots;
+                let window = fold.stall.window;
+                if pivots.len() >= window
+                    && pivots[pivots.len() - window..]
                         .iter()
                         .filter(|&&n| n > 0)
                         .count()
                         >= fold.indefinite
-                    && stopping::no_decrease(&report.merit_history, fold.window, fold.decrease)
+                    && stalled(&report, &fold.stall)
                 {
                     report.status = Status::Folded;
                     break;

@@ -12,7 +12,7 @@ use talus_bipotential::{FlowRule, NaturalMapLinearization};
 use crate::error::invalid;
 use crate::newton::{DenseSystem, SchurSystem, StressSizedSystem};
 use crate::operator::{block, PointBlocks};
-use crate::{LinearSolver, Operator, ReducedSystem, Rho, Settings, SolveError};
+use crate::{LinearSolver, Operator, ReducedSystem, Rho, Settings, SolveError, Stall};
 
 /// A linearization that is never read (placeholder before the first evaluation).
 fn blank<const D: usize>() -> NaturalMapLinearization<D> {
@@ -82,8 +82,10 @@ fn validate(settings: &Settings) -> Result<(), SolveError> {
             format!("{rho} must be finite and > 0"),
         ));
     }
+    let stall_ok =
+        |stall: &Stall| stall.window >= 1 && stall.decrease > 0.0 && stall.decrease < 1.0;
     if let Some(stall) = settings.stall {
-        if !(stall.window >= 1 && stall.decrease > 0.0 && stall.decrease < 1.0) {
+        if !stall_ok(&stall) {
             return Err(invalid(
                 "settings.stall",
                 format!("{stall:?}: need window ≥ 1, 0 < decrease < 1"),
@@ -91,8 +93,7 @@ fn validate(settings: &Settings) -> Result<(), SolveError> {
         }
     }
     if let Some(fold) = settings.fold {
-        if !(fold.window >= 1 && fold.indefinite >= 1 && fold.decrease > 0.0 && fold.decrease < 1.0)
-        {
+        if !(stall_ok(&fold.stall) && fold.indefinite >= 1) {
             return Err(invalid(
                 "settings.fold",
                 format!("{fold:?}: need window ≥ 1, indefinite ≥ 1, 0 < decrease < 1"),

@@ -93,7 +93,7 @@ impl SizeEstimate {
             }
         };
         let points = triangles * stiffness_rule(order).points.len() as f64;
-        Ok(Self::new(points, 0.0, scene.spec.time.steps))
+        Ok(Self::new(points, 0.0, scene.spec.total_steps()))
     }
 
     /// An MPM scene: its particles from the bodies' areas, and the grid's nodes.

@@ -27,6 +27,7 @@ mod summary;
 mod vtu;
 
 pub(crate) use atomic::write as write_atomically;
+pub(crate) use canvas::significant;
 pub use error::OutputError;
 pub use map_frame::ColourScale;
 pub use mesh::MeshView;

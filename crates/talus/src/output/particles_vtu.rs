@@ -5,8 +5,8 @@ use std::path::Path;
 
 use super::mesh::{check_finite, check_finite_scalars, check_finite_value, check_len};
 use super::vtu::{
-    begin_piece, check_derived, end_piece, indices, points_and_cells, scalars,
-    stress_and_invariants, vectors,
+    begin_piece, derived, end_piece, indices, points_and_cells, scalars, stress_and_invariants,
+    vectors, Derived,
 };
 use super::OutputError;
 
@@ -34,8 +34,9 @@ pub struct ParticleSnapshot<'a> {
 }
 
 impl ParticleSnapshot<'_> {
-    /// At least one particle, one entry per particle in every field, all finite.
-    fn validate(&self) -> Result<(), OutputError> {
+    /// At least one particle, one entry per particle in every field, all finite; with the
+    /// stress's derived values (computed once: checked, then written).
+    fn validate(&self) -> Result<Derived, OutputError> {
         check_finite_value("time", self.time)?;
         let n = self.position.len();
         if n == 0 {
@@ -51,8 +52,9 @@ impl ParticleSnapshot<'_> {
         check_finite_scalars("volume", self.volume)?;
         check_finite_scalars("mass", self.mass)?;
         check_finite("stress", self.stress)?;
-        check_derived(self.stress)?;
-        check_finite_scalars("plastic_strain", self.plastic_strain)
+        let derived = derived(self.stress)?;
+        check_finite_scalars("plastic_strain", self.plastic_strain)?;
+        Ok(derived)
     }
 }
 
@@ -101,13 +103,13 @@ pub fn write_particle_vtu_with(
     s: &ParticleSnapshot,
     extras: &ParticleExtras,
 ) -> Result<(), OutputError> {
-    s.validate()?;
+    let derived = s.validate()?;
     extras.validate(s.position.len())?;
-    let xml = particle_vtu_string(s, extras);
+    let xml = particle_vtu_string(s, extras, &derived);
     super::atomic::write(path, xml)
 }
 
-fn particle_vtu_string(s: &ParticleSnapshot, extras: &ParticleExtras) -> String {
+fn particle_vtu_string(s: &ParticleSnapshot, extras: &ParticleExtras, derived: &Derived) -> String {
     let n = s.position.len();
     let mut x = String::with_capacity(200 * n + 2000);
     begin_piece(&mut x, s.time, n, n);
@@ -122,7 +124,7 @@ fn particle_vtu_string(s: &ParticleSnapshot, extras: &ParticleExtras) -> String 
     }
     scalars(&mut x, "volume", s.volume);
     scalars(&mut x, "mass", s.mass);
-    stress_and_invariants(&mut x, s.stress);
+    stress_and_invariants(&mut x, s.stress, derived);
     scalars(&mut x, "plastic_strain", s.plastic_strain);
     if let Some(m) = extras.material {
         indices(&mut x, "material", m);

@@ -212,10 +212,6 @@ impl Results {
         self.stages.push(stage);
     }
 
-    pub fn stages(&self) -> &[StageSummary] {
-        &self.stages
-    }
-
     /// `(settlement, force)` of the reported boundary at every recorded step.
     pub fn curve(&self) -> &[(f64, f64)] {
         &self.curve

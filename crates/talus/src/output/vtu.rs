@@ -11,9 +11,6 @@ use super::{MeshView, OutputError};
 const VTK_TRIANGLE: u8 = 5;
 const VTK_QUADRATIC_TRIANGLE: u8 = 22;
 
-/// A scalar of a Mandel stress written as cell data.
-type StressInvariant = fn(&[f64; 4]) -> f64;
-
 /// The fields of one time step.
 ///
 /// Units: time s, displacement m, velocity m/s, stress Pa (tension positive), plastic
@@ -38,7 +35,8 @@ pub struct FieldSnapshot<'a> {
 }
 
 impl FieldSnapshot<'_> {
-    fn validate(&self) -> Result<(), OutputError> {
+    /// Checked, with the stress's derived values (computed once: checked, then written).
+    fn validate(&self) -> Result<Derived, OutputError> {
         self.mesh.validate()?;
         let (n_nodes, n_elements) = (self.mesh.nodes.len(), self.mesh.triangles.len());
         check_finite_value("time", self.time)?;
@@ -54,7 +52,7 @@ impl FieldSnapshot<'_> {
         check_finite("displacement", self.displacement)?;
         check_finite("velocity", self.velocity)?;
         check_finite("stress", self.stress)?;
-        check_derived(self.stress)?;
+        let derived = derived(self.stress)?;
         if let Some(m) = self.material {
             check_len("material", m.len(), n_elements, "element")?;
         }
@@ -62,7 +60,8 @@ impl FieldSnapshot<'_> {
             check_len("pore_pressure", p.len(), n_elements, "element")?;
             check_finite_scalars("pore_pressure", p)?;
         }
-        check_finite_scalars("plastic_strain", self.plastic_strain)
+        check_finite_scalars("plastic_strain", self.plastic_strain)?;
+        Ok(derived)
     }
 }
 
@@ -122,20 +121,34 @@ pub fn principal_stresses(m: &[f64; 4]) -> [f64; 3] {
     s
 }
 
-/// `Invalid` unless every derived stress value (von Mises, pressure, principal stresses)
-/// is finite: finite stresses near `f64::MAX` could overflow.
-pub(super) fn check_derived(stress: &[[f64; 4]]) -> Result<(), OutputError> {
+/// Each stress entry's von Mises stress, pressure and principal stresses ([`derived`]).
+pub(super) struct Derived {
+    von_mises: Vec<f64>,
+    pressure: Vec<f64>,
+    principal: Vec<[f64; 3]>,
+}
+
+/// The derived values of every stress entry; `Invalid` unless all are finite: finite
+/// stresses near `f64::MAX` could overflow.
+pub(super) fn derived(stress: &[[f64; 4]]) -> Result<Derived, OutputError> {
+    let mut d = Derived {
+        von_mises: Vec::with_capacity(stress.len()),
+        pressure: Vec::with_capacity(stress.len()),
+        principal: Vec::with_capacity(stress.len()),
+    };
     for (i, m) in stress.iter().enumerate() {
-        let p = principal_stresses(m);
-        if !(von_mises(m).is_finite() && pressure(m).is_finite() && p.iter().all(|v| v.is_finite()))
-        {
+        let (q, p, s) = (von_mises(m), pressure(m), principal_stresses(m));
+        if !(q.is_finite() && p.is_finite() && s.iter().all(|v| v.is_finite())) {
             return Err(OutputError::invalid(
                 "stress",
                 format!("entry {i} {m:?} overflows its invariants or principal stresses"),
             ));
         }
+        d.von_mises.push(q);
+        d.pressure.push(p);
+        d.principal.push(s);
     }
-    Ok(())
+    Ok(d)
 }
 
 /// Writes `s` to `path` as a VTK XML unstructured grid (ASCII).
@@ -161,13 +174,13 @@ pub fn write_vtu_with(
     s: &FieldSnapshot,
     extras: &FieldExtras,
 ) -> Result<(), OutputError> {
-    s.validate()?;
+    let derived = s.validate()?;
     extras.validate(s.mesh.triangles.len())?;
-    let xml = vtu_string(s, extras);
+    let xml = vtu_string(s, extras, &derived);
     super::atomic::write(path, xml)
 }
 
-fn vtu_string(s: &FieldSnapshot, extras: &FieldExtras) -> String {
+fn vtu_string(s: &FieldSnapshot, extras: &FieldExtras, derived: &Derived) -> String {
     let mesh = s.mesh;
     let mut x = String::with_capacity(64 * (mesh.nodes.len() * 3 + mesh.triangles.len() * 4));
     begin_piece(&mut x, s.time, mesh.nodes.len(), mesh.triangles.len());
@@ -180,7 +193,7 @@ fn vtu_string(s: &FieldSnapshot, extras: &FieldExtras) -> String {
         x,
         r#"      <CellData Tensors="stress" Scalars="plastic_strain">"#
     );
-    stress_and_invariants(&mut x, s.stress);
+    stress_and_invariants(&mut x, s.stress, derived);
     scalars(&mut x, "plastic_strain", s.plastic_strain);
     if let Some(p_w) = s.pore_pressure {
         scalars(&mut x, "pore_pressure", p_w);
@@ -270,23 +283,16 @@ pub(super) fn scalars(x: &mut String, name: &str, data: &[f64]) {
 
 /// `stress` as a symmetric tensor in plain components (VTK order `XX, YY, ZZ, XY, YZ, XZ`,
 /// σxy = m₃/√2, YZ = XZ = 0), then its `von_mises`, `pressure` and `principal_stress`
-/// (3 components, `σ1 ≥ σ2 ≥ σ3`).
-pub(super) fn stress_and_invariants(x: &mut String, stress: &[[f64; 4]]) {
+/// (3 components, `σ1 ≥ σ2 ≥ σ3`), `derived` from [`derived`].
+pub(super) fn stress_and_invariants(x: &mut String, stress: &[[f64; 4]], derived: &Derived) {
     tensor(x, "stress", stress);
-    let derived: [(&str, StressInvariant); 2] = [("von_mises", von_mises), ("pressure", pressure)];
-    for (name, f) in derived {
-        open_array(x, "Float64", name, 1, 8);
-        for m in stress {
-            let _ = writeln!(x, "{:e}", f(m));
-        }
-        close_array(x, 8);
-    }
+    scalars(x, "von_mises", &derived.von_mises);
+    scalars(x, "pressure", &derived.pressure);
     let _ = writeln!(
         x,
         r#"        <DataArray type="Float64" Name="principal_stress" NumberOfComponents="3" ComponentName0="1" ComponentName1="2" ComponentName2="3" format="ascii">"#
     );
-    for m in stress {
-        let [s1, s2, s3] = principal_stresses(m);
+    for [s1, s2, s3] in &derived.principal {
         let _ = writeln!(x, "{s1:e} {s2:e} {s3:e}");
     }
     close_array(x, 8);

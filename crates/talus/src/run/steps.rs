@@ -86,6 +86,11 @@ pub struct Span {
     pub from: usize,
     pub to: usize,
     pub total: usize,
+    /// A staged run's stage: reaching `to`, the run loop leaves `summary.json` and
+    /// [`RunOutputs::finish`] to its caller, which adds the stage's entry first and ends
+    /// the files only at the run's end. A stop before `to` (failure, collapse,
+    /// interruption) ends the run here as any other.
+    pub stage: bool,
 }
 
 impl Span {
@@ -94,6 +99,7 @@ impl Span {
             from: 0,
             to: steps,
             total: steps,
+            stage: false,
         }
     }
 }
@@ -110,7 +116,8 @@ pub struct Stepped<D: Discretization> {
 /// Steps from `begin` through `span` by `h`, writing `out/history.csv`, what `outputs`
 /// asks, a checkpoint every `options.checkpoint_every` steps (a resumed run: its own
 /// plan; and at an interruption) of the scene at `scene_path` with text `scene_source`,
-/// and `out/summary.json` at the end, finished or failed. The observer's `Break` (the
+/// and `out/summary.json` at the end, finished or failed (a stage that reaches its end:
+/// by its caller, [`Span::stage`]). The observer's `Break` (the
 /// binary's SIGINT/SIGTERM among them) stops it after the step in progress:
 /// `RunError::Interrupted`; a collapse ends it with `RunError::Collapsed`. The folder is
 /// held ([`folder::lock`]) until it returns; a resume it refuses (another run holds the
@@ -134,9 +141,9 @@ where
 {
     let steps = span.total;
     let out: &Path = &options.out_dir;
-    std::fs::create_dir_all(out).map_err(io_err(out))?;
     // No other run or resume writes here meanwhile (the `talus` binary holds the folder
-    // for its whole command: this takes the same lock again).
+    // for its whole command: this takes the same lock again). The lock creates the folder,
+    // and removes it again if it stays empty.
     let _lock = folder::lock(out)?;
     let summary_path = out.join("summary.json");
     let history_path = out.join("history.csv");
@@ -303,6 +310,13 @@ where
     // An interrupted run is resumed from where it stopped, not from its last checkpoint.
     if let Some(step) = interrupted.filter(|&s| last_checkpoint != Some(s) && s >= first) {
         save(step, &state, run.stepper, &run.watch, outputs)?;
+    }
+    if span.stage && failure.is_none() && collapse.is_none() && interrupted.is_none() {
+        return Ok(Stepped {
+            reports,
+            state,
+            failure,
+        });
     }
     let last_step = match (&failure, interrupted) {
         (_, Some(step)) => step,

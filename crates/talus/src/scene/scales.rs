@@ -3,7 +3,7 @@
 //! the scene imposes against the Young modulus, and the caps on steps and halvings. Each
 //! refusal names the field, its value and the range that works.
 use super::source::Locate;
-use super::{InitialStressSpec, MaterialSpec, SceneError, TimeSpec};
+use super::{InitialStressSpec, MaterialSpec, SceneError, StageSpec, TimeSpec};
 
 /// `h / t_w` (t_w = Δx √(ρ/E), the elastic wave time across the smallest cell) must lie in
 /// `[MIN_STEP_RATIO, MAX_STEP_RATIO]`. Above, `h² B M⁻¹ Bᵀ` exceeds `S` in `W` by
@@ -21,7 +21,7 @@ pub const MAX_STRESS_RATIO: f64 = 1.0;
 /// elastic (the elastic verification cases use 2e4 E); beyond, the cone's apex outgrows
 /// the arithmetic.
 pub const MAX_COHESION_RATIO: f64 = 1e6;
-/// At most this many steps (`time.steps`).
+/// At most this many steps (`time.steps`, or the stages' `steps` in all).
 pub const MAX_STEPS: usize = 100_000_000;
 /// At most this many nested halvings (`solver.max_step_halvings`): a step may then take
 /// up to 2¹⁶ sub-steps.
@@ -83,6 +83,27 @@ pub fn caps(scene: &impl Locate, time: &TimeSpec, halvings: usize) -> Result<(),
                  2^{halvings} sub-steps); use 0 to {MAX_STEP_HALVINGS}"
             ),
         ));
+    }
+    Ok(())
+}
+
+/// The stages' steps within [`MAX_STEPS`] in all: the first stage that takes the run past
+/// it is named (`stage[k].steps`).
+pub fn stage_steps_cap(scene: &impl Locate, stages: &[StageSpec]) -> Result<(), SceneError> {
+    // u128: the sum of any usize steps fits.
+    let mut total = 0u128;
+    for (k, s) in stages.iter().enumerate() {
+        total += s.steps as u128;
+        if total > MAX_STEPS as u128 {
+            return Err(scene.error(
+                &format!("stage[{k}].steps"),
+                format!(
+                    "{} brings the stages' steps to {total}, more than the {MAX_STEPS} steps \
+                     a run may take",
+                    s.steps
+                ),
+            ));
+        }
     }
     Ok(())
 }

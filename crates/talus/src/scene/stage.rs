@@ -33,12 +33,13 @@ pub struct StageSpec {
 }
 
 impl SceneSpec {
-    /// The steps of the whole run: `[time] steps`, or the stages' sum.
+    /// The steps of the whole run: `[time] steps`, or the stages' sum (saturated: the cap
+    /// on steps refuses it, `scales::stage_steps_cap`).
     pub fn total_steps(&self) -> usize {
         if self.stage.is_empty() {
             self.time.steps
         } else {
-            self.stage.iter().map(|s| s.steps).sum()
+            (self.stage.iter()).fold(0, |sum, s| sum.saturating_add(s.steps))
         }
     }
 

@@ -1,6 +1,6 @@
-//! Readers shared by the output tests: VTU arrays by name, PNG pixels (decoded by the
-//! minimal inflate below; `image` is not a dependency of this crate), the field an error
-//! names.
+//! Helpers shared by the tests: scene edits and scenes several files run, `history.csv`
+//! columns, VTU arrays by name, PNG pixels (decoded by the minimal inflate below; `image`
+//! is not a dependency of this crate), the field an error names.
 #![allow(dead_code)]
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -31,6 +31,114 @@ pub fn target_tmp_dir(test: &str, name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(test).join(name);
     std::fs::create_dir_all(&dir).unwrap();
     dir
+}
+
+// ---------------------------------------------------------------- scene text
+
+/// `scenes/footing.toml`.
+pub const FOOTING: &str = include_str!("../../../../scenes/footing.toml");
+
+/// `text` with the first `from` replaced by `to`; `from` must be there (a scene edited
+/// since would otherwise leave the test running the unedited scene).
+pub fn replaced(text: &str, from: &str, to: &str) -> String {
+    assert!(text.contains(from), "test setup: `{from}` not in the scene");
+    text.replacen(from, to, 1)
+}
+
+/// The keys of the footing's `[material]` (without its header).
+pub fn footing_soil() -> &'static str {
+    let start = FOOTING.find("[material]").unwrap();
+    let end = FOOTING[start..].find("\n\n").unwrap() + start;
+    &FOOTING[start + "[material]\n".len()..end]
+}
+
+/// The footing with its `[material]` made a `[[material]]` list of two layers: "upper"
+/// (y > −0.4 m) of the keys `upper`, "lower" of the keys `lower`.
+pub fn footing_two_layers(upper: &str, lower: &str) -> String {
+    let start = FOOTING.find("[material]").unwrap();
+    let end = FOOTING[start..].find("\n\n").unwrap() + start;
+    format!(
+        "{}[[region]]\nname = \"upper\"\nbox = [[-1.0, -0.4], [1.0, 0.0]]\n\n\
+         [[region]]\nname = \"lower\"\nbox = [[-1.0, -1.0], [1.0, -0.4]]\n\n\
+         [[material]]\nname = \"upper\"\nregions = [\"upper\"]\n{upper}\n\n\
+         [[material]]\nname = \"lower\"\nregions = [\"lower\"]\n{lower}{}",
+        &FOOTING[..start],
+        &FOOTING[end..]
+    )
+}
+
+/// A stiff elastic block (0.2 m × 0.2 m, 256 particles, material 0) and a sand column
+/// (0.15 m × 0.3 m, 72 particles, material 1) 0.3 m apart on a fixed floor, against a slip
+/// left wall; 20 steps, no VTU.
+pub const BLOCK_AND_COLUMN: &str = r#"title = "elastic block beside a sand column"
+gravity = [0.0, -9.81]
+
+[grid]
+origin = [0.0, 0.0]
+spacing = 0.05
+cells = [24, 8]
+
+[[body]]
+rectangle = [[0.1, 0.0], [0.3, 0.2]]
+particles_per_cell = 4
+material = "block"
+
+[[body]]
+rectangle = [[0.6, 0.0], [0.75, 0.3]]
+material = "sand"
+
+[[material]]
+name = "block"
+model = "elastic"
+young_modulus = 1.0e8
+poisson_ratio = 0.25
+density = 2400.0
+
+[[material]]
+name = "sand"
+young_modulus = 1.0e7
+poisson_ratio = 0.3
+friction_angle = 30.0
+cohesion = 0.0
+dilatancy_angle = 0.0
+cone_fit = "plane_strain"
+density = 1800.0
+
+[[wall]]
+side = "left"
+condition = "slip"
+
+[[wall]]
+side = "bottom"
+condition = "fixed"
+
+[time]
+step = 4.0e-3
+steps = 20
+
+[output]
+vtu_every = 0
+"#;
+
+// ---------------------------------------------------------------- history.csv
+
+/// The column `name` of `out/history.csv`, one value a row from step 0 on (`NaN` as
+/// written).
+pub fn history_column(out: &Path, name: &str) -> Vec<f64> {
+    let text = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = header
+        .iter()
+        .position(|h| *h == name)
+        .unwrap_or_else(|| panic!("no column {name} in {}", out.display()));
+    lines
+        .map(|l| {
+            let cell = l.split(',').nth(col).unwrap();
+            cell.parse()
+                .unwrap_or_else(|_| panic!("{name}: bad number {cell}"))
+        })
+        .collect()
 }
 
 // ---------------------------------------------------------------- VTU reading

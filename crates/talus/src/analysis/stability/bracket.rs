@@ -5,6 +5,7 @@
 //! The search stays within `[MIN_FACTOR, MAX_FACTOR]`: a body still at rest
 //! at `MAX_FACTOR` has no mechanism ([`Next::NoMechanism`]), one still failing at
 //! `MIN_FACTOR` has no stable factor ([`Next::NoStableFactor`]); neither gets a number.
+use super::continuation::Guide;
 
 /// The factors the search, a bracket or a first guess may reach: a strength divided or a
 /// weight multiplied by more than 100 is no longer a soil near failure (and overflows the
@@ -25,14 +26,12 @@ pub struct Bracket {
     tolerance: f64,
     /// Factors to try first (a given bracket's ends, or the first guess).
     pending: Vec<f64>,
-    /// The factors the search may reach, `[MIN_FACTOR, MAX_FACTOR]`.
-    range: [f64; 2],
     /// Trials whose outcome contradicted an earlier one (a stable `F` above a failing one):
     /// the failing one is kept, so the bracket never widens.
     pub contradictions: Vec<f64>,
-    /// The width `upper − lo` before each guided trial inside the bracket
+    /// The width `upper − lo` before the last guided trial inside the bracket
     /// ([`Bracket::next_guided`]): a guess that did not halve it is followed by a bisection.
-    widths: Vec<f64>,
+    last_width: Option<f64>,
 }
 
 /// What to do next.
@@ -82,9 +81,8 @@ impl Bracket {
             ceiling: None,
             tolerance,
             pending,
-            range: [MIN_FACTOR, MAX_FACTOR],
             contradictions: Vec::new(),
-            widths: Vec::new(),
+            last_width: None,
         }
     }
 
@@ -101,26 +99,9 @@ impl Bracket {
         }
     }
 
+    /// The next trial, blind: doubling (or halving) beyond the known side, then bisection.
     pub fn next_trial(&mut self) -> Next {
-        while let Some(f) = self.pending.pop() {
-            if self.open(f) {
-                return Next::Try(f);
-            }
-        }
-        let [min, max] = self.range;
-        match (self.lo, self.hi, self.upper()) {
-            (Some(lo), Some(hi), _) if hi - lo <= self.tolerance * lo => Next::Done { lo, hi },
-            (Some(lo), _, Some(up)) if up - lo <= self.tolerance * lo => Next::Unbracketed,
-            (Some(lo), _, Some(up)) => Next::Try(0.5 * (lo + up)),
-            (Some(lo), _, None) if lo >= max => Next::NoMechanism { up_to: lo },
-            (Some(lo), _, None) => Next::Try((lo * EXPANSION).min(max)),
-            // Failing at the lower end; an unconverged trial there is no evidence.
-            (None, Some(hi), _) if hi <= min => Next::NoStableFactor { down_to: hi },
-            (None, _, Some(up)) if up <= min => Next::Unbracketed,
-            (None, _, Some(up)) => Next::Try((up / EXPANSION).max(min)),
-            // Nothing tried yet and nothing pending cannot happen (`new` queues one).
-            (None, _, None) => Next::Try(1.0),
-        }
+        self.next(None)
     }
 
     /// The next trial steered by `guide` (`continuation`): the same ends as
@@ -135,54 +116,69 @@ impl Bracket {
     ///   below or above the estimate (the side away from the nearer end), kept a tenth of
     ///   the width from either end; the middle without an estimate, or when the last
     ///   guided trial did not halve the width (so the search never crawls).
-    pub fn next_guided(&mut self, guide: &super::continuation::Guide) -> Next {
+    pub fn next_guided(&mut self, guide: &Guide) -> Next {
+        self.next(Some(guide))
+    }
+
+    /// [`Bracket::next_trial`] without a guide, [`Bracket::next_guided`] with one: they
+    /// differ only in the two `Try`s above the largest stable factor.
+    fn next(&mut self, guide: Option<&Guide>) -> Next {
         while let Some(f) = self.pending.pop() {
             if self.open(f) {
                 return Next::Try(f);
             }
         }
-        let [min, max] = self.range;
         let tol = self.tolerance;
-        let estimate = guide.estimate.filter(|e| e.is_finite());
         match (self.lo, self.hi, self.upper()) {
             (Some(lo), Some(hi), _) if hi - lo <= tol * lo => Next::Done { lo, hi },
             (Some(lo), _, Some(up)) if up - lo <= tol * lo => Next::Unbracketed,
-            (Some(lo), _, Some(up)) => {
-                let width = up - lo;
-                let crawled = match self.widths[..] {
-                    [.., last] => width > 0.5 * last,
-                    [] => false,
-                };
-                self.widths.push(width);
-                let (a, b) = (up / (1.0 + tol), lo * (1.0 + tol));
-                let f = match estimate {
-                    // Either outcome ends the search.
-                    _ if a <= b => estimate.map_or(0.5 * (a + b), |e| e.clamp(a, b)),
-                    Some(e) if !crawled && e > lo && e < up => {
-                        let aim = if e - lo > up - e {
-                            e * (1.0 - 0.45 * tol)
-                        } else {
-                            e * (1.0 + 0.45 * tol)
-                        };
-                        aim.clamp(lo + 0.1 * width, up - 0.1 * width)
-                    }
-                    _ => 0.5 * (lo + up),
-                };
-                Next::Try(f)
-            }
-            (Some(lo), _, None) if lo >= max => Next::NoMechanism { up_to: lo },
+            (Some(lo), _, Some(up)) => Next::Try(match guide {
+                None => 0.5 * (lo + up),
+                Some(g) => self.guided_inside(lo, up, g),
+            }),
+            (Some(lo), _, None) if lo >= MAX_FACTOR => Next::NoMechanism { up_to: lo },
             (Some(lo), _, None) => {
-                let far = lo * guide.expansion.max(1.0 + tol);
-                let f = match estimate {
-                    Some(e) => (e * (1.0 + 0.45 * tol)).clamp(lo * (1.0 + 0.9 * tol), far),
-                    None => far,
+                let f = match guide {
+                    None => lo * EXPANSION,
+                    Some(g) => {
+                        let far = lo * g.expansion.max(1.0 + tol);
+                        let estimate = g.estimate.filter(|e| e.is_finite());
+                        estimate.map_or(far, |e| {
+                            (e * (1.0 + 0.45 * tol)).clamp(lo * (1.0 + 0.9 * tol), far)
+                        })
+                    }
                 };
-                Next::Try(f.min(max))
+                Next::Try(f.min(MAX_FACTOR))
             }
-            (None, Some(hi), _) if hi <= min => Next::NoStableFactor { down_to: hi },
-            (None, _, Some(up)) if up <= min => Next::Unbracketed,
-            (None, _, Some(up)) => Next::Try((up / EXPANSION).max(min)),
+            // Failing at the lower end; an unconverged trial there is no evidence.
+            (None, Some(hi), _) if hi <= MIN_FACTOR => Next::NoStableFactor { down_to: hi },
+            (None, _, Some(up)) if up <= MIN_FACTOR => Next::Unbracketed,
+            (None, _, Some(up)) => Next::Try((up / EXPANSION).max(MIN_FACTOR)),
+            // Nothing tried yet and nothing pending cannot happen (`new` queues one).
             (None, _, None) => Next::Try(1.0),
+        }
+    }
+
+    /// The guided trial inside `[lo, up]` ([`Bracket::next_guided`]).
+    fn guided_inside(&mut self, lo: f64, up: f64, guide: &Guide) -> f64 {
+        let tol = self.tolerance;
+        let estimate = guide.estimate.filter(|e| e.is_finite());
+        let width = up - lo;
+        let crawled = self.last_width.is_some_and(|last| width > 0.5 * last);
+        self.last_width = Some(width);
+        let (a, b) = (up / (1.0 + tol), lo * (1.0 + tol));
+        match estimate {
+            // Either outcome ends the search.
+            _ if a <= b => estimate.map_or(0.5 * (a + b), |e| e.clamp(a, b)),
+            Some(e) if !crawled && e > lo && e < up => {
+                let aim = if e - lo > up - e {
+                    e * (1.0 - 0.45 * tol)
+                } else {
+                    e * (1.0 + 0.45 * tol)
+                };
+                aim.clamp(lo + 0.1 * width, up - 0.1 * width)
+            }
+            _ => 0.5 * (lo + up),
         }
     }
 
@@ -211,12 +207,15 @@ impl Bracket {
 mod tests {
     use super::*;
 
-    /// Bisection against a known threshold: every bracket holds it and the last one is
-    /// within the tolerance.
-    fn search(threshold: f64, tol: f64, first: f64, given: Option<[f64; 2]>) -> (f64, f64, usize) {
-        let mut b = Bracket::new(tol, first, given);
+    /// A search against a known threshold, each trial asked of `next`: failing above
+    /// it, unconverged above twice it; the bracket it ends with and its trials.
+    fn trials(
+        threshold: f64,
+        mut b: Bracket,
+        mut next: impl FnMut(&mut Bracket) -> Next,
+    ) -> (f64, f64, usize) {
         for n in 1..200 {
-            match b.next_trial() {
+            match next(&mut b) {
                 Next::Try(f) if f > 2.0 * threshold => b.record(f, Outcome::Unknown),
                 Next::Try(f) => b.record(
                     f,
@@ -231,6 +230,16 @@ mod tests {
             }
         }
         panic!("no convergence");
+    }
+
+    /// Bisection against a known threshold: every bracket holds it and the last one is
+    /// within the tolerance.
+    fn search(threshold: f64, tol: f64, first: f64, given: Option<[f64; 2]>) -> (f64, f64, usize) {
+        trials(
+            threshold,
+            Bracket::new(tol, first, given),
+            Bracket::next_trial,
+        )
     }
 
     #[test]
@@ -335,26 +344,13 @@ mod tests {
         tol: f64,
         estimate: impl Fn(f64) -> Option<f64>,
     ) -> (f64, f64, usize) {
-        let mut b = Bracket::new(tol, 1.0, None);
-        for n in 1..200 {
-            let guide = super::super::continuation::Guide {
-                estimate: estimate(threshold),
-                expansion: 2.0,
-            };
-            match b.next_guided(&guide) {
-                Next::Try(f) => b.record(
-                    f,
-                    if f > threshold {
-                        Outcome::Fails
-                    } else {
-                        Outcome::Stable
-                    },
-                ),
-                Next::Done { lo, hi } => return (lo, hi, n - 1),
-                other => panic!("{other:?}"),
-            }
-        }
-        panic!("no convergence");
+        let guide = Guide {
+            estimate: estimate(threshold),
+            expansion: 2.0,
+        };
+        trials(threshold, Bracket::new(tol, 1.0, None), |b| {
+            b.next_guided(&guide)
+        })
     }
 
     #[test]
@@ -386,7 +382,7 @@ mod tests {
     /// Unconverged trials cap the guided search as they cap the blind one.
     #[test]
     fn guided_search_never_ends_on_an_unconverged_trial() {
-        let guide = super::super::continuation::Guide {
+        let guide = Guide {
             estimate: Some(1.5),
             expansion: 2.0,
         };

@@ -10,13 +10,14 @@
 //! `k = 0`. It only steers the search: every bracket end is still a trial judged by the
 //! criterion.
 
-/// A trial at most this many times the largest stable factor when nothing failed yet and
-/// the curve gives no estimate (the blind search's `bracket::EXPANSION`).
-pub const EXPANSION: f64 = 2.0;
-/// The first step beyond the largest stable factor, a fraction of it: doubled after each
-/// stable trial whose secant kept at least half the elastic stiffness, up to
-/// `EXPANSION − 1`. A trial far above collapse is the search's most expensive (on the
-/// slope, `F = 2` from `F = 1` took 339 Newton iterations, `F = 1.25` 38).
+use super::bracket::EXPANSION;
+
+/// The first step beyond the largest stable factor, a fraction of it (at most
+/// `EXPANSION − 1`, the blind search's doubling): after each new largest stable factor,
+/// doubled while the secant compliance grew at most 1.25 times over the one before,
+/// halved once it grew twice ([`Planner::stable`]). A trial far above collapse is the
+/// search's most expensive (on the slope, `F = 2` from `F = 1` took 339 Newton
+/// iterations, `F = 1.25` 38).
 pub const FIRST_STEP: f64 = 0.25;
 /// The smallest step beyond the largest stable factor (a fraction of it).
 pub const MIN_STEP: f64 = 0.01;
@@ -142,7 +143,8 @@ impl Planner {
         let [.., (fa, ka), (fb, kb)] = secants[..] else {
             return None;
         };
-        if !(kb < ka && fb > fa) {
+        // A straight curve up to round-off gives no estimate.
+        if !(kb < ka * (1.0 - 1e-12) && fb > fa) {
             return None;
         }
         let estimate = fb + kb * (fb - fa) / (ka - kb);
@@ -191,10 +193,15 @@ mod tests {
     #[test]
     fn no_estimate_without_softening() {
         let mut p = Planner::new(None);
-        p.stable(1.0, 0.1);
+        p.stable(1.0, 0.125);
         assert_eq!(p.estimate(), None);
-        p.stable(2.0, 0.2);
-        p.stable(3.0, 0.3);
+        p.stable(2.0, 0.25);
+        p.stable(3.0, 0.375);
+        assert_eq!(p.stable, [(1.0, 0.125), (2.0, 0.25), (3.0, 0.375)]);
+        assert_eq!(p.secants(), [(1.5, 8.0), (2.5, 8.0)]);
+        assert_eq!(p.estimate(), None);
+        // A stiffness lower by round-off only (one ulp of D) gives none either.
+        p.stable(4.0, 0.5 + f64::EPSILON);
         assert_eq!(p.estimate(), None);
     }
 }

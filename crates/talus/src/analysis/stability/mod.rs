@@ -32,7 +32,7 @@ pub use outputs::{
     run, run_blind, search, write_mechanism, SearchStatus, StabilityRun, TRIAL_COLUMNS,
 };
 pub use settings::StabilitySettings;
-pub use strength::{davis_beta, plane_strain_match, Strength};
+pub use strength::{plane_strain_match, Strength};
 pub use trial::Trial;
 
 /// The loading phase: the scene's own steps from its initial state ([`Analysis::equilibrium`]),
@@ -97,12 +97,11 @@ impl Analysis {
         };
         let spec = &scene.spec;
         let (h, steps) = (spec.time.step, spec.time.steps);
-        let end = end_time;
         let weight = match (settings.method, spec.gravity) {
             (StabilityMethod::GravityIncrease, Some(g)) => {
                 let (free, prescribed) = crate::model::fem::weight(scene, &model, g)?;
                 let ramp = crate::scene::check::ramp(scene, "gravity_ramp", &spec.gravity_ramp)?;
-                let f = ramp.map_or(1.0, |r| r.at(end));
+                let f = ramp.map_or(1.0, |r| r.at(end_time));
                 Some((
                     free.iter().map(|v| f * v).collect(),
                     prescribed.iter().map(|v| f * v).collect(),
@@ -227,53 +226,45 @@ impl Analysis {
         })
     }
 
-    /// One trial at factor `f` from `equilibrium`.
+    /// One trial at factor `f` from `equilibrium`, with the scene's predictor.
     pub fn trial(&mut self, f: f64, equilibrium: &State) -> Result<Trial, String> {
         self.set_factor(f)?;
-        Ok(trial::run_trial(
+        let (trial, _) = trial::run_trial_from(
             &self.model,
             self.step_settings,
+            (equilibrium, None),
             equilibrium,
             f,
             self.h,
             &self.criterion,
-        ))
-    }
-
-    /// The Newton predictor of a continued trial's steps (the scene's for the blind
-    /// search, `StabilitySettings::continuation = false`): the elastic one when every
-    /// material of the model (at the trial's factor) is associative, the last stress
-    /// otherwise. The predictor is only where each step's Newton iteration starts; measured
-    /// (`docs/stability.md`, 'Search'): the scene's extrapolated predictor took 503 Newton
-    /// iterations on the FEniCSx cut (associative), the elastic one 211, and on the slope
-    /// (ψ = 0) 823 against 478 with the last stress (1175 with the elastic one).
-    fn trial_predictor(&self) -> PredictorRule {
-        if !self.settings.continuation {
-            return self.step_settings.predictor;
-        }
-        let associative = self.model.materials.iter().all(|m| match m {
-            Material::DruckerPrager(dp) => dp.flow_rule::<4>().is_associative(),
-            _ => true,
-        });
-        if associative {
-            PredictorRule::Elastic
-        } else {
-            PredictorRule::Previous
-        }
+        );
+        Ok(trial)
     }
 
     /// One trial at factor `f` from `start`, the end state of the stable trial at factor
-    /// `start.1` (`None`: `equilibrium` itself); the trial and its end state. Its
-    /// [`Trial::moved`] is measured from `equilibrium`.
+    /// `start.1` (`None`: `equilibrium` itself); the trial, and its end state when it is
+    /// stable (the next trials' start). Its [`Trial::moved`] is measured from `equilibrium`.
+    ///
+    /// A continued search's steps start from the elastic predictor when the sub-step's
+    /// problem is associative, the last stress otherwise (`ElasticIfAssociative`); the
+    /// blind one keeps the scene's. Measured (`docs/stability.md`, 'Search'): the scene's
+    /// extrapolated predictor took 503 Newton iterations on the FEniCSx cut
+    /// (associative), the elastic one 211, and on the slope (ψ = 0) 823 against 478 with
+    /// the last stress (1175 with the elastic one).
     pub fn trial_from(
         &mut self,
         f: f64,
         start: (&State, Option<f64>),
         equilibrium: &State,
-    ) -> Result<(Trial, State), String> {
+    ) -> Result<(Trial, Option<State>), String> {
         self.set_factor(f)?;
+        let predictor = if self.settings.continuation {
+            PredictorRule::ElasticIfAssociative
+        } else {
+            self.step_settings.predictor
+        };
         let settings = StepSettings {
-            predictor: self.trial_predictor(),
+            predictor,
             ..self.step_settings
         };
         Ok(trial::run_trial_from(

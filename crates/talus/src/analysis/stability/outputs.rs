@@ -6,7 +6,7 @@ use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
-use crate::model::fem::Model;
+use crate::model::fem::{element_means, Model};
 use crate::output::{
     self, CollapseTime, FactorOfSafety, FieldSnapshot, MeshView, RunStatus, Summary,
 };
@@ -286,9 +286,9 @@ pub fn search(
         }
         if trial.verdict == Verdict::Stable {
             planner.stable(f, trial.moved);
-            if continuation && bracket.lo == Some(f) {
-                stable_state = Some((state, f));
-            }
+        }
+        if let Some(state) = state.filter(|_| continuation && bracket.lo == Some(f)) {
+            stable_state = Some((state, f));
         }
         let stop = options.observer.as_ref().is_some_and(|observe| {
             // One call per trial: `step` counts trials (`docs/stability.md`).
@@ -395,26 +395,6 @@ fn element_magnitude(model: &Model, u: &[[f64; 2]]) -> Vec<f64> {
         .collect()
 }
 
-/// Per-element means of per-Gauss-point values (`width` numbers each).
-fn element_means(model: &Model, values: &[f64], width: usize) -> Vec<Vec<f64>> {
-    let n_el = model.mesh.triangles.len();
-    let mut sums = vec![vec![0.0; width]; n_el];
-    let mut count = vec![0usize; n_el];
-    for (p, &e) in model.assembly.gauss_element.iter().enumerate() {
-        for (s, v) in sums[e]
-            .iter_mut()
-            .zip(&values[width * p..width * p + width])
-        {
-            *s += v;
-        }
-        count[e] += 1;
-    }
-    for (s, c) in sums.iter_mut().zip(count) {
-        s.iter_mut().for_each(|v| *v /= c.max(1) as f64);
-    }
-    sums
-}
-
 /// `mechanism.vtu` and (with `[output] plots`) `mechanism.png` in `out`: the trial with
 /// the smallest failing factor, the bracket's upper end (nothing when no trial failed).
 pub fn write_mechanism(
@@ -443,13 +423,10 @@ pub fn write_mechanism(
         .iter()
         .map(|d| [d[0] / h, d[1] / h])
         .collect();
-    let stress: Vec<[f64; 4]> = element_means(model, &t.stress, 4)
+    let stress = element_means::<4>(model, &t.stress);
+    let plastic: Vec<f64> = element_means::<1>(model, &t.plastic_increment)
         .into_iter()
-        .map(|s| [s[0], s[1], s[2], s[3]])
-        .collect();
-    let plastic: Vec<f64> = element_means(model, &t.plastic_increment, 1)
-        .into_iter()
-        .map(|s| s[0])
+        .map(|[s]| s)
         .collect();
     output::write_vtu(
         &out.join("mechanism.vtu"),

@@ -53,32 +53,11 @@ impl Trial {
     }
 }
 
-/// Steps `model` (already set to the trial's factor) from `equilibrium` by `h` until
-/// `criterion` decides, at most `max_steps` steps.
-pub fn run_trial(
-    model: &Model,
-    settings: StepSettings,
-    equilibrium: &State,
-    factor: f64,
-    h: f64,
-    criterion: &Criterion,
-) -> Trial {
-    run_trial_from(
-        model,
-        settings,
-        (equilibrium, None),
-        equilibrium,
-        factor,
-        h,
-        criterion,
-    )
-    .0
-}
-
 /// Steps `model` (already set to the trial's factor) from `start`, the state of the trial
 /// at factor `start.1` (`None`: `equilibrium` itself), by `h` until `criterion` decides;
-/// the trial and its end state. `equilibrium` is the search's: the displacement
-/// [`Trial::moved`] is measured from it (the plastic strain of the trial from `start`).
+/// the trial, and its end state when it is stable (only such a state starts later
+/// trials). `equilibrium` is the search's: the displacement [`Trial::moved`] is measured
+/// from it (the plastic strain of the trial from `start`).
 pub fn run_trial_from(
     model: &Model,
     settings: StepSettings,
@@ -87,7 +66,7 @@ pub fn run_trial_from(
     factor: f64,
     h: f64,
     criterion: &Criterion,
-) -> (Trial, State) {
+) -> (Trial, Option<State>) {
     let (start_state, start_factor) = start;
     let start = Instant::now();
     let mut stepper = Stepper::new(model, settings);
@@ -130,6 +109,12 @@ pub fn run_trial_from(
         .map(|(a, b)| [a[0] - b[0], a[1] - b[1]])
         .collect();
     let moved = criterion.measure(&total);
+    // The stress is copied only when the end state is kept.
+    let (stress, state) = if verdict == Verdict::Stable {
+        (state.sigma.clone(), Some(state))
+    } else {
+        (state.sigma, None)
+    };
     let trial = Trial {
         factor,
         start: start_factor,
@@ -140,7 +125,7 @@ pub fn run_trial_from(
         error,
         last_increment,
         plastic_increment,
-        stress: state.sigma.clone(),
+        stress,
         moved,
     };
     (trial, state)

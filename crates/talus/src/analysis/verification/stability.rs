@@ -26,7 +26,8 @@ pub const CUT_REFERENCE: f64 = 3.779;
 /// Mohr-Coulomb with apex-smoothing" (Latyshev & Bleyer, dolfinx-external-operator).
 pub const CHEN_REFERENCE: f64 = 6.69;
 
-fn scene_path(name: &str) -> PathBuf {
+/// `scenes/{name}` of the repository.
+pub(super) fn scene_path(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../scenes")
         .join(name)
@@ -181,19 +182,22 @@ pub fn slope_by_hand(f: f64) -> Option<(Verdict, f64)> {
     Some((verdict, measure))
 }
 
+/// The stability number `F γH/c` at collapse of the vertical cut `scenes/{scene}` (one
+/// material, gravity increase) of height `height` (m), run into `case_dir(name)`.
+fn cut_stability_number(scene: &str, name: &str, height: f64) -> Option<f64> {
+    let scene = Scene::from_path(&scene_path(scene)).ok()?;
+    let spec = &scene.spec;
+    let material = spec.material.single()?;
+    let gamma = material.density? * spec.gravity?[1].abs();
+    let c = material.cohesion();
+    let run = crate::analysis::stability::run(&scene, &options(name)).ok()?;
+    Some(run.factor_of_safety.value? * gamma * height / c)
+}
+
 /// The vertical cut's stability number `F γH/c` at collapse.
 pub fn vertical_cut_case() -> Vec<CaseResult> {
     let start = Instant::now();
-    let computed = Scene::from_path(&scene_path("vertical_cut.toml"))
-        .ok()
-        .and_then(|scene| {
-            let spec = &scene.spec;
-            let material = spec.material.single()?;
-            let gamma = material.density? * spec.gravity?[1].abs();
-            let (h, c) = (10.0, material.cohesion());
-            let run = crate::analysis::stability::run(&scene, &options("vertical-cut")).ok()?;
-            Some(run.factor_of_safety.value? * gamma * h / c)
-        });
+    let computed = cut_stability_number("vertical_cut.toml", "vertical-cut", 10.0);
     vec![CaseResult {
         case: "vertical_cut_gravity_increase_tresca".into(),
         quantity: "γH_c/c = F γH/c (scenes/vertical_cut.toml, P2 32×16)".into(),
@@ -215,17 +219,7 @@ pub fn vertical_cut_case() -> Vec<CaseResult> {
 /// tolerance is 2%.
 pub fn vertical_cut_fenicsx_case() -> Vec<CaseResult> {
     let start = Instant::now();
-    let computed = Scene::from_path(&scene_path("vertical_cut_fenicsx.toml"))
-        .ok()
-        .and_then(|scene| {
-            let spec = &scene.spec;
-            let material = spec.material.single()?;
-            let gamma = material.density? * spec.gravity?[1].abs();
-            let (h, c) = (1.0, material.cohesion());
-            let run =
-                crate::analysis::stability::run(&scene, &options("vertical-cut-fenicsx")).ok()?;
-            Some(run.factor_of_safety.value? * gamma * h / c)
-        });
+    let computed = cut_stability_number("vertical_cut_fenicsx.toml", "vertical-cut-fenicsx", 1.0);
     vec![CaseResult {
         case: "vertical_cut_fenicsx_gravity_increase_chen".into(),
         quantity: "γH_c/c = F γH/c (scenes/vertical_cut_fenicsx.toml, P2 48×40, φ = ψ = 30°)"

@@ -5,7 +5,7 @@
 //! factor of safety.
 use std::time::Instant;
 
-use super::{CaseResult, Check};
+use super::{case_dir, CaseResult, Check};
 use crate::run::fem::run_scene;
 use crate::run::RunOptions;
 use crate::scene::Scene;
@@ -56,11 +56,10 @@ pub fn staged_factor(scene: &Scene, out: &std::path::Path) -> Option<(f64, [f64;
 /// bracket's tolerance.
 pub fn cut_in_lifts_case() -> Vec<CaseResult> {
     let start = Instant::now();
-    let dir = |name: &str| std::env::temp_dir().join(format!("talus-verify-{name}"));
     let factors = cut_scenes().ok().and_then(|(lifts, once)| {
         Some((
-            staged_factor(&lifts, &dir("cut-lifts"))?,
-            staged_factor(&once, &dir("cut-once"))?,
+            staged_factor(&lifts, &case_dir("cut-lifts"))?,
+            staged_factor(&once, &case_dir("cut-once"))?,
         ))
     });
     let (computed, reference) = match factors {

@@ -2,22 +2,18 @@
 //! is in equilibrium on its own, so Griffiths & Lane's slope (`scenes/slope.toml`) fully
 //! submerged, γ_sat = 20 kN/m³ under a level above its crest, has the factor of safety of
 //! the same dry slope with the buoyant unit weight γ_sat − γ_w.
-use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use super::{CaseResult, Check};
+use super::stability::scene_path;
+use super::{case_dir, CaseResult, Check};
 use crate::analysis::stability;
 use crate::run::RunOptions;
 use crate::scene::{Scene, WATER_UNIT_WEIGHT};
 
-fn slope_path() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/slope.toml")
-}
-
 /// The slope dry with the buoyant unit weight, and submerged under a level at 20 m (its
 /// crest is at 10 m), from `scenes/slope.toml` (ρ = 2000 kg/m³, g = 10 m/s²).
 pub fn submerged_slope_scenes() -> Result<(Scene, Scene), String> {
-    let path = slope_path();
+    let path = scene_path("slope.toml");
     let text = std::fs::read_to_string(&path).map_err(|e| e.to_string())?;
     if !(text.contains("density = 2.0e3") && text.contains("gravity = [0.0, -10.0]")) {
         return Err("scenes/slope.toml no longer has ρ = 2.0e3 and g = 10".into());
@@ -33,8 +29,7 @@ pub fn submerged_slope_scenes() -> Result<(Scene, Scene), String> {
 pub fn submerged_slope_case() -> Vec<CaseResult> {
     let start = Instant::now();
     let factor = |scene: &Scene, name: &str| {
-        let out = std::env::temp_dir().join(format!("talus-verify-{name}"));
-        stability::run(scene, &RunOptions::new(out))
+        stability::run(scene, &RunOptions::new(case_dir(name)))
             .ok()?
             .factor_of_safety
             .value

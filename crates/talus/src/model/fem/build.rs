@@ -22,6 +22,8 @@ impl FromScene for Model {
     fn from_scene(scene: &Scene) -> Result<Self, SceneError> {
         let mesh = build_mesh(scene)?;
         let ground = super::materials::ground(scene, &mesh)?;
+        crate::scene::stage::check(scene, &scene.spec)?;
+        check_scene(scene)?;
         build(scene, mesh, &ground.element_material, &ground, None)
     }
 
@@ -47,9 +49,25 @@ pub struct StageView<'a> {
     pub water: Option<(&'a WaterSpec, String)>,
 }
 
+/// The checks of the scene as a whole, once per run (not per stage's model): time, solver,
+/// and the caps on steps (the stages' in all) and halvings.
+pub(super) fn check_scene(scene: &Scene) -> Result<(), SceneError> {
+    let spec = &scene.spec;
+    let time = TimeSpec {
+        steps: spec.total_steps(),
+        ..spec.time
+    };
+    check::time(scene, &time)?;
+    check::solver(scene, &spec.solver)?;
+    // Before `caps`, whose field would be `time.steps`, which a staged scene leaves at 0.
+    scales::stage_steps_cap(scene, &spec.stage)?;
+    scales::caps(scene, &time, spec.solver.max_step_halvings)
+}
+
 /// The scene's model on `mesh` (the whole mesh, or a stage's part of it) whose elements'
 /// materials are `element_material` (indices into `ground.materials`), with the loads and
-/// conditions that act in `stage` (`None`: an unstaged scene, all of them).
+/// conditions that act in `stage` (`None`: an unstaged scene, all of them). The scene's
+/// own checks ([`check_scene`], `scene::stage::check`) were made by the caller.
 pub(super) fn build(
     scene: &Scene,
     mesh: Mesh,
@@ -58,15 +76,6 @@ pub(super) fn build(
     stage: Option<&StageView>,
 ) -> Result<Model, SceneError> {
     let spec = &scene.spec;
-    crate::scene::stage::check(scene, spec)?;
-    check::time(
-        scene,
-        &TimeSpec {
-            steps: spec.total_steps(),
-            ..spec.time
-        },
-    )?;
-    check::solver(scene, &spec.solver)?;
     check_scales(scene, &mesh)?;
     let stage_name = stage.map(|s| s.name);
     let acts = |stages: &Option<Vec<String>>| SceneSpec::acts_in(stages, stage_name);
@@ -483,11 +492,11 @@ fn required_densities(scene: &Scene) -> Result<Vec<f64>, SceneError> {
         .collect()
 }
 
-/// The scene against its own scales (`scene::scales`): caps, `h` against the wave time of
-/// the smallest element and the boundaries' motion, the stresses against E.
+/// The scene against its own scales (`scene::scales`): `h` against the wave time of the
+/// smallest element and the boundaries' motion, the stresses against E (the caps:
+/// [`check_scene`]).
 fn check_scales(scene: &Scene, mesh: &Mesh) -> Result<(), SceneError> {
     let spec = &scene.spec;
-    scales::caps(scene, &spec.time, spec.solver.max_step_halvings)?;
     let (lo, hi) = talus_fem::bounding_box(&mesh.nodes);
     let cell = mesh
         .triangles

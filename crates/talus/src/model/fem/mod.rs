@@ -21,3 +21,22 @@ pub use talus_fem::{
 pub type StepRecord = talus_engine::StepReport<FemStats>;
 /// Why a FEM step failed.
 pub type FemStepError = talus_engine::StepError<std::convert::Infallible>;
+
+/// Each element's mean of its Gauss points' values, `W` numbers per point in `values`
+/// (point `p` at `W p ..`): summed in point order, then divided by the element's count
+/// of points (an element without one: 0). A `values` too short leaves the rest unsummed.
+pub(crate) fn element_means<const W: usize>(model: &Model, values: &[f64]) -> Vec<[f64; W]> {
+    let n_el = model.mesh.triangles.len();
+    let mut sums = vec![[0.0; W]; n_el];
+    let mut count = vec![0usize; n_el];
+    for (v, &e) in values.chunks_exact(W).zip(&model.assembly.gauss_element) {
+        for (s, v) in sums[e].iter_mut().zip(v) {
+            *s += v;
+        }
+        count[e] += 1;
+    }
+    for (s, c) in sums.iter_mut().zip(count) {
+        s.iter_mut().for_each(|v| *v /= c.max(1) as f64);
+    }
+    sums
+}

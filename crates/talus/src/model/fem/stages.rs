@@ -142,8 +142,11 @@ impl Stages {
                 water: water.clone(),
                 spec: s.clone(),
             });
-            first_step += s.steps;
+            // Saturating: a sum past the cap is refused below, not overflowed.
+            first_step = first_step.saturating_add(s.steps);
         }
+        // Once here, not per stage's model (`Stages::model`).
+        super::build::check_scene(scene)?;
         Ok(Some(Self {
             mesh,
             ground,

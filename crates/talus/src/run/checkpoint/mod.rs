@@ -21,8 +21,7 @@ use serde::{Deserialize, Serialize};
 use talus_engine::{CollapseWatch, StepperMemory};
 
 pub use resume::{
-    drop_numbered_files, history_key, history_prefix, keep_existing_files, truncate_history,
-    write_history,
+    drop_numbered_files, history_key, history_prefix, keep_existing_files, write_history,
 };
 
 /// The checkpoint's path in an output folder.

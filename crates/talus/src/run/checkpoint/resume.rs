@@ -55,13 +55,6 @@ pub fn write_history(path: &Path, kept: &str) -> Result<(), CheckpointError> {
     })
 }
 
-/// Keeps the header of `history.csv` and its rows of steps 0 to `step`, atomically
-/// ([`history_prefix`], then [`write_history`]).
-pub fn truncate_history(path: &Path, step: usize) -> Result<(), CheckpointError> {
-    let kept = history_prefix(path, step)?;
-    write_history(path, &kept)
-}
-
 /// What ties the checkpoint of a step to its folder: the FNV-1a hash (16 hex digits) of
 /// `history.csv`'s header line and its row of that step, as they were when the checkpoint
 /// was written (both without their line end), the row's wall time (`seconds`) left out so
@@ -175,17 +168,18 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("history.csv");
         std::fs::write(&path, "step,x\n0,a\n1,b\n2,c\n3,d\n4,e").unwrap();
-        truncate_history(&path, 2).unwrap();
+        let kept = history_prefix(&path, 2).unwrap();
+        write_history(&path, &kept).unwrap();
         assert_eq!(
             std::fs::read_to_string(&path).unwrap(),
             "step,x\n0,a\n1,b\n2,c\n"
         );
         // Step 3 needs a complete row 3.
         std::fs::write(&path, "step,x\n0,a\n1,b\n2,c\n3,d").unwrap();
-        let err = truncate_history(&path, 3).unwrap_err();
+        let err = history_prefix(&path, 3).unwrap_err();
         assert!(err.to_string().contains("3 complete rows"), "{err}");
         std::fs::write(&path, "step,x\n0,a\n5,b\n").unwrap();
-        let err = truncate_history(&path, 1).unwrap_err();
+        let err = history_prefix(&path, 1).unwrap_err();
         assert!(err.to_string().contains("not step 1's"), "{err}");
         std::fs::remove_dir_all(&dir).unwrap();
     }

@@ -5,7 +5,7 @@ use std::path::Path;
 use nalgebra::SVector;
 use talus_fem::Dof;
 
-use crate::model::fem::{Model, State};
+use crate::model::fem::{element_means, Model, State};
 use crate::output::{self, FieldExtras, FieldSnapshot, MeshView, OutputError};
 use crate::run::RunError;
 
@@ -57,38 +57,18 @@ impl LastSteps {
 
 /// Per-element averages of the Gauss-point stress and plastic strain.
 pub(super) fn element_fields(model: &Model, state: &State) -> (Vec<[f64; 4]>, Vec<f64>) {
-    let n_el = model.mesh.triangles.len();
-    let mut stress = vec![[0.0; 4]; n_el];
-    let mut plastic = vec![0.0; n_el];
-    let mut count = vec![0usize; n_el];
-    for (p, &e) in model.assembly.gauss_element.iter().enumerate() {
-        for (s, v) in stress[e].iter_mut().zip(&state.sigma[4 * p..4 * p + 4]) {
-            *s += v;
-        }
-        plastic[e] += state.plastic_strain[p];
-        count[e] += 1;
-    }
-    for e in 0..n_el {
-        let c = count[e].max(1) as f64;
-        stress[e].iter_mut().for_each(|s| *s /= c);
-        plastic[e] /= c;
-    }
-    (stress, plastic)
+    let stress = element_means::<4>(model, &state.sigma);
+    let plastic = element_means::<1>(model, &state.plastic_strain);
+    (stress, plastic.into_iter().map(|[p]| p).collect())
 }
 
-/// Each element's mean of its Gauss points' values.
-fn element_means(model: &Model, point_values: &[SVector<f64, 4>]) -> Vec<[f64; 4]> {
-    let n_el = model.mesh.triangles.len();
-    let mut sum = vec![SVector::<f64, 4>::zeros(); n_el];
-    let mut count = vec![0usize; n_el];
-    for (v, &e) in point_values.iter().zip(&model.assembly.gauss_element) {
-        sum[e] += v;
-        count[e] += 1;
-    }
-    sum.iter()
-        .zip(&count)
-        .map(|(s, &c)| (s / c.max(1) as f64).into())
-        .collect()
+/// Each element's mean of its Gauss points' Mandel values.
+fn element_tensor_means(model: &Model, point_values: &[SVector<f64, 4>]) -> Vec<[f64; 4]> {
+    let flat: Vec<f64> = point_values
+        .iter()
+        .flat_map(|v| v.iter().copied())
+        .collect();
+    element_means::<4>(model, &flat)
 }
 
 /// The small strain `B u` at each Gauss point (Mandel `(xx, yy, zz, √2 xy)`, zz the hoop
@@ -127,7 +107,7 @@ fn point_strains(
 
 /// Per element, the mean over its Gauss points of the total small strain `B u`.
 fn element_strains(model: &Model, state: &State) -> Result<Vec<[f64; 4]>, RunError> {
-    Ok(element_means(
+    Ok(element_tensor_means(
         model,
         &point_strains(model, &state.displacement, "strain")?,
     ))
@@ -166,7 +146,7 @@ fn element_plastic_increments(
             - SVector::<f64, 4>::from_column_slice(&sigma0[r]);
         *d -= model.compliance_at(p) * ds;
     }
-    Ok(element_means(model, &increments))
+    Ok(element_tensor_means(model, &increments))
 }
 
 /// The VTU of `state` at `path`; with `start`, the state its step started from, it holds
@@ -189,15 +169,9 @@ pub(super) fn write_snapshot(
             .pore_pressure_ramp
             .as_ref()
             .map_or(1.0, |r| r.at(state.time));
-        let mut sum = vec![0.0; model.mesh.triangles.len()];
-        let mut count = vec![0usize; sum.len()];
-        for (p, &e) in model.assembly.gauss_element.iter().enumerate() {
-            sum[e] += f * model.pore_pressure[p];
-            count[e] += 1;
-        }
-        sum.iter()
-            .zip(&count)
-            .map(|(s, &c)| s / c.max(1) as f64)
+        let at_points: Vec<f64> = model.pore_pressure.iter().map(|p| f * p).collect();
+        (element_means::<1>(model, &at_points).into_iter())
+            .map(|[p]| p)
             .collect::<Vec<f64>>()
     });
     let velocity = model

@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use crate::model::fem::{Model, State};
-use crate::output::{self, FieldMap, MeshView};
+use crate::output::{self, significant, FieldMap, MeshView};
 use crate::run::RunError;
 use crate::scene::{AnalysisKind, Scene};
 
@@ -81,37 +81,18 @@ fn when(scene: &Scene, state: &State, reported: Option<(f64, f64)>, step: usize)
     let loaded = reported.map(|(u, f)| {
         format!(
             "{boundary} settlement {} mm, load {} k{unit}",
-            short(u * 1e3),
-            short(f * 1e-3)
+            significant(u * 1e3, 4),
+            significant(f * 1e-3, 4)
         )
     });
     match (scene.spec.analysis.kind, loaded) {
         (AnalysisKind::QuasiStatic, Some(loaded)) => format!("at {loaded}"),
         (AnalysisKind::QuasiStatic, None) => {
-            format!("after load step {step} of {}", scene.spec.time.steps)
+            format!("after load step {step} of {}", scene.spec.total_steps())
         }
         (AnalysisKind::Dynamic, Some(loaded)) => {
-            format!("at t = {} s ({loaded})", short(state.time))
+            format!("at t = {} s ({loaded})", significant(state.time, 4))
         }
-        (AnalysisKind::Dynamic, None) => format!("at t = {} s", short(state.time)),
-    }
-}
-
-/// `v` to about 4 significant digits, without trailing zeros (3.0000000001 → `3`).
-fn short(v: f64) -> String {
-    if v == 0.0 || !v.is_finite() {
-        return format!("{}", v + 0.0);
-    }
-    let decimals = (3 - v.abs().log10().floor() as i32).clamp(0, 9) as usize;
-    let s = format!("{v:.decimals$}");
-    let s = if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    };
-    if s == "-0" {
-        "0".into()
-    } else {
-        s
+        (AnalysisKind::Dynamic, None) => format!("at t = {} s", significant(state.time, 4)),
     }
 }

@@ -10,7 +10,6 @@ use crate::model::fem::{
 };
 use crate::output::Results;
 use crate::scene::{AnalysisKind, Scene, SceneError};
-use talus_fem::assembly::add_mul_transpose;
 
 /// The `history.csv` column after the named boundaries and monitors, in a scene that
 /// reports a reaction (`[output] reaction`): the share of that reaction that is inertia.
@@ -213,16 +212,17 @@ pub fn inertial_share(model: &Model, state: &State, record: &StepRecord) -> Opti
     }
     let asm = &model.assembly;
     let dofs = asm.dofs();
-    let at_rest = prescribed_forces_at_rest(model, state);
-    let ma_prescribed: Vec<f64> = (stats.prescribed_forces.iter().zip(&at_rest))
-        .map(|(p, r)| p - r)
+    // Bᵀσ and f(t) once, on the free and the prescribed dofs.
+    let (internal_free, internal_prescribed) = asm.internal_force(&state.sigma).ok()?;
+    let loads = model.loads_at(state.time);
+    // The boundary force at rest, `Bᵀσ − f` (`prescribed_forces_at_rest`).
+    let ma_prescribed: Vec<f64> = (stats.prescribed_forces.iter())
+        .zip(internal_prescribed.iter().zip(&loads.force_prescribed))
+        .map(|(p, (i, f))| p - (i - f))
         .collect();
     let ma_free = || {
-        let mut internal = vec![0.0; asm.lumped_mass_free.len()];
-        add_mul_transpose(&asm.b_free, &state.sigma, &mut internal);
-        let f = model.loads_at(state.time).force_free;
-        f.iter()
-            .zip(&internal)
+        (loads.force_free.iter())
+            .zip(&internal_free)
             .map(|(f, i)| f - i)
             .collect::<Vec<f64>>()
     };

@@ -60,8 +60,6 @@ pub fn run(
     for (k, plan) in stages.plans.iter().enumerate().skip(first) {
         let mut stage = stages.model(scene, k)?;
         let (state, release) = match &previous {
-            // Resumed: the checkpoint holds the state (`execute` reads it); this one gives
-            // its shape.
             // Resumed: the checkpoint holds the state (`execute` reads it); this one only
             // gives its shape (no K₀ check: the stage may hold ground above the surface).
             None if resumed.is_some() => {
@@ -118,6 +116,7 @@ pub fn run(
             from: plan.first_step,
             to: plan.last_step(),
             total,
+            stage: true,
         };
         let stepped = crate::run::execute(
             &mut stepper,
@@ -154,6 +153,8 @@ pub fn run(
                 .and_then(|_| outputs.curve.last().map(|c| c.1)),
             factor_of_safety: None,
         };
+        let summary_path = options.out_dir.join("summary.json");
+        let last = k + 1 == stages.plans.len();
         let mut interrupted = false;
         if plan.spec.factor_of_safety {
             let found = factor_of_safety(
@@ -163,21 +164,35 @@ pub fn run(
                 &plan.spec.name,
                 plan.spec.steps,
                 options,
-            )?;
+            );
+            let found = match found {
+                Ok(found) => found,
+                // The run ends here: the files a stage's end wrote before the search.
+                Err(e) => {
+                    outputs.finish(&end, plan.last_step())?;
+                    (outputs.results())
+                        .summary(RunStatus::Finished, None, total)
+                        .write(&summary_path)?;
+                    return Err(e);
+                }
+            };
             // SIGINT/SIGTERM (or a Python callback) stopped the trials: the run stops as
             // interrupted, and a resume goes on from the last checkpoint.
             interrupted = found.interrupted;
             entry.factor_of_safety = Some(found.factor_of_safety);
         }
         outputs.results.results.push_stage(entry);
+        // The plots once, at the run's end.
+        if last || interrupted {
+            outputs.finish(&end, plan.last_step())?;
+        }
         let status = match interrupted {
             true => RunStatus::Interrupted,
             false => RunStatus::Finished,
         };
-        outputs
-            .results()
-            .summary(status, None, total)
-            .write(&options.out_dir.join("summary.json"))?;
+        let summary = outputs.results().summary(status, None, total);
+        summary.write(&summary_path)?;
+        tracing::info!("{}", summary.sentence());
         if interrupted {
             return Err(RunError::Interrupted {
                 step: plan.last_step(),
