@@ -74,7 +74,7 @@ impl StepControl {
         self.streak += 1;
         let level = self.level;
         // The doubled sub-step must start on its own grid.
-        let tiles = level > 0 && position % (1usize << (max_level - level + 1)) == 0;
+        let tiles = level > 0 && position.is_multiple_of(1usize << (max_level - level + 1));
         if tiles && self.streak >= self.patience(level, growth) {
             self.level = level - 1;
             self.streak = 0;

@@ -19,6 +19,7 @@ mod error;
 mod excavation;
 pub mod geometry;
 pub mod mesh;
+pub mod mesh3;
 mod model;
 pub mod quadrature;
 mod reduced_problem;
@@ -33,6 +34,7 @@ pub use excavation::{
 };
 pub use geometry::Geometry;
 pub use mesh::{graded_coordinates, BoundaryEdge, Mesh};
+pub use mesh3::{BoundaryFace, TetrahedralMesh};
 pub use model::{bounding_box, Loads, Model, RampedForce};
 pub use reduced_problem::{prescribed_forces, prescribed_forces_at_rest, FemStats, ReactionForce};
 pub use state::State;

@@ -1,4 +1,5 @@
-//! Reference triangles (P1, P2) and the isoparametric map to physical coordinates.
+//! Reference triangles (P1, P2) and the isoparametric map to physical coordinates;
+//! reference tetrahedra for 3D meshes in [`tetrahedron`].
 //!
 //! Coordinates in metres. A triangle's nodes are counter-clockwise, so the Jacobian
 //! determinant `det J = det ∂x/∂ξ` is positive on a valid element; its area is
@@ -6,8 +7,11 @@
 pub mod edge;
 pub mod p1;
 pub mod p2;
+pub mod tet10;
+pub mod tet4;
+pub mod tetrahedron;
 
-/// Polynomial order of the (isoparametric) triangles of a mesh.
+/// Polynomial order of the (isoparametric) triangles or tetrahedra of a mesh.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ElementOrder {
     /// Linear 3-node triangle (Gmsh `Tri3`), constant strain.

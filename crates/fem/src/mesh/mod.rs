@@ -5,7 +5,7 @@ mod elevate;
 mod graded;
 mod msh;
 mod quality;
-mod rectangle;
+pub(crate) mod rectangle;
 mod sets;
 mod submesh;
 

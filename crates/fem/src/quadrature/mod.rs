@@ -9,7 +9,11 @@
 //!   `det J` is at most quadratic too, so `Σ V_p` is the exact area.
 //!
 //! The lumped mass needs `∫ N_a²` (degree 4 for P2): it uses the 7-point degree-5 rule.
+//!
+//! Rules on the reference tetrahedron, for 3D meshes: [`tetrahedron`].
 use crate::element::ElementOrder;
+
+pub mod tetrahedron;
 
 /// A rule: reference points `(ξ, η)` and weights.
 #[derive(Debug, Clone, Copy)]
