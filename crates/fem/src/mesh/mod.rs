@@ -3,7 +3,7 @@
 //! P1 → P2 conversion ([`Mesh::to_p2`]).
 mod elevate;
 mod graded;
-mod msh;
+pub(crate) mod msh;
 mod quality;
 pub(crate) mod rectangle;
 mod sets;

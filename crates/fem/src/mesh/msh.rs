@@ -24,11 +24,11 @@ use super::{BoundaryEdge, Mesh};
 use crate::element::ElementOrder;
 use crate::error::MeshError;
 
-type Names = HashMap<(i32, i32), String>;
+pub(crate) type Names = HashMap<(i32, i32), String>;
 
 /// Largest coordinate magnitude (m): areas and mass terms (lengths squared, times a density)
 /// stay far from overflow.
-const MAX_COORDINATE: f64 = 1e100;
+pub(crate) const MAX_COORDINATE: f64 = 1e100;
 
 impl Mesh {
     /// Reads a Gmsh 4.1 file (ASCII or binary); see the module documentation.
@@ -42,12 +42,86 @@ impl Mesh {
 
     /// Same as [`from_msh`](Self::from_msh) for the file's content.
     pub fn from_msh_bytes(bytes: &[u8]) -> Result<Mesh, MeshError> {
-        check_header(bytes)?;
-        check_ascii_node_tags(bytes)?;
-        let names = physical_names(bytes)?;
-        let file = parse(bytes)?;
+        let (file, names) = read(bytes)?;
         build(&file, &names)
     }
+}
+
+/// The parsed file and its `$PhysicalNames`, after the checks `mshio` does not make (the
+/// 2D and 3D readers share them).
+pub(crate) fn read(bytes: &[u8]) -> Result<(MshFile<u64, i32, f64>, Names), MeshError> {
+    check_header(bytes)?;
+    check_ascii_node_tags(bytes)?;
+    let names = physical_names(bytes)?;
+    let file = parse(bytes)?;
+    Ok((file, names))
+}
+
+/// The physical tags of each entity, by `(dimension, entity tag)`.
+pub(crate) fn entity_groups(file: &MshFile<u64, i32, f64>) -> HashMap<(i32, i32), Vec<i32>> {
+    let mut physical: HashMap<(i32, i32), Vec<i32>> = HashMap::new();
+    if let Some(ent) = &file.data.entities {
+        for p in &ent.points {
+            physical.insert((0, p.tag), p.physical_tags.clone());
+        }
+        for c in &ent.curves {
+            physical.insert((1, c.tag), c.physical_tags.clone());
+        }
+        for s in &ent.surfaces {
+            physical.insert((2, s.tag), s.physical_tags.clone());
+        }
+        for v in &ent.volumes {
+            physical.insert((3, v.tag), v.physical_tags.clone());
+        }
+    }
+    physical
+}
+
+/// A physical group's name from `$PhysicalNames`, or `physical_<dim>_<tag>`.
+pub(crate) fn group_name(names: &Names, dim: i32, p: i32) -> String {
+    names
+        .get(&(dim, p))
+        .cloned()
+        .unwrap_or_else(|| format!("physical_{dim}_{p}"))
+}
+
+/// Node coordinates by Gmsh tag.
+pub(crate) fn node_coordinates(
+    file: &MshFile<u64, i32, f64>,
+) -> Result<HashMap<u64, [f64; 3]>, MeshError> {
+    let mut coords: HashMap<u64, [f64; 3]> = HashMap::new();
+    if let Some(nodes) = &file.data.nodes {
+        let mut next = nodes.min_node_tag;
+        for block in &nodes.node_blocks {
+            match &block.node_tags {
+                Some(tags) => {
+                    // mshio keeps one index per tag: fewer tags than nodes is a repeat.
+                    if tags.len() != block.nodes.len() {
+                        return Err(MeshError::msh(format!(
+                            "a $Nodes block of entity {} lists {} nodes under {} distinct \
+                             tags: a node tag is repeated",
+                            block.entity_tag,
+                            block.nodes.len(),
+                            tags.len()
+                        )));
+                    }
+                    for (&tag, &i) in tags {
+                        let n = block.nodes.get(i).ok_or_else(|| {
+                            MeshError::msh(format!("node tag {tag} has no coordinates"))
+                        })?;
+                        insert_node(&mut coords, tag, [n.x, n.y, n.z])?;
+                    }
+                }
+                None => {
+                    for n in &block.nodes {
+                        insert_node(&mut coords, next, [n.x, n.y, n.z])?;
+                        next += 1;
+                    }
+                }
+            }
+        }
+    }
+    Ok(coords)
 }
 
 /// Checks `$MeshFormat` before handing the bytes to `mshio`, whose header parser panics on
@@ -183,53 +257,8 @@ fn parse(bytes: &[u8]) -> Result<MshFile<u64, i32, f64>, MeshError> {
 }
 
 fn build(file: &MshFile<u64, i32, f64>, names: &Names) -> Result<Mesh, MeshError> {
-    // Physical tags per (dimension, entity tag).
-    let mut physical: HashMap<(i32, i32), Vec<i32>> = HashMap::new();
-    if let Some(ent) = &file.data.entities {
-        for p in &ent.points {
-            physical.insert((0, p.tag), p.physical_tags.clone());
-        }
-        for c in &ent.curves {
-            physical.insert((1, c.tag), c.physical_tags.clone());
-        }
-        for s in &ent.surfaces {
-            physical.insert((2, s.tag), s.physical_tags.clone());
-        }
-    }
-
-    // Node coordinates by Gmsh tag.
-    let mut coords: HashMap<u64, [f64; 3]> = HashMap::new();
-    if let Some(nodes) = &file.data.nodes {
-        let mut next = nodes.min_node_tag;
-        for block in &nodes.node_blocks {
-            match &block.node_tags {
-                Some(tags) => {
-                    // mshio keeps one index per tag: fewer tags than nodes is a repeat.
-                    if tags.len() != block.nodes.len() {
-                        return Err(MeshError::msh(format!(
-                            "a $Nodes block of entity {} lists {} nodes under {} distinct \
-                             tags: a node tag is repeated",
-                            block.entity_tag,
-                            block.nodes.len(),
-                            tags.len()
-                        )));
-                    }
-                    for (&tag, &i) in tags {
-                        let n = block.nodes.get(i).ok_or_else(|| {
-                            MeshError::msh(format!("node tag {tag} has no coordinates"))
-                        })?;
-                        insert_node(&mut coords, tag, [n.x, n.y, n.z])?;
-                    }
-                }
-                None => {
-                    for n in &block.nodes {
-                        insert_node(&mut coords, next, [n.x, n.y, n.z])?;
-                        next += 1;
-                    }
-                }
-            }
-        }
-    }
+    let physical = entity_groups(file);
+    let coords = node_coordinates(file)?;
 
     // Elements by kind.
     let mut order: Option<(ElementOrder, u64)> = None;
@@ -334,12 +363,7 @@ fn build(file: &MshFile<u64, i32, f64>, names: &Names) -> Result<Mesh, MeshError
 
     let mut node_sets: BTreeMap<String, Vec<usize>> = BTreeMap::new();
     let mut edge_sets: BTreeMap<String, Vec<BoundaryEdge>> = BTreeMap::new();
-    let group_name = |dim: i32, p: i32| {
-        names
-            .get(&(dim, p))
-            .cloned()
-            .unwrap_or_else(|| format!("physical_{dim}_{p}"))
-    };
+    let group_name = |dim: i32, p: i32| group_name(names, dim, p);
     for (tag, entity, nodes) in &lines {
         let groups = physical.get(&(1, *entity)).map_or(&[][..], Vec::as_slice);
         if groups.is_empty() {

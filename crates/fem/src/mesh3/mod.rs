@@ -1,6 +1,7 @@
 //! Tetrahedral meshes for 3D analyses (P1 `Tet4`, P2 `Tet10`, Gmsh node order; y is the
 //! vertical axis, as in 2D): nodes, tetrahedra, named node, face and element sets.
-//! [`TetrahedralMesh::block`] builds structured ones.
+//! [`TetrahedralMesh::block`] builds structured ones, [`TetrahedralMesh::from_msh`] reads
+//! Gmsh's.
 use std::collections::BTreeMap;
 
 use crate::element::tetrahedron::tetrahedron_jacobian_determinant;
@@ -8,6 +9,7 @@ use crate::element::ElementOrder;
 use crate::error::MeshError;
 
 mod block;
+mod msh;
 
 /// A boundary triangle: its 3 vertices (P1) or 3 vertices then the mid-edge nodes of its
 /// edges 01, 12, 20 (P2), counter-clockwise seen from outside the body (outward normal).
