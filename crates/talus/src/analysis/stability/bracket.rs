@@ -5,8 +5,6 @@
 //! The search stays within `[MIN_FACTOR, MAX_FACTOR]`: a body still at rest
 //! at `MAX_FACTOR` has no mechanism ([`Next::NoMechanism`]), one still failing at
 //! `MIN_FACTOR` has no stable factor ([`Next::NoStableFactor`]); neither gets a number.
-use super::continuation::Guide;
-
 /// The factors the search, a bracket or a first guess may reach: a strength divided or a
 /// weight multiplied by more than 100 is no longer a soil near failure (and overflows the
 /// scales of `docs/scenes.md`, 'Limits', long before 1e300).
@@ -15,6 +13,16 @@ pub const MAX_FACTOR: f64 = 1e2;
 
 /// Beyond the known side, the next trial multiplies (or divides) by this.
 pub const EXPANSION: f64 = 2.0;
+
+/// What steers the next trial ([`Bracket::next_guided`]; `continuation::Planner::guide` makes it).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Guide {
+    /// The collapse factor extrapolated from the stable trials, if any.
+    pub estimate: Option<f64>,
+    /// Beyond the largest stable factor with nothing failing and no estimate, the next
+    /// trial multiplies it by this.
+    pub expansion: f64,
+}
 
 /// The trials so far: the largest stable `F` and the smallest failing `F`.
 #[derive(Debug, Clone, PartialEq)]

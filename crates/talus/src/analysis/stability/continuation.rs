@@ -10,7 +10,7 @@
 //! `k = 0`. It only steers the search: every bracket end is still a trial judged by the
 //! criterion.
 
-use super::bracket::EXPANSION;
+use super::bracket::{Guide, EXPANSION};
 
 /// The first step beyond the largest stable factor, a fraction of it (at most
 /// `EXPANSION − 1`, the blind search's doubling): after each new largest stable factor,
@@ -21,16 +21,6 @@ use super::bracket::EXPANSION;
 pub const FIRST_STEP: f64 = 0.25;
 /// The smallest step beyond the largest stable factor (a fraction of it).
 pub const MIN_STEP: f64 = 0.01;
-
-/// What steers the next trial ([`super::Bracket::next_guided`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Guide {
-    /// The collapse factor extrapolated from the stable trials, if any.
-    pub estimate: Option<f64>,
-    /// Beyond the largest stable factor with nothing failing and no estimate, the next
-    /// trial multiplies it by this.
-    pub expansion: f64,
-}
 
 /// The trials' load–displacement curve and the step beyond the largest stable factor.
 #[derive(Debug, Clone, Default, PartialEq)]

@@ -25,8 +25,8 @@ use crate::run::RunError;
 use crate::scene::{Scene, SceneError, StabilityMethod};
 use talus_engine::{Failed, PredictorRule, Run, StepSettings, Stepper};
 
-pub use bracket::{Bracket, Next, Outcome};
-pub use continuation::{Guide, Planner};
+pub use bracket::{Bracket, Guide, Next, Outcome};
+pub use continuation::Planner;
 pub use criterion::{Criterion, Verdict};
 pub use outputs::{
     run, run_blind, search, write_mechanism, SearchStatus, StabilityRun, TRIAL_COLUMNS,
