@@ -24,6 +24,10 @@ pub struct Stepper<D: Discretization> {
     stress_rate: Option<Vec<f64>>,
     /// The sub-step size the next step starts at, and what the control learned.
     control: StepControl,
+    /// Whether a sub-step accepted at the round-off floor was logged at `warn` already: a
+    /// relaxed material ends every solve there (`docs/solver.md`, 'The round-off floor'),
+    /// so the later ones go to `debug` and are counted in `StepReport::statuses`.
+    floor_warned: bool,
 }
 
 /// Solvers of a fixed operator kept at once, one per sub-step size: the sizes in use
@@ -61,6 +65,7 @@ impl<D: Discretization> Stepper<D> {
             fixed: Vec::new(),
             stress_rate: None,
             control: StepControl::default(),
+            floor_warned: false,
         }
     }
 
@@ -340,13 +345,30 @@ impl<D: Discretization> Stepper<D> {
         };
         let solve_seconds = clock.elapsed().as_secs_f64();
         if let Some(floor) = last.round_off_floor {
-            tracing::warn!(
-                time = disc.time(state),
-                h,
-                residual = floor.reached / last.scale,
-                floor_estimate = floor.estimate / last.scale,
-                "sub-step accepted at the round-off floor, above the tolerance"
+            let (time, residual, estimate) = (
+                disc.time(state),
+                floor.reached / last.scale,
+                floor.estimate / last.scale,
             );
+            if self.floor_warned {
+                tracing::debug!(
+                    time,
+                    h,
+                    residual,
+                    floor_estimate = estimate,
+                    "sub-step accepted at the round-off floor"
+                );
+            } else {
+                self.floor_warned = true;
+                tracing::warn!(
+                    time,
+                    h,
+                    residual,
+                    floor_estimate = estimate,
+                    "sub-step accepted at the round-off floor, above the tolerance (the \
+                     next ones are logged at debug and counted in the run's last line)"
+                );
+            }
         }
         let z = solver.z().to_vec();
         let stats = disc

@@ -267,11 +267,21 @@ fn run_fem(
         .iter()
         .map(|r| r.smallest_h)
         .fold(f64::INFINITY, f64::min);
+    let at_floor: usize = records
+        .iter()
+        .flat_map(|r| &r.statuses)
+        .filter(|s| **s == talus_ssn::Status::RoundOffFloor)
+        .count();
+    let floor = if at_floor > 0 {
+        format!(" ({at_floor} accepted at the round-off floor)")
+    } else {
+        String::new()
+    };
     let last = records.last();
     println!(
         "{} steps in {:.2} s; Newton iterations {accepted} accepted + {failed} failed ({:.1} \
-         per step, at most {worst} in a solve); {substeps} sub-steps, smallest h {:.3e} s; \
-         final reaction {:.4e} {} at {:.4e} m; outputs in {}",
+         per step, at most {worst} in a solve); {substeps} sub-steps{floor}, smallest h \
+         {:.3e} s; final reaction {:.4e} {} at {:.4e} m; outputs in {}",
         records.len(),
         summary.seconds,
         (accepted + failed) as f64 / records.len().max(1) as f64,

@@ -311,3 +311,41 @@ fn the_paper_footing_with_tau_equal_to_h_takes_every_step_whole() {
         );
     }
 }
+
+/// A relaxed material ends its solves at the round-off floor (`docs/solver.md`, 'The
+/// round-off floor'): `talus run` says so once at `warn`, not once a step, and counts
+/// them in its last line.
+#[test]
+fn the_round_off_floor_of_a_relaxed_run_is_warned_once_and_counted() {
+    let dir = common::target_tmp_dir("relaxation", "floor_once");
+    let text = replaced(&with_tau(FOOTING, "1.0e-2"), "steps = 300", "steps = 20");
+    let text = replaced(&text, "plots = true", "plots = false");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, text).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_talus"))
+        .arg("run")
+        .arg(&scene)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .env("TALUS_LOG", "warn")
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let warned = stderr.matches("accepted at the round-off floor").count();
+    let counted: usize = stdout
+        .split(" accepted at the round-off floor")
+        .next()
+        .and_then(|head| head.rsplit('(').next())
+        .and_then(|n| n.trim().parse().ok())
+        .unwrap_or_else(|| panic!("no count in the last line: {stdout}"));
+    assert_eq!(warned, 1, "{stderr}");
+    // Each of the 20 steps is one sub-step (τ = h), and ends at the floor or below the
+    // tolerance: at least one at the floor, since one was warned.
+    assert!((1..=20).contains(&counted), "{counted}: {stdout}");
+}
