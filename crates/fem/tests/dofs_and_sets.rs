@@ -135,3 +135,108 @@ fn boxes_select_nodes_and_boundary_edges() {
     // interior segment: nodes but no boundary edge
     assert!(mesh.boundary_edges_in_box([0.0, 1.0], [2.0, 1.0]).is_err());
 }
+
+/// A 3D box (`TetrahedralMesh::block`) with rollers on its six sides, as a slab in plane
+/// strain or a soil box has: every combination of `Constraint` fixes exactly its axes,
+/// counts match the sides' node sets, and the numbering stays node-major.
+#[test]
+fn dofmap_in_3d_fixes_exactly_the_named_axes() {
+    use talus_fem::TetrahedralMesh;
+    let mesh = TetrahedralMesh::block(
+        &[0.0, 1.0, 2.0],
+        &[0.0, 1.0],
+        &[0.0, 0.5, 1.0],
+        ElementOrder::P2,
+    )
+    .unwrap();
+    let n = mesh.nodes.len();
+    let set = |name: &str| mesh.node_sets[name].clone();
+    let cases: [(Constraint, [bool; 3]); 7] = [
+        (Constraint::Fixed, [true, true, true]),
+        (Constraint::FixX, [true, false, false]),
+        (Constraint::FixY, [false, true, false]),
+        (Constraint::FixZ, [false, false, true]),
+        (Constraint::FixXY, [true, true, false]),
+        (Constraint::FixXZ, [true, false, true]),
+        (Constraint::FixYZ, [false, true, true]),
+    ];
+    for (c, axes) in cases {
+        let dofs = DofMap::with_components(n, 3, &[(set("bottom"), c)]).unwrap();
+        assert_eq!(dofs.components(), 3);
+        assert_eq!(dofs.n_nodes(), n);
+        let bottom = set("bottom");
+        let fixed = axes.iter().filter(|a| **a).count();
+        assert_eq!(dofs.n_prescribed(), fixed * bottom.len(), "{c:?}");
+        assert_eq!(dofs.n_free() + dofs.n_prescribed(), 3 * n);
+        for &node in &bottom {
+            for (comp, &f) in axes.iter().enumerate() {
+                assert_eq!(
+                    dofs.prescribed(node, comp).is_some(),
+                    f,
+                    "{c:?} node {node}"
+                );
+            }
+        }
+        assert_eq!(dofs.dof(0, 3), None, "no fourth component");
+    }
+    // Rollers on all six sides: a node on an edge of the box gets both sides' axes.
+    let rollers = [
+        (set("left"), Constraint::FixX),
+        (set("right"), Constraint::FixX),
+        (set("bottom"), Constraint::FixY),
+        (set("back"), Constraint::FixZ),
+        (set("front"), Constraint::FixZ),
+    ];
+    let dofs = DofMap::with_components(n, 3, &rollers).unwrap();
+    let corner = *set("left")
+        .iter()
+        .find(|i| set("bottom").contains(i) && set("back").contains(i))
+        .unwrap();
+    assert!((0..3).all(|c| dofs.prescribed(corner, c).is_some()));
+    // Node-major numbering of the free dofs: first free node's components come first.
+    let free: Vec<usize> = (0..n)
+        .flat_map(|node| (0..3).filter_map(move |c| Some((node, c))))
+        .filter_map(|(node, c)| dofs.free(node, c))
+        .collect();
+    assert!(free.windows(2).all(|w| w[1] == w[0] + 1));
+    // Scattering puts each value back on its node and axis.
+    let values: Vec<f64> = (0..dofs.n_free()).map(|i| i as f64).collect();
+    let prescribed = vec![-1.0; dofs.n_prescribed()];
+    let v = dofs.nodal_vectors::<3>(&values, &prescribed).unwrap();
+    for node in 0..n {
+        for c in 0..3 {
+            let expected = dofs.free(node, c).map_or(-1.0, |i| i as f64);
+            assert_eq!(v[node][c], expected);
+        }
+    }
+    assert!(
+        dofs.scatter(&values, &prescribed).is_err(),
+        "2D scatter of a 3D map"
+    );
+}
+
+#[test]
+fn a_2d_dofmap_refuses_z_and_other_component_counts() {
+    for c in [Constraint::FixZ, Constraint::FixXZ, Constraint::FixYZ] {
+        let err = DofMap::new(4, &[(vec![0, 1], c)]).unwrap_err();
+        assert!(
+            matches!(&err, FemError::InvalidInput { field: "constraints", reason } if reason.contains("fixes z")),
+            "{err}"
+        );
+    }
+    // In 2D, FixXY is Fixed.
+    let a = DofMap::new(3, &[(vec![1], Constraint::FixXY)]).unwrap();
+    let b = DofMap::new(3, &[(vec![1], Constraint::Fixed)]).unwrap();
+    assert_eq!(a, b);
+    let err = DofMap::with_components(3, 4, &[]).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            FemError::InvalidInput {
+                field: "components",
+                ..
+            }
+        ),
+        "{err}"
+    );
+}
