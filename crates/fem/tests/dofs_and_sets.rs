@@ -195,7 +195,7 @@ fn dofmap_in_3d_fixes_exactly_the_named_axes() {
     assert!((0..3).all(|c| dofs.prescribed(corner, c).is_some()));
     // Node-major numbering of the free dofs: first free node's components come first.
     let free: Vec<usize> = (0..n)
-        .flat_map(|node| (0..3).filter_map(move |c| Some((node, c))))
+        .flat_map(|node| (0..3).map(move |c| (node, c)))
         .filter_map(|(node, c)| dofs.free(node, c))
         .collect();
     assert!(free.windows(2).all(|w| w[1] == w[0] + 1));

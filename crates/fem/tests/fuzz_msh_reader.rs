@@ -1,6 +1,6 @@
-//! Fuzzing of the Gmsh `.msh` reader (`[mesh.gmsh]` of a scene): mutated meshes (the
-//! shipped scene meshes, small ASCII P1 and P2 squares and a binary one) and generated
-//! rectangles. The reader returns a mesh or an error and never panics; a mesh it returns is
+//! Fuzzing of the Gmsh `.msh` readers (`[mesh.gmsh]` of a scene): mutated meshes (the
+//! shipped scene meshes, small ASCII P1 and P2 squares and a binary one; P1 and P2
+//! tetrahedral blocks for the 3D reader) and generated rectangles. The reader returns a mesh or an error and never panics; a mesh it returns is
 //! consistent (node counts per triangle, indices in range, finite coordinates, positive
 //! areas, sets in range) and assembles without panicking.
 //! `TALUS_FUZZ_CASES` / `TALUS_FUZZ_SCALE` raise the case count (`cargo xtask fuzz`);
@@ -8,7 +8,7 @@
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use proptest::prelude::*;
-use talus_fem::{Assembly, DofMap, ElementOrder, Mesh};
+use talus_fem::{Assembly, DofMap, ElementOrder, Mesh, TetrahedralMesh};
 
 #[path = "../../ssn/tests/common/mutations.rs"]
 mod mutations;
@@ -16,6 +16,7 @@ use mutations::{apply, cases, fuzz, mutated, Outcome};
 
 // The small files of `gmsh_reader.rs` (see the drawing there).
 mod common;
+use common::gmsh_block::{block, to_msh};
 use common::gmsh_square::{binary_square, p1_file, p2_file, P1_TRIANGLES};
 
 fn seeds() -> Vec<Vec<u8>> {
@@ -104,6 +105,65 @@ fn mutated_meshes_are_read_or_refused_never_panic() {
         cases(10_000),
         mutated(seeds.len()),
         |(seed, mutations)| read(&apply(&seeds[*seed], mutations)),
+    );
+}
+
+// ------------------------------------------------------------------ tetrahedra
+
+/// What `TetrahedralMesh::from_msh_bytes` promises of a mesh it returned.
+fn consistent_3d(mesh: &TetrahedralMesh) -> Result<(), String> {
+    let n = mesh.nodes.len();
+    if let Some(p) = mesh.nodes.iter().find(|p| !p.iter().all(|c| c.is_finite())) {
+        return Err(format!("node at {p:?}"));
+    }
+    if mesh.tetrahedra.is_empty() {
+        return Err("no tetrahedra".into());
+    }
+    // counts, indices and det J > 0, as the reader checked them
+    mesh.check_elements().map_err(|e| e.to_string())?;
+    let per_face = match mesh.order {
+        ElementOrder::P1 => 3,
+        ElementOrder::P2 => 6,
+    };
+    for (name, faces) in &mesh.face_sets {
+        if let Some(f) = faces
+            .iter()
+            .find(|f| f.nodes.len() != per_face || f.nodes.iter().any(|&i| i >= n))
+        {
+            return Err(format!("face set {name} holds {f:?} with {n} nodes"));
+        }
+    }
+    for (name, set) in &mesh.node_sets {
+        if set.iter().any(|&i| i >= n) || set.windows(2).any(|w| w[0] >= w[1]) {
+            return Err(format!("node set {name} = {set:?} with {n} nodes"));
+        }
+    }
+    for (name, set) in &mesh.element_sets {
+        if set.iter().any(|&e| e >= mesh.tetrahedra.len()) {
+            return Err(format!("element set {name} = {set:?}"));
+        }
+    }
+    Ok(())
+}
+
+#[test]
+fn mutated_tetrahedral_meshes_are_read_or_refused_never_panic() {
+    let seeds: Vec<Vec<u8>> = [ElementOrder::P1, ElementOrder::P2]
+        .into_iter()
+        .map(|order| {
+            let mesh = block(order);
+            to_msh(&mesh, &mesh.tetrahedra).into_bytes()
+        })
+        .collect();
+    fuzz(
+        "gmsh .msh tetrahedra (mutated files)",
+        cases(2_000),
+        mutated(seeds.len()),
+        |(seed, mutations)| match TetrahedralMesh::from_msh_bytes(&apply(&seeds[*seed], mutations))
+        {
+            Ok(mesh) => consistent_3d(&mesh).map(|()| Outcome::Read),
+            Err(e) => Ok(Outcome::Refused(e.to_string())),
+        },
     );
 }
 

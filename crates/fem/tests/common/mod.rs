@@ -1,6 +1,7 @@
 //! Shared helpers for the integration tests.
 #![allow(dead_code)]
 pub mod footing;
+pub mod gmsh_block;
 pub mod gmsh_square;
 use faer::sparse::SparseColMat;
 use nalgebra::{DMatrix, SVector};
