@@ -570,6 +570,8 @@ pub(super) fn build_mesh(scene: &Scene) -> Result<Mesh, SceneError> {
                 .map_err(|e| scene.error("mesh.rectangle.x", e.to_string()))?;
             let ys = talus_fem::graded_coordinates(y[0], y[1], cells[1], focus[1], ratio[1])
                 .map_err(|e| scene.error("mesh.rectangle.y", e.to_string()))?;
+            warn_of_strong_grading("x", &xs, ratio[0]);
+            warn_of_strong_grading("y", &ys, ratio[1]);
             let order = match order {
                 Order::P1 => ElementOrder::P1,
                 Order::P2 => ElementOrder::P2,
@@ -739,4 +741,33 @@ fn check_box_does_not_cut_edges(
 
 fn names<'a>(keys: impl Iterator<Item = &'a String>) -> String {
     keys.map(String::as_str).collect::<Vec<_>>().join(", ")
+}
+
+/// The largest cell this many times the smallest draws a warning: the shipped scenes stay
+/// below 100 (footing: 1.1 over 14 cells), while the footing's `ratio = 1.1` kept over 152
+/// cells (1.9e6) made step 1 fail at every halving with inaccurate Newton directions
+/// (`docs/performance.md`, 'The 100k footing's first steps').
+const GRADING_WARNING: f64 = 1e3;
+
+/// Warns when the cells along one axis of `[mesh.rectangle]` span more than
+/// [`GRADING_WARNING`] in size, with the ratio that would make the span 100.
+fn warn_of_strong_grading(axis: &str, coords: &[f64], ratio: f64) {
+    let sizes = coords.windows(2).map(|w| w[1] - w[0]);
+    let (small, large) = sizes.fold((f64::INFINITY, 0.0f64), |(s, l), d| (s.min(d), l.max(d)));
+    let span = large / small;
+    if span > GRADING_WARNING {
+        // span = ratio^k for k growth steps: ratio' = 100^(1/k).
+        let steps = span.ln() / ratio.ln().abs();
+        tracing::warn!(
+            "mesh.rectangle.ratio: along {axis} the largest cell is {span:.1e} times the \
+             smallest (ratio {ratio} over {} cells); Newton directions lose accuracy on such \
+             meshes; ratio = {:.4} would make it 100",
+            coords.len() - 1,
+            if ratio >= 1.0 {
+                100f64.powf(1.0 / steps)
+            } else {
+                100f64.powf(-1.0 / steps)
+            }
+        );
+    }
 }
