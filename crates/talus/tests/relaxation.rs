@@ -317,26 +317,9 @@ fn the_paper_footing_with_tau_equal_to_h_takes_every_step_whole() {
 /// them in its last line.
 #[test]
 fn the_round_off_floor_of_a_relaxed_run_is_warned_once_and_counted() {
-    let dir = common::target_tmp_dir("relaxation", "floor_once");
     let text = replaced(&with_tau(FOOTING, "1.0e-2"), "steps = 300", "steps = 20");
     let text = replaced(&text, "plots = true", "plots = false");
-    let scene = dir.join("scene.toml");
-    std::fs::write(&scene, text).unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_talus"))
-        .arg("run")
-        .arg(&scene)
-        .arg("--out")
-        .arg(dir.join("out"))
-        .env("TALUS_LOG", "warn")
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    let stdout = String::from_utf8_lossy(&out.stdout);
+    let (_, stdout, stderr) = common::talus_run("relaxation", "floor_once", &text);
     let warned = stderr.matches("accepted at the round-off floor").count();
     let counted: usize = stdout
         .split(" accepted at the round-off floor")

@@ -6,25 +6,13 @@
 //! (4 halvings, each step from the full h) stopped there, "did not converge". With the
 //! default settings the run goes on at the sub-step sizes that have a solution. The same
 //! scene with associative flow has no fold and takes one sub-step per step, as before.
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
 mod common;
 
 /// `(sub-steps, accepted, failed)` Newton iterations per step of `talus run` on the folding
 /// footing with `dilatancy_angle` as given, after `steps` steps.
 fn run(name: &str, dilatancy: &str, steps: usize) -> Vec<(usize, usize, usize)> {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-        .join("step_control")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
     let ratio = 1.1f64.powf(14.0 / 28.0);
-    let text = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/footing.toml"),
-    )
-    .unwrap();
-    let text = text
+    let text = common::FOOTING
         .replace("cells = [32, 14]", "cells = [64, 28]")
         .replace("ratio = [1.0, 1.1]", &format!("ratio = [1.0, {ratio:?}]"))
         .replace("step = 1.0e-2", "step = 1.0e-1")
@@ -42,22 +30,7 @@ fn run(name: &str, dilatancy: &str, steps: usize) -> Vec<(usize, usize, usize)> 
     ] {
         assert!(text.contains(key), "the scene kept {key}");
     }
-    let scene = dir.join("scene.toml");
-    std::fs::write(&scene, text).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_talus"))
-        .arg("run")
-        .arg(&scene)
-        .arg("--out")
-        .arg(dir.join("out"))
-        .env("TALUS_LOG", "warn")
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{name}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let out = dir.join("out");
+    let (out, _, _) = common::talus_run("step_control", name, &text);
     let column = |name: &str| common::history_column(&out, name);
     let (s, a, f) = (
         column("substeps"),

@@ -1,33 +1,15 @@
 //! A `[mesh.rectangle]` whose cells span more than 1e3 in size along an axis draws a
 //! warning naming the key, the span and a ratio that would make it 100
 //! (`docs/performance.md`, 'Grading kept while refining'); the shipped footing does not.
-use std::process::Command;
-
 mod common;
-use common::{replaced, target_tmp_dir, FOOTING};
+use common::{replaced, talus_run, FOOTING};
 
 /// `talus run`'s stderr at `warn` for the footing with `cells` and one step.
 fn warnings(name: &str, cells: &str) -> String {
-    let dir = target_tmp_dir("strong_grading", name);
     let text = replaced(FOOTING, "cells = [32, 14]", &format!("cells = {cells}"));
     let text = replaced(&text, "steps = 300", "steps = 1");
     let text = replaced(&text, "plots = true", "plots = false");
-    let scene = dir.join("scene.toml");
-    std::fs::write(&scene, text).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_talus"))
-        .arg("run")
-        .arg(&scene)
-        .arg("--out")
-        .arg(dir.join("out"))
-        .env("TALUS_LOG", "warn")
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stderr).into_owned()
+    talus_run("strong_grading", name, &text).2
 }
 
 #[test]

@@ -26,6 +26,27 @@ pub fn line_of(text: &str, needle: &str) -> usize {
         + 1
 }
 
+/// `talus run` of the scene `text`, written to `target/tmp/<test>/<name>/scene.toml`, its
+/// outputs in `…/out`, logging at `warn`; panics (with its stderr) unless it succeeded.
+/// Returns the output folder, stdout and stderr.
+pub fn talus_run(test: &str, name: &str, text: &str) -> (PathBuf, String, String) {
+    let dir = target_tmp_dir(test, name);
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, text).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_talus"))
+        .arg("run")
+        .arg(&scene)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .env("TALUS_LOG", "warn")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(out.status.success(), "{test}/{name}: {stderr}");
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    (dir.join("out"), stdout, stderr)
+}
+
 /// `target/tmp/<test>/<name>`, created.
 pub fn target_tmp_dir(test: &str, name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(test).join(name);
