@@ -4,10 +4,10 @@
 mod common;
 
 use approx::assert_relative_eq;
-use common::{central_differences, return_map};
+use common::{check_sigma_block, return_map};
 use talus_bipotential::mandel::{deviator, hydrostatic_axis, trace};
 use talus_bipotential::{
-    ConeFit, DruckerPrager, DruckerPragerParameters, FlowRule, Region, SMatrix, SVector,
+    ConeFit, DruckerPrager, DruckerPragerParameters, FlowRule, Region, SVector,
 };
 
 fn soil(phi: f64, theta: f64, fit: ConeFit) -> DruckerPrager {
@@ -157,16 +157,9 @@ fn fd_blocks_case<const D: usize>(
     z: SVector<f64, D>,
     rho: f64,
 ) -> Region {
-    let lin = rule.natural_map_linearization(&sigma, &z, rho);
     let h_s = 1e-6 * sigma.norm().max(1.0);
     let h_z = 1e-6 * z.norm().max(1e-12);
-    let (d_sigma, d_z) = central_differences(rule, sigma, z, rho, h_s, h_z);
-    let expected_sigma = SMatrix::<f64, D, D>::identity() - lin.projection_jacobian;
-    let expected_z = lin.coupling * rho;
-    assert!(
-        (d_sigma - expected_sigma).amax() <= 1e-6,
-        "dF/dσ:\n{d_sigma}\nvs\n{expected_sigma}"
-    );
+    let (lin, d_z, expected_z) = check_sigma_block(rule, sigma, z, rho, h_s, h_z);
     assert!(
         (d_z - expected_z).amax() <= 1e-6 * expected_z.amax().max(rho),
         "dF/dz:\n{d_z}\nvs\n{expected_z}"

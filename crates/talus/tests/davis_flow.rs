@@ -10,22 +10,18 @@ use talus::analysis::stability;
 use talus::model::fem::{FromScene, Model};
 use talus::model::mpm::MpmModel;
 use talus::run::RunOptions;
-use talus::scene::{MpmScene, Scene, SceneError};
+use talus::scene::{MpmScene, Scene};
 use talus_bipotential::{davis_beta, davis_equivalent, Material};
 
-use common::{footing_soil, footing_two_layers, replaced, FOOTING};
+use common::{
+    fem, fem_error, footing_soil, footing_two_layers, replaced, with_material_key, FOOTING,
+};
 const COLUMN: &str = include_str!("../../../scenes/column_a1.toml");
 const SLOPE: &str = include_str!("../../../scenes/slope.toml");
 
-const FIT: &str = "cone_fit = \"plane_strain\"\n";
-
 /// `text` with `flow = "..."` after its first `cone_fit` line.
 fn with_flow(text: &str, flow: &str) -> String {
-    replaced(text, FIT, &format!("{FIT}flow = \"{flow}\"\n"))
-}
-
-fn fem(text: &str) -> Scene {
-    Scene::parse(text, None).unwrap_or_else(|e| panic!("{e}"))
+    with_material_key(text, &format!("flow = \"{flow}\""))
 }
 
 fn materials(text: &str) -> Vec<Material> {
@@ -200,13 +196,6 @@ fn a_davis_run_takes_the_symmetric_cholesky_path() {
     for rule in model.flow_rules() {
         assert_eq!(rule.kappa(), 0.0);
     }
-}
-
-fn fem_error(text: &str) -> SceneError {
-    let scene = Scene::parse(text, None).unwrap_or_else(|e| panic!("{e}"));
-    Model::from_scene(&scene)
-        .err()
-        .expect("the scene must be refused")
 }
 
 /// A misspelt flow is refused naming `material.flow` (`material[k].flow` in a list), its

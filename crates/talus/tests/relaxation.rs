@@ -8,28 +8,18 @@ mod common;
 
 use talus::model::fem::{FromScene, Model, ReactionForce};
 use talus::model::mpm::MpmModel;
-use talus::scene::{MpmScene, Scene, SceneError};
+use talus::scene::MpmScene;
 use talus_engine::Stepper;
 
-use common::{footing_soil, footing_two_layers, replaced, FOOTING};
+use common::{
+    fem, fem_error, footing_soil, footing_two_layers, replaced, with_material_key, FOOTING,
+};
 
 const TRIAXIAL: &str = include_str!("../../../scenes/triaxial.toml");
 const COLUMN: &str = include_str!("../../../scenes/column_a1.toml");
-const FIT: &str = "cone_fit = \"plane_strain\"\n";
-
 /// `text` with `relaxation_time = {tau}` after its first `cone_fit` line.
 fn with_tau(text: &str, tau: &str) -> String {
-    replaced(text, FIT, &format!("{FIT}relaxation_time = {tau}\n"))
-}
-
-fn fem(text: &str) -> Scene {
-    Scene::parse(text, None).unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn fem_error(text: &str) -> SceneError {
-    Model::from_scene(&fem(text))
-        .err()
-        .expect("the scene must be refused")
+    with_material_key(text, &format!("relaxation_time = {tau}"))
 }
 
 /// The footing on a coarse mesh (16 × 7 P2 cells), `steps` steps.

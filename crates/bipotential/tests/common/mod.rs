@@ -1,6 +1,6 @@
 //! Shared by the flow-rule tests: a one-point implicit return by the natural map, the
 //! natural map's Jacobian blocks by central differences.
-use talus_bipotential::{DruckerPrager, FlowRule, SMatrix, SVector};
+use talus_bipotential::{DruckerPrager, FlowRule, NaturalMapLinearization, SMatrix, SVector};
 
 /// Solves `F(σ) = σ − P_K(σ − ρ y(z)) = 0` with `z = S (σ − σ_trial)` (one material point,
 /// `W = S`, `q = −S σ_trial`) by semi-smooth Newton, as `talus-ssn` does globally.
@@ -63,4 +63,32 @@ pub fn central_differences<const D: usize>(
         d_z.set_column(j, &((fp - fm) / (2.0 * h_z)));
     }
     (d_sigma, d_z)
+}
+
+/// The natural map's blocks `∂F/∂σ = I − D` and `∂F/∂z = ρ G` (eq. 25) against
+/// [`central_differences`] of steps `h_s`, `h_z`: asserts the σ block (dimensionless) to
+/// 1e-6 and returns `(linearization, ∂F/∂z by differences, ρ G)` for the caller's z check,
+/// whose scale depends on the rule.
+pub fn check_sigma_block<const D: usize>(
+    rule: &FlowRule<D>,
+    sigma: SVector<f64, D>,
+    z: SVector<f64, D>,
+    rho: f64,
+    h_s: f64,
+    h_z: f64,
+) -> (
+    NaturalMapLinearization<D>,
+    SMatrix<f64, D, D>,
+    SMatrix<f64, D, D>,
+) {
+    let lin = rule.natural_map_linearization(&sigma, &z, rho);
+    let (d_sigma, d_z) = central_differences(rule, sigma, z, rho, h_s, h_z);
+    let expected_sigma = SMatrix::<f64, D, D>::identity() - lin.projection_jacobian;
+    assert!(
+        (d_sigma - expected_sigma).amax() <= 1e-6,
+        "dF/dσ ({:?}):\n{d_sigma}\nvs\n{expected_sigma}",
+        lin.region
+    );
+    let expected_z = lin.coupling * rho;
+    (lin, d_z, expected_z)
 }

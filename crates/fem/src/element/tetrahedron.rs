@@ -71,10 +71,10 @@ pub struct MappedPoint3 {
     pub det_j: f64,
 }
 
-/// `J[i][k] = ∂x_i/∂ξ_k` at `xi`.
-fn jacobian(order: ElementOrder, coords: &[[f64; 3]], xi: [f64; 3]) -> [[f64; 3]; 3] {
+/// `J[i][k] = ∂x_i/∂ξ_k` from the reference gradients `dref` at a point.
+fn jacobian(coords: &[[f64; 3]], dref: &[[f64; 3]]) -> [[f64; 3]; 3] {
     let mut j = [[0.0; 3]; 3];
-    for (x, g) in coords.iter().zip(order.tetrahedron_reference_gradients(xi)) {
+    for (x, g) in coords.iter().zip(dref) {
         for i in 0..3 {
             for k in 0..3 {
                 j[i][k] += x[i] * g[k];
@@ -97,7 +97,10 @@ pub fn tetrahedron_jacobian_determinant(
     coords: &[[f64; 3]],
     xi: [f64; 3],
 ) -> f64 {
-    determinant(&jacobian(order, coords, xi))
+    determinant(&jacobian(
+        coords,
+        &order.tetrahedron_reference_gradients(xi),
+    ))
 }
 
 /// Evaluates the map of the tetrahedron with node coordinates `coords` (length 4 or 10, in
@@ -108,7 +111,8 @@ pub fn map_tetrahedron_point(
     xi: [f64; 3],
 ) -> Option<MappedPoint3> {
     let shape = order.tetrahedron_shape_functions(xi);
-    let j = jacobian(order, coords, xi);
+    let dref = order.tetrahedron_reference_gradients(xi);
+    let j = jacobian(coords, &dref);
     let det_j = determinant(&j);
     if !(det_j.is_finite() && det_j > 0.0) {
         return None;
@@ -126,8 +130,7 @@ pub fn map_tetrahedron_point(
     };
     let inv_t: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|k| cof(i, k) / det_j));
     // ∂N/∂x_i = Σ_k ∂N/∂ξ_k ∂ξ_k/∂x_i = Σ_k (J⁻¹)[k][i] g_k = Σ_k (J⁻ᵀ)[i][k] g_k.
-    let gradients = order
-        .tetrahedron_reference_gradients(xi)
+    let gradients = dref
         .iter()
         .map(|g| std::array::from_fn(|i| (0..3).map(|k| inv_t[i][k] * g[k]).sum()))
         .collect();

@@ -4,8 +4,9 @@
 //! lowest corner in both cells that share it: the mesh is conforming.
 use std::collections::{BTreeMap, HashMap};
 
-use super::{BoundaryFace, TetrahedralMesh, TETRAHEDRON_FACES};
+use super::{face_key, TetrahedralMesh, TETRAHEDRON_FACES};
 use crate::element::tet10::EDGES;
+use crate::element::tetrahedron::tetrahedron_jacobian_determinant;
 use crate::element::ElementOrder;
 use crate::error::MeshError;
 use crate::mesh::rectangle::check_coordinates;
@@ -102,15 +103,15 @@ impl TetrahedralMesh {
                 }
             }
         }
-        let (node_sets, face_sets) = sides(&tetrahedra, &nodes, &refined, order);
-        let mesh = TetrahedralMesh {
+        let mut mesh = TetrahedralMesh {
             order,
             nodes,
             tetrahedra,
-            node_sets,
-            face_sets,
+            node_sets: BTreeMap::new(),
+            face_sets: BTreeMap::new(),
             element_sets: BTreeMap::new(),
         };
+        add_sides(&mut mesh, &refined);
         Ok(mesh)
     }
 }
@@ -118,68 +119,35 @@ impl TetrahedralMesh {
 /// Whether the triad of the first 4 refined points `v` is direct.
 fn is_direct(v: &[[usize; 3]], nodes: &[[f64; 3]], id: impl Fn([usize; 3]) -> usize) -> bool {
     let x: Vec<[f64; 3]> = v.iter().map(|&p| nodes[id(p)]).collect();
-    let e = |i: usize| -> [f64; 3] { std::array::from_fn(|c| x[i][c] - x[0][c]) };
-    let (a, b, c) = (e(1), e(2), e(3));
-    a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
-        + a[2] * (b[0] * c[1] - b[1] * c[0])
-        > 0.0
+    tetrahedron_jacobian_determinant(ElementOrder::P1, &x, [0.25; 3]) > 0.0
 }
-
-type Sets = (
-    BTreeMap<String, Vec<usize>>,
-    BTreeMap<String, Vec<BoundaryFace>>,
-);
 
 /// Each side's nodes and outward faces: the tetrahedron faces met once whose vertices all
 /// lie on that side's plane.
-fn sides(
-    tetrahedra: &[Vec<usize>],
-    nodes: &[[f64; 3]],
-    refined: &[Vec<f64>],
-    order: ElementOrder,
-) -> Sets {
+fn add_sides(mesh: &mut TetrahedralMesh, refined: &[Vec<f64>]) {
     let mut count: HashMap<[usize; 3], usize> = HashMap::new();
-    let key = |t: &[usize], f: &[usize; 3]| {
-        let mut k = [t[f[0]], t[f[1]], t[f[2]]];
-        k.sort_unstable();
-        k
-    };
-    for t in tetrahedra {
-        for f in &TETRAHEDRON_FACES {
-            *count.entry(key(t, f)).or_default() += 1;
+    for t in &mesh.tetrahedra {
+        for f in 0..4 {
+            *count.entry(face_key(t, f)).or_default() += 1;
         }
     }
-    let mut node_sets = BTreeMap::new();
-    let mut face_sets: BTreeMap<String, Vec<BoundaryFace>> = BTreeMap::new();
     for (name, axis, upper) in SIDES {
         let plane = if upper {
             refined[axis][refined[axis].len() - 1]
         } else {
             refined[axis][0]
         };
-        let on = |n: usize| nodes[n][axis] == plane;
-        let set: Vec<usize> = (0..nodes.len()).filter(|&n| on(n)).collect();
-        node_sets.insert(name.to_string(), set);
+        let on = |n: usize| mesh.nodes[n][axis] == plane;
+        let set: Vec<usize> = (0..mesh.nodes.len()).filter(|&n| on(n)).collect();
         let mut faces = Vec::new();
-        for t in tetrahedra {
-            for f in &TETRAHEDRON_FACES {
-                if count[&key(t, f)] != 1 || !f.iter().all(|&v| on(t[v])) {
-                    continue;
+        for (e, t) in mesh.tetrahedra.iter().enumerate() {
+            for (f, vertices) in TETRAHEDRON_FACES.iter().enumerate() {
+                if count[&face_key(t, f)] == 1 && vertices.iter().all(|&v| on(t[v])) {
+                    faces.push(mesh.boundary_face(e, f));
                 }
-                let mut face: Vec<usize> = f.iter().map(|&v| t[v]).collect();
-                if order == ElementOrder::P2 {
-                    for (a, b) in [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])] {
-                        let e = EDGES
-                            .iter()
-                            .position(|&(i, j)| (i, j) == (a, b) || (i, j) == (b, a))
-                            .expect("every vertex pair of a tetrahedron is an edge");
-                        face.push(t[4 + e]);
-                    }
-                }
-                faces.push(BoundaryFace { nodes: face });
             }
         }
-        face_sets.insert(name.to_string(), faces);
+        mesh.node_sets.insert(name.to_string(), set);
+        mesh.face_sets.insert(name.to_string(), faces);
     }
-    (node_sets, face_sets)
 }

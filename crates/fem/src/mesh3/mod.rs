@@ -38,20 +38,53 @@ pub struct TetrahedralMesh {
 /// outside a tetrahedron whose vertex triad is direct: face `f` is opposite vertex `f`.
 pub const TETRAHEDRON_FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
 
+/// The local mid-edge nodes (`Tet10`) of each face's edges 01, 12, 20, in the order of
+/// [`TETRAHEDRON_FACES`] (checked against `tet10::EDGES` in this module's tests).
+pub const TETRAHEDRON_FACE_MID_NODES: [[usize; 3]; 4] =
+    [[5, 8, 9], [7, 8, 6], [4, 9, 7], [6, 5, 4]];
+
+/// The vertices of face `f` of `tetrahedron`, sorted: the same key from every element that
+/// shares the face.
+pub(crate) fn face_key(tetrahedron: &[usize], f: usize) -> [usize; 3] {
+    let mut k = TETRAHEDRON_FACES[f].map(|v| tetrahedron[v]);
+    k.sort_unstable();
+    k
+}
+
 impl TetrahedralMesh {
     /// Node coordinates of tetrahedron `e`, in element node order.
     pub fn tetrahedron_coordinates(&self, e: usize) -> Vec<[f64; 3]> {
         self.tetrahedra[e].iter().map(|&n| self.nodes[n]).collect()
     }
 
+    /// Face `f` of tetrahedron `e` as a boundary face: outward (its vertices in the order
+    /// of [`TETRAHEDRON_FACES`]) with its mid-edge nodes in P2.
+    pub fn boundary_face(&self, e: usize, f: usize) -> BoundaryFace {
+        let t = &self.tetrahedra[e];
+        let mut nodes: Vec<usize> = TETRAHEDRON_FACES[f].iter().map(|&v| t[v]).collect();
+        if self.order == ElementOrder::P2 {
+            nodes.extend(TETRAHEDRON_FACE_MID_NODES[f].iter().map(|&m| t[m]));
+        }
+        BoundaryFace { nodes }
+    }
+
     /// Checks every tetrahedron: the right node count, known nodes, and `det J > 0` at its
     /// vertices and centroid (an inverted or flat element is refused, named by index).
     pub fn check_elements(&self) -> Result<(), MeshError> {
+        self.check_elements_labelled(&|e| format!("tetrahedron {e}"))
+    }
+
+    /// [`check_elements`](Self::check_elements), each element named by `label(e)` (a
+    /// reader names its file's tags).
+    pub(crate) fn check_elements_labelled(
+        &self,
+        label: &dyn Fn(usize) -> String,
+    ) -> Result<(), MeshError> {
         let per = self.order.nodes_per_tetrahedron();
         let reference = self.order.tetrahedron_reference_nodes();
         for (e, t) in self.tetrahedra.iter().enumerate() {
             let bad = |reason: String| MeshError::BadElement {
-                element: format!("tetrahedron {e}"),
+                element: label(e),
                 reason,
             };
             if t.len() != per {
@@ -78,5 +111,23 @@ impl TetrahedralMesh {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::element::tet10::EDGES;
+
+    #[test]
+    fn face_mid_nodes_sit_on_their_face_edges() {
+        for (f, vertices) in TETRAHEDRON_FACES.iter().enumerate() {
+            for k in 0..3 {
+                let (a, b) = (vertices[k], vertices[(k + 1) % 3]);
+                let m = TETRAHEDRON_FACE_MID_NODES[f][k];
+                let (i, j) = EDGES[m - 4];
+                assert!((i, j) == (a, b) || (i, j) == (b, a), "face {f}, edge {k}");
+            }
+        }
     }
 }

@@ -14,8 +14,7 @@ use std::path::Path;
 
 use mshio::ElementType;
 
-use super::{BoundaryFace, TetrahedralMesh, TETRAHEDRON_FACES};
-use crate::element::tet10::EDGES;
+use super::{face_key, TetrahedralMesh};
 use crate::element::ElementOrder;
 use crate::error::MeshError;
 use crate::mesh::msh::{entity_groups, group_name, node_coordinates, read, MAX_COORDINATE};
@@ -129,24 +128,13 @@ impl TetrahedralMesh {
             element_sets: BTreeMap::new(),
         };
         let tags: Vec<u64> = by_dim[3].iter().map(|t| t.0).collect();
-        mesh.check_elements().map_err(|e| match e {
-            MeshError::BadElement { element, reason } => MeshError::BadElement {
-                element: element
-                    .strip_prefix("tetrahedron ")
-                    .and_then(|i| i.parse::<usize>().ok())
-                    .map_or(element.clone(), |i| format!("Gmsh element {}", tags[i])),
-                reason,
-            },
-            other => other,
-        })?;
+        mesh.check_elements_labelled(&|e| format!("Gmsh element {}", tags[e]))?;
 
         // Each face of a tetrahedron, by its sorted vertices: (tetrahedron, local face).
         let mut owner: HashMap<[usize; 3], (usize, usize)> = HashMap::new();
         for (e, t) in mesh.tetrahedra.iter().enumerate() {
-            for (f, face) in TETRAHEDRON_FACES.iter().enumerate() {
-                let mut k = [t[face[0]], t[face[1]], t[face[2]]];
-                k.sort_unstable();
-                owner.insert(k, (e, f));
+            for f in 0..4 {
+                owner.insert(face_key(t, f), (e, f));
             }
         }
         let per_face = match order {
@@ -179,28 +167,15 @@ impl TetrahedralMesh {
                     "is a triangle of a physical surface that bounds no tetrahedron",
                 ));
             };
-            // The owner's face, outward by construction, with its mid-edge nodes.
-            let t = &mesh.tetrahedra[e];
-            let v = TETRAHEDRON_FACES[f];
-            let mut face: Vec<usize> = v.iter().map(|&a| t[a]).collect();
-            if order == ElementOrder::P2 {
-                for (a, b) in [(v[0], v[1]), (v[1], v[2]), (v[2], v[0])] {
-                    let edge = EDGES
-                        .iter()
-                        .position(|&(i, j)| (i, j) == (a, b) || (i, j) == (b, a))
-                        .expect("every vertex pair of a tetrahedron is an edge");
-                    face.push(t[4 + edge]);
-                }
-            }
+            // The owner's face: outward by construction, with its mid-edge nodes.
+            let face = mesh.boundary_face(e, f);
             for &p in groups {
                 let name = group_name(&names, 2, p);
                 mesh.node_sets
                     .entry(name.clone())
                     .or_default()
-                    .extend(&face);
-                mesh.face_sets.entry(name).or_default().push(BoundaryFace {
-                    nodes: face.clone(),
-                });
+                    .extend(&face.nodes);
+                mesh.face_sets.entry(name).or_default().push(face.clone());
             }
         }
         for dim in [0usize, 1] {

@@ -66,6 +66,26 @@ pub fn replaced(text: &str, from: &str, to: &str) -> String {
     text.replacen(from, to, 1)
 }
 
+/// `text` with the line `key` added after its first `cone_fit = "plane_strain"` line: a
+/// key of that material (`relaxation_time`, `flow`, …).
+pub fn with_material_key(text: &str, key: &str) -> String {
+    const FIT: &str = "cone_fit = \"plane_strain\"\n";
+    replaced(text, FIT, &format!("{FIT}{key}\n"))
+}
+
+/// The FEM scene `text`, parsed (a parse error panics with its message).
+pub fn fem(text: &str) -> talus::scene::Scene {
+    talus::scene::Scene::parse(text, None).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Why a model cannot be built from the FEM scene `text` (it must be refused).
+pub fn fem_error(text: &str) -> talus::scene::SceneError {
+    use talus::model::fem::FromScene;
+    talus::model::fem::Model::from_scene(&fem(text))
+        .err()
+        .expect("the scene must be refused")
+}
+
 /// The keys of the footing's `[material]` (without its header).
 pub fn footing_soil() -> &'static str {
     let start = FOOTING.find("[material]").unwrap();
