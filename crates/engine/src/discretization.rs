@@ -7,15 +7,15 @@ use talus_ssn::{ReducedSystem, SolveError};
 use crate::Motion;
 
 /// The reduced problem `h z = Wσ + q` of one solve.
-pub enum Problem {
+pub enum Problem<const D: usize = 4> {
     /// `q` for the operator [`Discretization::fixed_system`] gave for this `h` (FEM: `W`
     /// does not depend on the state under small strains, only `q` changes).
     Rhs(Vec<f64>),
     /// `q` and the points' flow rules for the fixed operator (FEM under a pore pressure
     /// that changes in time: the cones moved, `W` did not).
-    RhsAndRules(Vec<f64>, Vec<FlowRule<4>>),
+    RhsAndRules(Vec<f64>, Vec<FlowRule<D>>),
     /// A whole system (MPM: the particles moved, so `B` and `M` changed).
-    System(ReducedSystem<4>),
+    System(ReducedSystem<D>),
 }
 
 /// How the loading of a sub-step `[t₀, t₁]` relates to the one before it, for the predictor
@@ -30,7 +30,8 @@ pub struct Loading {
     pub changes_inside: bool,
 }
 
-pub trait Discretization {
+/// `D` is the Mandel size of a stress point: 4 in plane strain and axisymmetry, 6 in 3D.
+pub trait Discretization<const D: usize = 4> {
     /// What is carried from step to step (stress, velocities, displacements or particles).
     type State: Clone;
     /// What one sub-step keeps from its first solve to its update.
@@ -41,7 +42,7 @@ pub trait Discretization {
 
     /// The reduced system of every sub-step of length `h` when it does not depend on the
     /// state (then [`Discretization::begin`] returns [`Problem::Rhs`]); `None` otherwise.
-    fn fixed_system(&self, h: f64) -> Option<Result<ReducedSystem<4>, SolveError>>;
+    fn fixed_system(&self, h: f64) -> Option<Result<ReducedSystem<D>, SolveError>>;
 
     /// The state's time (s).
     fn time(&self, state: &Self::State) -> f64;
@@ -53,7 +54,7 @@ pub trait Discretization {
     fn loading(&self, state: &Self::State, h: f64) -> Loading;
 
     /// Eqs. 15–16 for the sub-step of length `h` from `state`.
-    fn begin(&self, state: &Self::State, h: f64) -> Result<(Self::Substep, Problem), Self::Error>;
+    fn begin(&self, state: &Self::State, h: f64) -> Result<(Self::Substep, Problem<D>), Self::Error>;
 
     /// After a converged solve (`sigma`, `z = Wσ + q`): `None` when the sub-step is
     /// settled, or the next problem to solve from `sigma` (MPM's friction passes).
@@ -63,7 +64,7 @@ pub trait Discretization {
         state: &Self::State,
         sigma: &[f64],
         z: &[f64],
-    ) -> Result<Option<Problem>, Self::Error>;
+    ) -> Result<Option<Problem<D>>, Self::Error>;
 
     /// Moves `state` to the end of the sub-step from the last solve (eqs. 13–15).
     fn finish(
@@ -88,13 +89,13 @@ pub trait Discretization {
     }
 }
 
-impl<T: Discretization> Discretization for &T {
+impl<T: Discretization<D>, const D: usize> Discretization<D> for &T {
     type State = T::State;
     type Substep = T::Substep;
     type Stats = T::Stats;
     type Error = T::Error;
 
-    fn fixed_system(&self, h: f64) -> Option<Result<ReducedSystem<4>, SolveError>> {
+    fn fixed_system(&self, h: f64) -> Option<Result<ReducedSystem<D>, SolveError>> {
         (**self).fixed_system(h)
     }
     fn time(&self, state: &Self::State) -> f64 {
@@ -106,7 +107,7 @@ impl<T: Discretization> Discretization for &T {
     fn loading(&self, state: &Self::State, h: f64) -> Loading {
         (**self).loading(state, h)
     }
-    fn begin(&self, state: &Self::State, h: f64) -> Result<(Self::Substep, Problem), Self::Error> {
+    fn begin(&self, state: &Self::State, h: f64) -> Result<(Self::Substep, Problem<D>), Self::Error> {
         (**self).begin(state, h)
     }
     fn after_solve(
@@ -115,7 +116,7 @@ impl<T: Discretization> Discretization for &T {
         state: &Self::State,
         sigma: &[f64],
         z: &[f64],
-    ) -> Result<Option<Problem>, Self::Error> {
+    ) -> Result<Option<Problem<D>>, Self::Error> {
         (**self).after_solve(substep, state, sigma, z)
     }
     fn finish(

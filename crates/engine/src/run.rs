@@ -35,14 +35,14 @@ pub struct Failed<E: std::error::Error + 'static> {
 }
 
 /// A [`Stepper`] and the collapse watch over the states it accepts.
-pub struct Run<'s, D: Discretization> {
-    pub stepper: &'s mut Stepper<D>,
+pub struct Run<'s, M: Discretization<D>, const D: usize = 4> {
+    pub stepper: &'s mut Stepper<M, D>,
     pub watch: CollapseWatch,
 }
 
-impl<'s, D: Discretization> Run<'s, D> {
+impl<'s, M: Discretization<D>, const D: usize> Run<'s, M, D> {
     /// A run from `state`, which the watch reads as its first.
-    pub fn start(stepper: &'s mut Stepper<D>, state: &D::State) -> Self {
+    pub fn start(stepper: &'s mut Stepper<M, D>, state: &M::State) -> Self {
         let mut watch = CollapseWatch::new();
         if let Some(m) = stepper.discretization().motion(state) {
             watch.observe(&m);
@@ -51,7 +51,7 @@ impl<'s, D: Discretization> Run<'s, D> {
     }
 
     /// A run that goes on with the watch it had (a resumed run).
-    pub fn resume(stepper: &'s mut Stepper<D>, watch: CollapseWatch) -> Self {
+    pub fn resume(stepper: &'s mut Stepper<M, D>, watch: CollapseWatch) -> Self {
         Self { stepper, watch }
     }
 
@@ -60,10 +60,10 @@ impl<'s, D: Discretization> Run<'s, D> {
     #[allow(clippy::type_complexity)]
     pub fn step(
         &mut self,
-        state: &mut D::State,
+        state: &mut M::State,
         step: usize,
         h: f64,
-    ) -> Result<(StepReport<D::Stats>, Option<Collapsed>), Failed<D::Error>> {
+    ) -> Result<(StepReport<M::Stats>, Option<Collapsed>), Failed<M::Error>> {
         let disc = self.stepper.discretization();
         let time = disc.time(state);
         match self.stepper.advance(state, h) {
@@ -103,12 +103,12 @@ impl<'s, D: Discretization> Run<'s, D> {
     #[allow(clippy::type_complexity)]
     pub fn steps(
         &mut self,
-        state: &mut D::State,
+        state: &mut M::State,
         first: usize,
         last: usize,
         h: f64,
-        mut after: impl FnMut(usize, &D::State, &StepReport<D::Stats>) -> ControlFlow<()>,
-    ) -> Result<(Vec<StepReport<D::Stats>>, Option<Collapsed>), Failed<D::Error>> {
+        mut after: impl FnMut(usize, &M::State, &StepReport<M::Stats>) -> ControlFlow<()>,
+    ) -> Result<(Vec<StepReport<M::Stats>>, Option<Collapsed>), Failed<M::Error>> {
         let mut reports = Vec::new();
         for step in first..=last {
             let (report, collapse) = self.step(state, step, h)?;

@@ -14,10 +14,10 @@ use crate::{
 /// Advances a discretization's state step by step. For a discretization whose operator
 /// does not depend on the state (FEM), one `Solver` (and one symbolic factorization) per
 /// distinct `h`, reused across steps: only `q` changes.
-pub struct Stepper<D: Discretization> {
-    discretization: D,
+pub struct Stepper<M: Discretization<D>, const D: usize = 4> {
+    discretization: M,
     settings: StepSettings,
-    fixed: Vec<(f64, Solver<4>)>,
+    fixed: Vec<(f64, Solver<D>)>,
     /// `(σₙ − σₙ₋₁)/h` of the last sub-step: with [`PredictorRule::Extrapolated`] each
     /// solve starts from σₙ + h σ̇, which under steady loading is second-order close to the
     /// answer.
@@ -57,8 +57,8 @@ enum StepErrorKind<E> {
     Discretization(E),
 }
 
-impl<D: Discretization> Stepper<D> {
-    pub fn new(discretization: D, settings: StepSettings) -> Self {
+impl<M: Discretization<D>, const D: usize> Stepper<M, D> {
+    pub fn new(discretization: M, settings: StepSettings) -> Self {
         Self {
             discretization,
             settings,
@@ -69,7 +69,7 @@ impl<D: Discretization> Stepper<D> {
         }
     }
 
-    pub fn discretization(&self) -> &D {
+    pub fn discretization(&self) -> &M {
         &self.discretization
     }
 
@@ -120,9 +120,9 @@ impl<D: Discretization> Stepper<D> {
     /// what the control learned, carry over to the next step.
     pub fn advance(
         &mut self,
-        state: &mut D::State,
+        state: &mut M::State,
         h: f64,
-    ) -> Result<StepReport<D::Stats>, StepError<D::Error>> {
+    ) -> Result<StepReport<M::Stats>, StepError<M::Error>> {
         if !(h.is_finite() && h > 0.0) {
             return Err(StepError::Solver(SolveError::InvalidInput {
                 field: "h",
@@ -196,7 +196,7 @@ impl<D: Discretization> Stepper<D> {
 
     /// The solver for a fixed operator of step `h`, built on first use; at most
     /// [`FIXED_SOLVERS`] are kept, the least recently used dropped first.
-    fn fixed_solver(&mut self, h: f64) -> Result<usize, SubstepError<D::Error>> {
+    fn fixed_solver(&mut self, h: f64) -> Result<usize, SubstepError<M::Error>> {
         if let Some(p) = self.fixed.iter().position(|(hh, _)| *hh == h) {
             // Most recently used last.
             let entry = self.fixed.remove(p);
@@ -227,10 +227,10 @@ impl<D: Discretization> Stepper<D> {
     /// MPM friction passes) from the predictor, then its update.
     fn substep(
         &mut self,
-        state: &mut D::State,
+        state: &mut M::State,
         h: f64,
-        report: &mut StepReport<D::Stats>,
-    ) -> Result<usize, SubstepError<D::Error>> {
+        report: &mut StepReport<M::Stats>,
+    ) -> Result<usize, SubstepError<M::Error>> {
         let disc = &self.discretization;
         let loading = disc.loading(state, h);
         let (mut substep, problem) = disc.begin(state, h).map_err(fatal_disc)?;

@@ -22,6 +22,8 @@ pub enum Geometry {
     PlaneStrain,
     /// Axisymmetric about the `y` axis, `x = r ≥ 0`, quantities per radian.
     Axisymmetric,
+    /// A 3D body on a tetrahedral mesh (`docs/3d.md`), quantities per body.
+    ThreeDimensional,
 }
 
 /// Nodes closer to the axis than this fraction of the mesh size are on it (Gmsh writes
@@ -29,26 +31,26 @@ pub enum Geometry {
 const AXIS_TOLERANCE: f64 = 1e-12;
 
 impl Geometry {
-    /// The weight of an integrand at `x`: `1` (per metre of thickness) or `r = x[0]` (per
-    /// radian). Every volume, mass, load and stiffness integral carries it.
-    pub fn weight(self, x: [f64; 2]) -> f64 {
+    /// The weight of an integrand at `x`: `1` (per metre of thickness, or in 3D) or
+    /// `r = x[0]` (per radian). Every volume, mass, load and stiffness integral carries it.
+    pub fn weight(self, x: impl AsRef<[f64]>) -> f64 {
         match self {
-            Geometry::PlaneStrain => 1.0,
-            Geometry::Axisymmetric => x[0],
+            Geometry::PlaneStrain | Geometry::ThreeDimensional => 1.0,
+            Geometry::Axisymmetric => x.as_ref()[0],
         }
     }
 
     /// From the integrals' unit (per metre, per radian) to the whole body's: `1` or `2π`.
     pub fn whole_body_factor(self) -> f64 {
         match self {
-            Geometry::PlaneStrain => 1.0,
+            Geometry::PlaneStrain | Geometry::ThreeDimensional => 1.0,
             Geometry::Axisymmetric => std::f64::consts::TAU,
         }
     }
 
     /// Refuses an axisymmetric mesh with a node at `r < 0` (beyond the axis tolerance).
     pub fn check_mesh(self, mesh: &Mesh) -> Result<(), MeshError> {
-        if self == Geometry::PlaneStrain {
+        if self != Geometry::Axisymmetric {
             return Ok(());
         }
         let tol = axis_tolerance(mesh);
@@ -72,7 +74,7 @@ impl Geometry {
     /// The nodes on the axis `r = 0` (within `1e-12 ×` the mesh size), whose radial
     /// velocity is 0; none in plane strain.
     pub fn axis_nodes(self, mesh: &Mesh) -> Vec<usize> {
-        if self == Geometry::PlaneStrain {
+        if self != Geometry::Axisymmetric {
             return Vec::new();
         }
         let tol = axis_tolerance(mesh);

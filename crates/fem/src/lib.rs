@@ -13,6 +13,7 @@
 //! # Ok::<(), talus_fem::FemError>(())
 //! ```
 pub mod assembly;
+mod dimension;
 pub mod dofs;
 pub mod element;
 mod error;
@@ -26,6 +27,7 @@ mod reduced_problem;
 mod state;
 
 pub use assembly::Assembly;
+pub use dimension::{Dimension, ElementMesh, Mandel, StressPoint};
 pub use dofs::{Constraint, Dof, DofMap};
 pub use element::ElementOrder;
 pub use error::{FemError, MeshError};

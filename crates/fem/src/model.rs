@@ -7,7 +7,8 @@ use nalgebra::SMatrix;
 use talus_bipotential::{FlowRule, Material};
 use talus_engine::Ramp;
 
-use crate::{Assembly, FemError, Mesh};
+use crate::dimension::{Dimension, ElementMesh, Mandel};
+use crate::{Assembly, FemError};
 
 /// A load that follows a ramp: its nodal forces at multiplier 1 (N/m).
 #[derive(Debug, Clone, PartialEq)]
@@ -25,16 +26,20 @@ pub struct Loads {
     pub prescribed_velocity: Vec<f64>,
 }
 
-/// Everything fixed during a run: mesh, operators, material, loads, prescribed motion.
+/// Everything fixed during a run: mesh, operators, material, loads, prescribed motion; in
+/// plane strain or axisymmetry (`D = 4`, triangles) or 3D (`D = 6`, tetrahedra).
 #[derive(Clone)]
-pub struct Model {
-    pub mesh: Mesh,
-    pub assembly: Assembly,
+pub struct Model<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
+    pub mesh: <Mandel<D> as Dimension>::Mesh,
+    pub assembly: Assembly<D>,
     /// The materials, and the one of each Gauss point (an index into them).
     pub materials: Vec<Material>,
     pub point_material: Vec<usize>,
     /// Elastic compliance `S₀` of each material (1/Pa, Mandel).
-    pub compliances: Vec<SMatrix<f64, 4, 4>>,
+    pub compliances: Vec<SMatrix<f64, D, D>>,
     /// Pore pressure at each Gauss point (Pa, compression positive; 0 when dry): yield
     /// acts on the effective stress `σ + p_w I` (`Material::flow_rule`). A field the
     /// mechanics reads, whoever fills it (a water table, a seepage solve).
@@ -62,19 +67,26 @@ pub struct Model {
     pub size: f64,
 }
 
-impl Model {
+impl<const D: usize> Model<D>
+where
+    Mandel<D>: Dimension,
+{
     /// `material` everywhere on `mesh` with the operators of `assembly`, dry and at rest:
     /// no load, every prescribed velocity 0, no reported boundary. Loads are added with
     /// [`Model::add_load`], velocities set in [`Model::prescribed_velocity`].
-    pub fn new(mesh: Mesh, assembly: Assembly, material: impl Into<Material>) -> Self {
+    pub fn new(
+        mesh: <Mandel<D> as Dimension>::Mesh,
+        assembly: Assembly<D>,
+        material: impl Into<Material>,
+    ) -> Self {
         let n = assembly.n_points();
         Self::build(mesh, assembly, vec![material.into()], vec![0; n])
     }
 
     /// [`Model::new`] with `materials`, point `p` made of `materials[point_material[p]]`.
     pub fn with_materials(
-        mesh: Mesh,
-        assembly: Assembly,
+        mesh: <Mandel<D> as Dimension>::Mesh,
+        assembly: Assembly<D>,
         materials: Vec<Material>,
         point_material: Vec<usize>,
     ) -> Result<Self, FemError> {
@@ -102,17 +114,17 @@ impl Model {
     }
 
     fn build(
-        mesh: Mesh,
-        assembly: Assembly,
+        mesh: <Mandel<D> as Dimension>::Mesh,
+        assembly: Assembly<D>,
         materials: Vec<Material>,
         point_material: Vec<usize>,
     ) -> Self {
         let dofs = assembly.dofs();
         let (n_free, n_prescribed) = (dofs.n_free(), dofs.n_prescribed());
-        let (lo, hi) = bounding_box(&mesh.nodes);
+        let size = smallest_side(mesh.node_positions());
         Self {
-            size: (hi[0] - lo[0]).min(hi[1] - lo[1]),
-            compliances: materials.iter().map(|m| m.compliance::<4>()).collect(),
+            size,
+            compliances: materials.iter().map(|m| m.compliance::<D>()).collect(),
             pore_pressure: vec![0.0; point_material.len()],
             pore_pressure_ramp: None,
             materials,
@@ -140,7 +152,7 @@ impl Model {
 
     /// Each element's material (that of its Gauss points).
     pub fn element_materials(&self) -> Vec<usize> {
-        let mut m = vec![0; self.mesh.triangles.len()];
+        let mut m = vec![0; self.mesh.elements().len()];
         for (p, &e) in self.assembly.gauss_element.iter().enumerate() {
             m[e] = self.point_material[p];
         }
@@ -148,39 +160,39 @@ impl Model {
     }
 
     /// The elastic compliance `S₀` of Gauss point `p` (1/Pa).
-    pub fn compliance_at(&self, p: usize) -> &SMatrix<f64, 4, 4> {
+    pub fn compliance_at(&self, p: usize) -> &SMatrix<f64, D, D> {
         &self.compliances[self.point_material[p]]
     }
 
     /// Each Gauss point's rate-independent flow rule: its material's, under its pore
     /// pressure. The rules of a step of length `h` are [`Model::step_flow_rules`].
-    pub fn flow_rules(&self) -> Vec<FlowRule<4>> {
+    pub fn flow_rules(&self) -> Vec<FlowRule<D>> {
         (0..self.n_points())
-            .map(|p| self.material_at(p).flow_rule::<4>(self.pore_pressure[p]))
+            .map(|p| self.material_at(p).flow_rule::<D>(self.pore_pressure[p]))
             .collect()
     }
 
     /// Each Gauss point's flow rule in a step of length `h` (s): [`Model::flow_rules`], with
     /// the Duvaut–Lions relaxation `N = (τ/h)(V_p S₀)⁻¹` of a material that has a
     /// relaxation time (`Material::point_flow_rule`); exactly [`Model::flow_rules`] without.
-    pub fn step_flow_rules(&self, h: f64) -> Result<Vec<FlowRule<4>>, FemError> {
+    pub fn step_flow_rules(&self, h: f64) -> Result<Vec<FlowRule<D>>, FemError> {
         self.point_rules(1.0, h)
     }
 
     /// [`Model::step_flow_rules`] at time `t` (s) when the pore pressure follows a ramp;
     /// `None` when it is constant (the rules of [`Model::reduced_system`] hold).
-    pub fn flow_rules_at(&self, t: f64, h: f64) -> Option<Result<Vec<FlowRule<4>>, FemError>> {
+    pub fn flow_rules_at(&self, t: f64, h: f64) -> Option<Result<Vec<FlowRule<D>>, FemError>> {
         let f = self.pore_pressure_ramp.as_ref()?.at(t);
         Some(self.point_rules(f, h))
     }
 
     /// The step rules under `factor` times the pore pressure.
-    fn point_rules(&self, factor: f64, h: f64) -> Result<Vec<FlowRule<4>>, FemError> {
+    fn point_rules(&self, factor: f64, h: f64) -> Result<Vec<FlowRule<D>>, FemError> {
         let volumes = &self.assembly.gauss_volumes;
         (0..self.n_points())
             .map(|p| {
                 self.material_at(p)
-                    .point_flow_rule::<4>(factor * self.pore_pressure[p], h, volumes[p])
+                    .point_flow_rule::<D>(factor * self.pore_pressure[p], h, volumes[p])
                     .map_err(|e| FemError::invalid("relaxation_time", e.to_string()))
             })
             .collect()
@@ -195,7 +207,7 @@ impl Model {
                 format!("{} given for {}", materials.len(), self.materials.len()),
             ));
         }
-        self.compliances = materials.iter().map(|m| m.compliance::<4>()).collect();
+        self.compliances = materials.iter().map(|m| m.compliance::<D>()).collect();
         self.materials = materials;
         Ok(())
     }
@@ -287,6 +299,19 @@ pub fn bounding_box(nodes: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
         }
     }
     (lo, hi)
+}
+
+/// The smallest side of the bounding box of `nodes` (m), over all their coordinates.
+fn smallest_side<P: AsRef<[f64]>>(nodes: &[P]) -> f64 {
+    let dim = nodes.first().map_or(0, |p| p.as_ref().len());
+    (0..dim)
+        .map(|k| {
+            let (lo, hi) = nodes.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(p.as_ref()[k]), hi.max(p.as_ref()[k]))
+            });
+            hi - lo
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 fn add_scaled(into: &mut [f64], factor: f64, from: &[f64]) {

@@ -16,6 +16,8 @@ use talus_ssn::{
 };
 
 use crate::assembly::add_mul_transpose;
+use crate::dofs::Dof;
+use crate::dimension::{Dimension, Mandel};
 use crate::{Loads, Model, State};
 
 /// What a FEM sub-step measured.
@@ -42,11 +44,14 @@ impl ReactionForce for StepReport<FemStats> {
     }
 }
 
-impl Model {
+impl<const D: usize> Model<D>
+where
+    Mandel<D>: Dimension,
+{
     /// The reduced problem of eq. 16 for steps of length `h`: `W = S + h² B M⁻¹ Bᵀ` kept in
     /// factors, `q = 0` until [`Solver::set_q`](talus_ssn::Solver::set_q) with
     /// [`reduced_rhs`](Self::reduced_rhs).
-    pub fn reduced_system(&self, h: f64) -> Result<ReducedSystem<4>, SolveError> {
+    pub fn reduced_system(&self, h: f64) -> Result<ReducedSystem<D>, SolveError> {
         let asm = &self.assembly;
         let operator = Operator::Structured(Structured {
             compliance: self.compliance_blocks(),
@@ -60,12 +65,12 @@ impl Model {
                 field: "rules",
                 reason: e.to_string(),
             })?;
-        ReducedSystem::try_new(operator, vec![0.0; 4 * asm.n_points()], rules)
+        ReducedSystem::try_new(operator, vec![0.0; D * asm.n_points()], rules)
     }
 
     /// `S_p = V_p S₀` of each Gauss point with its material's compliance: the `S` of
     /// eq. 15 (one material: [`Assembly::compliance_blocks`](crate::Assembly::compliance_blocks)).
-    pub fn compliance_blocks(&self) -> Vec<nalgebra::SMatrix<f64, 4, 4>> {
+    pub fn compliance_blocks(&self) -> Vec<nalgebra::SMatrix<f64, D, D>> {
         let volumes = &self.assembly.gauss_volumes;
         (0..volumes.len())
             .map(|p| self.compliance_at(p) * volumes[p])
@@ -76,19 +81,19 @@ impl Model {
     /// `q = −(S σₙ + h B vₙ + h² B M⁻¹ f + h B_D v_D)` (`docs/derivations.md`, 'The reduced
     /// system': `B v` is the strain rate; prescribed velocities enter through `B_D`), with
     /// `f` and `v_D` those of the end of the step, `tₙ + h` (implicit).
-    pub fn reduced_rhs(&self, state: &State, h: f64) -> Vec<f64> {
+    pub fn reduced_rhs(&self, state: &State<D>, h: f64) -> Vec<f64> {
         self.reduced_rhs_with(state, h, &self.loads_at(state.time + h))
     }
 
     /// [`reduced_rhs`](Self::reduced_rhs) with the step's loads already evaluated.
-    pub fn reduced_rhs_with(&self, state: &State, h: f64, loads: &Loads) -> Vec<f64> {
+    pub fn reduced_rhs_with(&self, state: &State<D>, h: f64, loads: &Loads) -> Vec<f64> {
         let asm = &self.assembly;
-        let mut s_sigma = vec![0.0; 4 * asm.n_points()];
+        let mut s_sigma = vec![0.0; D * asm.n_points()];
         for (p, v) in asm.gauss_volumes.iter().enumerate() {
             let s = self.compliance_at(p)
-                * SVector::<f64, 4>::from_column_slice(&state.sigma[4 * p..4 * p + 4])
+                * SVector::<f64, D>::from_column_slice(&state.sigma[D * p..D * p + D])
                 * *v;
-            s_sigma[4 * p..4 * p + 4].copy_from_slice(s.as_slice());
+            s_sigma[D * p..D * p + D].copy_from_slice(s.as_slice());
         }
         let free = FreeVelocities {
             b: &asm.b_free,
@@ -107,7 +112,7 @@ impl Model {
 
     /// The reaction of the reported boundary in a state at rest (`M a = 0`): `Bᵀσ − f` on
     /// its vertical prescribed dofs, positive downward (N/m), `f` at the state's time.
-    pub fn reaction(&self, state: &State) -> f64 {
+    pub fn reaction(&self, state: &State<D>) -> f64 {
         self.reported_reaction(&prescribed_forces_at_rest(self, state))
     }
 
@@ -126,13 +131,16 @@ impl Model {
 /// (N/m): `M a + Bᵀσ − f` (eq. 15 solved for the boundary force), with `Bᵀσ` the internal
 /// force `internal` of the step's stress, `f` and the new velocities those of `loads`,
 /// `velocity_before` the prescribed velocities at the step's start.
-pub fn prescribed_forces(
-    model: &Model,
+pub fn prescribed_forces<const D: usize>(
+    model: &Model<D>,
     loads: &Loads,
     velocity_before: &[f64],
     internal: &[f64],
     h: f64,
-) -> Vec<f64> {
+) -> Vec<f64>
+where
+    Mandel<D>: Dimension,
+{
     let mass = &model.assembly.lumped_mass_prescribed;
     (0..mass.len())
         .map(|j| {
@@ -143,7 +151,10 @@ pub fn prescribed_forces(
 }
 
 /// The same in a state at rest (`M a = 0`): `Bᵀσ − f` at the state's time.
-pub fn prescribed_forces_at_rest(model: &Model, state: &State) -> Vec<f64> {
+pub fn prescribed_forces_at_rest<const D: usize>(model: &Model<D>, state: &State<D>) -> Vec<f64>
+where
+    Mandel<D>: Dimension,
+{
     let asm = &model.assembly;
     let mut internal = vec![0.0; asm.lumped_mass_prescribed.len()];
     add_mul_transpose(&asm.b_prescribed, &state.sigma, &mut internal);
@@ -151,22 +162,25 @@ pub fn prescribed_forces_at_rest(model: &Model, state: &State) -> Vec<f64> {
     internal.iter().zip(&f).map(|(i, f)| i - f).collect()
 }
 
-impl Discretization for Model {
-    type State = State;
+impl<const D: usize> Discretization<D> for Model<D>
+where
+    Mandel<D>: Dimension,
+{
+    type State = State<D>;
     /// The loads at the end of the sub-step.
     type Substep = Loads;
     type Stats = FemStats;
     type Error = std::convert::Infallible;
 
-    fn fixed_system(&self, h: f64) -> Option<Result<ReducedSystem<4>, SolveError>> {
+    fn fixed_system(&self, h: f64) -> Option<Result<ReducedSystem<D>, SolveError>> {
         Some(self.reduced_system(h))
     }
 
-    fn time(&self, state: &State) -> f64 {
+    fn time(&self, state: &State<D>) -> f64 {
         state.time
     }
 
-    fn stress<'s>(&self, state: &'s State) -> &'s [f64] {
+    fn stress<'s>(&self, state: &'s State<D>) -> &'s [f64] {
         &state.sigma
     }
 
@@ -174,7 +188,7 @@ impl Discretization for Model {
     /// step's start (the start from rest; with constant loads, the only jump), or the
     /// loading rate changes (`Model::loading_rate_changes_from`, `docs/scenes.md`, 'Load
     /// programmes').
-    fn loading(&self, state: &State, h: f64) -> Loading {
+    fn loading(&self, state: &State<D>, h: f64) -> Loading {
         let (t0, t1) = (state.time, state.time + h);
         let velocity_jumps = state.velocity_prescribed != self.prescribed_velocity_at(t0);
         Loading {
@@ -185,7 +199,7 @@ impl Discretization for Model {
 
     /// Eqs. 15–16: `q = −(S σ_n + h B v_n + h² B M⁻¹ f + h B_D v_D)` with `f` and `v_D`
     /// taken at the end of the sub-step.
-    fn begin(&self, state: &State, h: f64) -> Result<(Loads, Problem), Self::Error> {
+    fn begin(&self, state: &State<D>, h: f64) -> Result<(Loads, Problem<D>), Self::Error> {
         let loads = self.loads_at(state.time + h);
         let q = self.reduced_rhs_with(state, h, &loads);
         let problem = match self.flow_rules_at(state.time + h, h) {
@@ -200,17 +214,17 @@ impl Discretization for Model {
     fn after_solve(
         &self,
         _: &mut Loads,
-        _: &State,
+        _: &State<D>,
         _: &[f64],
         _: &[f64],
-    ) -> Result<Option<Problem>, Self::Error> {
+    ) -> Result<Option<Problem<D>>, Self::Error> {
         Ok(None)
     }
 
     fn finish(
         &self,
         loads: Loads,
-        state: &mut State,
+        state: &mut State<D>,
         sigma: Vec<f64>,
         z: &[f64],
         h: f64,
@@ -218,8 +232,8 @@ impl Discretization for Model {
         let asm = &self.assembly;
         // z = Wσ + q is h·(−V ε̇ᵖ) per point: the plastic strain increment is ‖z_p‖ / V_p.
         for (p, v) in asm.gauss_volumes.iter().enumerate() {
-            let dz = (0..4)
-                .map(|k| z[4 * p + k] * z[4 * p + k])
+            let dz = (0..D)
+                .map(|k| z[D * p + k] * z[D * p + k])
                 .sum::<f64>()
                 .sqrt();
             state.plastic_strain[p] += dz / v;
@@ -243,13 +257,14 @@ impl Discretization for Model {
         state
             .velocity_prescribed
             .copy_from_slice(&loads.prescribed_velocity);
-        if let Ok(v) = asm
-            .dofs()
-            .scatter(&state.velocity_free, &state.velocity_prescribed)
-        {
-            for (u, vn) in state.displacement.iter_mut().zip(v) {
-                u[0] += h * vn[0];
-                u[1] += h * vn[1];
+        let dofs = asm.dofs();
+        for (node, u) in state.displacement.iter_mut().enumerate() {
+            for (comp, uc) in u.as_mut().iter_mut().enumerate() {
+                match dofs.dof(node, comp) {
+                    Some(Dof::Free(i)) => *uc += h * state.velocity_free[i],
+                    Some(Dof::Prescribed(j)) => *uc += h * state.velocity_prescribed[j],
+                    None => {}
+                }
             }
         }
         state.sigma = sigma;
@@ -262,7 +277,7 @@ impl Discretization for Model {
 
     /// The lumped kinetic energy, and the largest nodal displacement beyond the largest
     /// prescribed one over the smallest side of the mesh's bounding box.
-    fn motion(&self, state: &State) -> Option<Motion> {
+    fn motion(&self, state: &State<D>) -> Option<Motion> {
         let asm = &self.assembly;
         let energy =
             |m: &[f64], v: &[f64]| -> f64 { m.iter().zip(v).map(|(m, v)| 0.5 * m * v * v).sum() };
@@ -271,13 +286,13 @@ impl Discretization for Model {
         let largest = state
             .displacement
             .iter()
-            .map(|u| u[0].hypot(u[1]))
+            .map(|u| u.as_ref().iter().map(|c| c * c).sum::<f64>().sqrt())
             .fold(0.0, f64::max);
         let prescribed = asm
             .dofs()
             .prescribed_dofs()
             .iter()
-            .map(|&(n, comp)| state.displacement[n][comp].abs())
+            .map(|&(n, comp)| state.displacement[n].as_ref()[comp].abs())
             .fold(0.0, f64::max);
         let mass: f64 = asm.lumped_mass_free.iter().sum::<f64>()
             + asm.lumped_mass_prescribed.iter().sum::<f64>();

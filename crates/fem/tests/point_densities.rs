@@ -147,6 +147,7 @@ fn two_layers_have_the_mass_and_weight_of_their_areas() {
             let measure = |h: f64| match geometry {
                 Geometry::PlaneStrain => width * h,
                 Geometry::Axisymmetric => width * width / 2.0 * h,
+                Geometry::ThreeDimensional => unreachable!("a triangle mesh is 2D"),
             };
             let want = rho_low * measure(y_layer) + rho_high * measure(height - y_layer);
             let what = format!("{order:?}, {geometry:?}");

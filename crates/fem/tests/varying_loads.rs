@@ -131,6 +131,7 @@ fn hydrostatic_wall_force_and_line_of_action() {
             let x0 = match geometry {
                 Geometry::PlaneStrain => 0.0,
                 Geometry::Axisymmetric => 1.5,
+                Geometry::ThreeDimensional => unreachable!("a triangle mesh is 2D"),
             };
             let mesh = uneven(order, x0, false);
             let (dofs, asm) = assembly(&mesh, geometry);
@@ -138,6 +139,7 @@ fn hydrostatic_wall_force_and_line_of_action() {
                 let per_unit = match geometry {
                     Geometry::PlaneStrain => 1.0,
                     Geometry::Axisymmetric => radius,
+                    Geometry::ThreeDimensional => unreachable!("a triangle mesh is 2D"),
                 };
                 let f = asm
                     .pressure_with(&mesh, &mesh.edge_sets[side], water)

@@ -1,10 +1,12 @@
 //! Consistent nodal forces `f` of eq. 12 (N per metre of thickness, or per radian in
-//! axisymmetry, where every integrand carries `r`: `docs/axisymmetry.md`), split into free
-//! and prescribed dofs like the columns of `B`. Forces on prescribed dofs do not move the
+//! axisymmetry, where every integrand carries `r`: `docs/axisymmetry.md`; N in 3D), split
+//! into free and prescribed dofs like the columns of `B`. Body and point forces serve both
+//! dimensions; edge loads are 2D's, face loads 3D's (`face_loads.rs`). Forces on prescribed dofs do not move the
 //! solution but enter the reaction (`docs/derivations.md`, 'Prescribed velocities and the
 //! reaction').
 use super::mass::{check_densities, Zero};
 use super::Assembly;
+use crate::dimension::{Dimension, Mandel};
 use crate::dofs::Dof;
 use crate::element::edge::shape_and_derivative;
 use crate::error::FemError;
@@ -27,7 +29,7 @@ const GL4_WEIGHTS: [f64; 4] = [
     0.173_927_422_568_726_93,
 ];
 
-fn check_vector(field: &'static str, v: [f64; 2]) -> Result<(), FemError> {
+pub(super) fn check_vector(field: &'static str, v: &[f64]) -> Result<(), FemError> {
     if v.iter().all(|x| x.is_finite()) {
         Ok(())
     } else {
@@ -35,20 +37,27 @@ fn check_vector(field: &'static str, v: [f64; 2]) -> Result<(), FemError> {
     }
 }
 
-impl Assembly {
+impl<const D: usize> Assembly<D>
+where
+    Mandel<D>: Dimension,
+{
     /// Body force `f_a = ∫ N_a ρ g dA` (gravity: `g = [0, −9.81]` m/s², y up; axisymmetric:
     /// `∫ N_a ρ g r dA`, through the Gauss volumes), integrated with the Gauss points (exact on affine triangles; on P2 the vertices get 0 and the
     /// mid nodes ρgA/3, as consistency demands). `density` (kg/m³, ≥ 0) may differ from the
     /// inertial one, e.g. 0 for weightless soil.
-    pub fn body_force(&self, density: f64, g: [f64; 2]) -> Result<(Vec<f64>, Vec<f64>), FemError> {
+    pub fn body_force(
+        &self,
+        density: f64,
+        g: <Mandel<D> as Dimension>::Point,
+    ) -> Result<(Vec<f64>, Vec<f64>), FemError> {
         if !(density.is_finite() && density >= 0.0) {
             return Err(FemError::invalid(
                 "density",
                 format!("{density} kg/m³ must be finite and ≥ 0"),
             ));
         }
-        check_vector("gravity", g)?;
-        Ok(self.weight(|_| density, g))
+        check_vector("gravity", g.as_ref())?;
+        Ok(self.weight(|_| density, g.as_ref()))
     }
 
     /// [`body_force`](Self::body_force) with a density per Gauss point (soil layers,
@@ -62,15 +71,15 @@ impl Assembly {
     pub fn body_force_at_points(
         &self,
         densities: &[f64],
-        g: [f64; 2],
+        g: <Mandel<D> as Dimension>::Point,
     ) -> Result<(Vec<f64>, Vec<f64>), FemError> {
         check_densities(densities, self.gauss.len(), Zero::Accepted)?;
-        check_vector("gravity", g)?;
-        Ok(self.weight(|p| densities[p], g))
+        check_vector("gravity", g.as_ref())?;
+        Ok(self.weight(|p| densities[p], g.as_ref()))
     }
 
     /// `Σ_p density(p) V_p N_a(x_p) g` on every node `a` of point `p`'s element.
-    fn weight(&self, density: impl Fn(usize) -> f64, g: [f64; 2]) -> (Vec<f64>, Vec<f64>) {
+    fn weight(&self, density: impl Fn(usize) -> f64, g: &[f64]) -> (Vec<f64>, Vec<f64>) {
         let mut out = self.zero_forces();
         for p in 0..self.gauss.len() {
             let rho = density(p);
@@ -84,6 +93,54 @@ impl Assembly {
         out
     }
 
+    /// A force `[fx, fy]` (N) on one node, split into free and prescribed dofs like the
+    /// other loads (a component on a prescribed dof enters only the reaction). Plane
+    /// strain: N per metre of thickness (a line load along the out-of-plane direction).
+    /// Axisymmetric: N per radian, like every load there (`[F_r, F_y]`): a ring load of
+    /// `q` N per metre of circumference at radius `r` is `q r` per radian, and a total axial
+    /// force `P` on an axis node is `P / 2π` per radian (its radial component falls on the
+    /// prescribed `u_r = 0`). Errors name `node` (out of range) or `force` (not finite).
+    pub fn point_force(
+        &self,
+        node: usize,
+        force: <Mandel<D> as Dimension>::Point,
+    ) -> Result<(Vec<f64>, Vec<f64>), FemError> {
+        if node >= self.dofs.n_nodes() {
+            return Err(FemError::invalid(
+                "node",
+                format!(
+                    "node {node} is out of range: the mesh has {} nodes",
+                    self.dofs.n_nodes()
+                ),
+            ));
+        }
+        check_vector("force", force.as_ref())?;
+        let mut out = self.zero_forces();
+        for (comp, fc) in force.as_ref().iter().enumerate() {
+            self.add_force(&mut out, node, comp, *fc);
+        }
+        Ok(out)
+    }
+
+    pub(super) fn zero_forces(&self) -> (Vec<f64>, Vec<f64>) {
+        (
+            vec![0.0; self.dofs.n_free()],
+            vec![0.0; self.dofs.n_prescribed()],
+        )
+    }
+
+    pub(super) fn add_force(&self, out: &mut (Vec<f64>, Vec<f64>), node: usize, comp: usize, f: f64) {
+        match self.dofs.dof(node, comp) {
+            Some(Dof::Free(i)) => out.0[i] += f,
+            Some(Dof::Prescribed(j)) => out.1[j] += f,
+            None => {}
+        }
+    }
+}
+
+
+/// Edge loads of a triangle mesh (2D).
+impl Assembly<4> {
     /// Traction `f_a = ∫ N_a t ds` over `edges` (nodes of `mesh`), `t` in Pa (N/m² in
     /// global axes, e.g. `[0, −q]` for a downward pressure q on a top face): the force per
     /// metre of thickness. 3-point Gauss-Legendre per edge: exact on straight edges (P2
@@ -95,7 +152,7 @@ impl Assembly {
         edges: &[BoundaryEdge],
         t: [f64; 2],
     ) -> Result<(Vec<f64>, Vec<f64>), FemError> {
-        check_vector("traction", t)?;
+        check_vector("traction", &t)?;
         self.edge_integral(mesh, edges, |w, n, tangent| {
             let ds = tangent[0].hypot(tangent[1]);
             [w * ds * n * t[0], w * ds * n * t[1]]
@@ -170,35 +227,6 @@ impl Assembly {
         )
     }
 
-    /// A force `[fx, fy]` (N) on one node, split into free and prescribed dofs like the
-    /// other loads (a component on a prescribed dof enters only the reaction). Plane
-    /// strain: N per metre of thickness (a line load along the out-of-plane direction).
-    /// Axisymmetric: N per radian, like every load there (`[F_r, F_y]`): a ring load of
-    /// `q` N per metre of circumference at radius `r` is `q r` per radian, and a total axial
-    /// force `P` on an axis node is `P / 2π` per radian (its radial component falls on the
-    /// prescribed `u_r = 0`). Errors name `node` (out of range) or `force` (not finite).
-    pub fn point_force(
-        &self,
-        node: usize,
-        force: [f64; 2],
-    ) -> Result<(Vec<f64>, Vec<f64>), FemError> {
-        if node >= self.dofs.n_nodes() {
-            return Err(FemError::invalid(
-                "node",
-                format!(
-                    "node {node} is out of range: the mesh has {} nodes",
-                    self.dofs.n_nodes()
-                ),
-            ));
-        }
-        check_vector("force", force)?;
-        let mut out = self.zero_forces();
-        for (comp, fc) in force.into_iter().enumerate() {
-            self.add_force(&mut out, node, comp, fc);
-        }
-        Ok(out)
-    }
-
     /// `Σ_edges Σ_gauss r load(w, N_a, x′(s))` added to every node `a` of each edge (`r`
     /// the geometry's weight at the point, 1 in plane strain), after checking the edges'
     /// node counts against the mesh; the 3-point rule.
@@ -262,7 +290,7 @@ impl Assembly {
                     position[0] += n[a] * mesh.nodes[node][0];
                     position[1] += n[a] * mesh.nodes[node][1];
                 }
-                let weight = self.geometry.weight(position);
+                let weight = self.geometry.weight(&position);
                 let value = at(k, q, position)?;
                 for (a, &node) in edge.nodes.iter().enumerate() {
                     let f = load(*w, n[a], tangent, &value);
@@ -273,21 +301,6 @@ impl Assembly {
             }
         }
         Ok(out)
-    }
-
-    fn zero_forces(&self) -> (Vec<f64>, Vec<f64>) {
-        (
-            vec![0.0; self.dofs.n_free()],
-            vec![0.0; self.dofs.n_prescribed()],
-        )
-    }
-
-    fn add_force(&self, out: &mut (Vec<f64>, Vec<f64>), node: usize, comp: usize, f: f64) {
-        match self.dofs.dof(node, comp) {
-            Some(Dof::Free(i)) => out.0[i] += f,
-            Some(Dof::Prescribed(j)) => out.1[j] += f,
-            None => {}
-        }
     }
 }
 

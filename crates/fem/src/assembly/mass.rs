@@ -1,11 +1,13 @@
-//! Lumped (diagonal) mass `M` of eq. 11–12 (kg per metre of thickness), per dof: both
-//! components of a node get the node's mass.
+//! Lumped (diagonal) mass `M` of eq. 11–12 (kg per metre of thickness; kg in 3D), per
+//! dof: every component of a node gets the node's mass.
 //!
 //! - P1: row sum of the consistent mass, `m_a = ρ ∫ N_a` (= ρA/3 per vertex).
 //! - P2: row sums give zero vertex masses (`∫ N_vertex = 0`), which `M⁻¹` cannot take;
 //!   HRZ lumping scales the consistent diagonal instead, `m_a = m_e ∫N_a² / Σ_b ∫N_b²`
 //!   (vertex 1/19 and mid node 16/57 of the element mass on affine triangles), all
-//!   positive and summing to `m_e = ρ ∫ det J`.
+//!   positive and summing to `m_e = ρ ∫ det J`. P1 tetrahedra get `m_e/4` per vertex;
+//!   P2 tetrahedra `m_e/36` per vertex and `4 m_e/27` per mid-edge node, from
+//!   `∫N_v² = V/70` and `∫N_e² = 8V/105` (the 14-point rule is exact on them).
 //!
 //! Axisymmetric (`docs/axisymmetry.md`): every integral carries `r` (kg per radian). P1:
 //! the one-point rule gives `ρ r_c A / 3` per vertex (the element's mass `ρ r_c A` is exact;
@@ -19,10 +21,9 @@
 //!
 //! [`Assembly::with_point_densities`]: super::Assembly::with_point_densities
 use super::gauss::GaussData;
-use crate::element::{map_point, ElementOrder};
+use crate::dimension::ElementMesh;
+use crate::element::ElementOrder;
 use crate::error::{FemError, MeshError};
-use crate::mesh::Mesh;
-use crate::quadrature::mass_rule;
 
 /// Whether a density of 0 is accepted: not for the mass (it is inverted), yes for a
 /// weight (weightless soil).
@@ -74,13 +75,13 @@ pub(crate) fn check_densities(
 }
 
 /// Mass per node, `density(p)` the density (kg/m³) at Gauss point `p`.
-pub(crate) fn nodal_masses(
-    mesh: &Mesh,
+pub(crate) fn nodal_masses<M: ElementMesh>(
+    mesh: &M,
     gauss: &GaussData,
     density: impl Fn(usize) -> f64,
 ) -> Result<Vec<f64>, MeshError> {
-    let mut m = vec![0.0; mesh.nodes.len()];
-    match mesh.order {
+    let mut m = vec![0.0; mesh.node_positions().len()];
+    match mesh.order() {
         ElementOrder::P1 => {
             for p in 0..gauss.len() {
                 let rho = density(p);
@@ -91,28 +92,15 @@ pub(crate) fn nodal_masses(
             }
         }
         ElementOrder::P2 => {
-            let mut element_mass = vec![0.0; mesh.triangles.len()];
+            let elements = mesh.elements();
+            let mut element_mass = vec![0.0; elements.len()];
             for (p, &e) in gauss.elements.iter().enumerate() {
                 element_mass[e] += density(p) * gauss.volumes[p];
             }
-            let rule = mass_rule();
-            for (e, tri) in mesh.triangles.iter().enumerate() {
-                let coords = mesh.triangle_coordinates(e);
-                let mut diag = [0.0; 6];
-                for (xi, w) in rule.points.iter().zip(rule.weights) {
-                    let mp = map_point(mesh.order, &coords, *xi).ok_or_else(|| {
-                        MeshError::element(
-                            format!("triangle {e}"),
-                            format!("det J ≤ 0 at mass quadrature point {xi:?}"),
-                        )
-                    })?;
-                    let weight = gauss.geometry.weight(mp.position);
-                    for (d, n) in diag.iter_mut().zip(&mp.shape) {
-                        *d += w * mp.det_j * n * n * weight;
-                    }
-                }
+            for (e, nodes) in elements.iter().enumerate() {
+                let diag = mesh.mass_diagonal(e, gauss.geometry)?;
                 let total: f64 = diag.iter().sum();
-                for (&node, d) in tri.iter().zip(diag) {
+                for (&node, d) in nodes.iter().zip(diag) {
                     m[node] += element_mass[e] * d / total;
                 }
             }

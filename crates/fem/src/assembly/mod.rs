@@ -1,7 +1,9 @@
 //! Global operators of eq. 15–16 on a mesh: Gauss points and volumes, the strain
 //! operator `B` (free and prescribed columns), the lumped mass `M`, the compliance blocks
-//! `S`, and nodal loads. Units: SI, per metre of thickness (plane strain) or per radian
-//! (axisymmetric, [`Geometry`], `docs/axisymmetry.md`).
+//! `S`, and nodal loads. Units: SI, per metre of thickness (plane strain), per radian
+//! (axisymmetric, [`Geometry`], `docs/axisymmetry.md`) or per body (3D, `docs/3d.md`).
+//! Generic over the Mandel size `D` ([`Dimension`]): 4 on triangles, 6 on tetrahedra.
+mod face_loads;
 mod gauss;
 mod loads;
 mod mass;
@@ -12,10 +14,10 @@ use nalgebra::{SMatrix, SVector};
 
 pub use strain_operator::{add_mul, add_mul_transpose, MANDEL};
 
+use crate::dimension::{Dimension, ElementMesh, Mandel};
 use crate::dofs::{Dof, DofMap};
 use crate::error::FemError;
 use crate::geometry::Geometry;
-use crate::mesh::Mesh;
 use gauss::GaussData;
 use strain_operator::strain_operator;
 
@@ -29,18 +31,23 @@ enum Density<'a> {
 /// Everything the solver needs from the mesh (feeds `talus_ssn::Structured`:
 /// `b = b_free`, `lumped_mass = lumped_mass_free`, `compliance = compliance_blocks(S₀)`).
 #[derive(Debug, Clone)]
-pub struct Assembly {
+pub struct Assembly<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
     /// Gauss point positions (m).
-    pub gauss_points: Vec<[f64; 2]>,
+    pub gauss_points: Vec<<Mandel<D> as Dimension>::Point>,
     /// `V_p = w_p · det J · 1 m` (m³ per metre of thickness; `Σ V_p` = the mesh area), or
-    /// `w_p · det J · r_p` (m³ per radian; `2π Σ V_p` = the solid's volume).
+    /// `w_p · det J · r_p` (m³ per radian; `2π Σ V_p` = the solid's volume), or
+    /// `w_p · det J` (m³, 3D).
     pub gauss_volumes: Vec<f64>,
-    /// Triangle of each Gauss point.
+    /// Element of each Gauss point.
     pub gauss_element: Vec<usize>,
-    /// `(4·n_gp) × n_free`: row block p is `V_p · ε̇(x_p)` in Mandel form (xx, yy, zz = 0,
-    /// √2 xy; axisymmetric: rr, yy, θθ = v_r/r, √2 ry), one column per free velocity dof.
+    /// `(D·n_gp) × n_free`: row block p is `V_p · ε̇(x_p)` in Mandel form (xx, yy, zz = 0,
+    /// √2 xy; axisymmetric: rr, yy, θθ = v_r/r, √2 ry; 3D: xx, yy, zz, √2 yz, √2 xz,
+    /// √2 xy), one column per free velocity dof.
     pub b_free: SparseColMat<usize, f64>,
-    /// `(4·n_gp) × n_prescribed`: the same rows for the prescribed dofs.
+    /// `(D·n_gp) × n_prescribed`: the same rows for the prescribed dofs.
     pub b_prescribed: SparseColMat<usize, f64>,
     /// Lumped mass per free dof (kg/m), all > 0.
     pub lumped_mass_free: Vec<f64>,
@@ -51,23 +58,34 @@ pub struct Assembly {
     geometry: Geometry,
 }
 
-impl Assembly {
-    /// Validates `mesh` (see [`Mesh::validate`]) and builds `B`, the Gauss volumes and the
-    /// lumped mass for mass density `density` (kg/m³, finite and > 0: `M⁻¹` must exist),
-    /// in plane strain.
-    pub fn new(mesh: &Mesh, dofs: &DofMap, density: f64) -> Result<Self, FemError> {
-        Self::with_geometry(mesh, dofs, density, Geometry::PlaneStrain)
+impl<const D: usize> Assembly<D>
+where
+    Mandel<D>: Dimension,
+{
+    /// Checks `mesh` ([`ElementMesh::check`]: [`Mesh::validate`](crate::Mesh::validate),
+    /// [`TetrahedralMesh::check_elements`](crate::TetrahedralMesh::check_elements)) and
+    /// builds `B`, the Gauss volumes and the lumped mass for mass density `density`
+    /// (kg/m³, finite and > 0: `M⁻¹` must exist), in plane strain (triangles) or 3D
+    /// (tetrahedra).
+    pub fn new<M>(mesh: &M, dofs: &DofMap, density: f64) -> Result<Self, FemError>
+    where
+        M: ElementMesh<Dim = Mandel<D>>,
+    {
+        Self::with_geometry(mesh, dofs, density, <Mandel<D> as Dimension>::GEOMETRY)
     }
 
     /// [`new`](Self::new) in `geometry`. Axisymmetric: refuses a node at `r < 0`, a Gauss
     /// point at `r ≤ 0`, and a node on the axis whose radial velocity is free (prescribe
     /// it, to 0: [`Geometry::axis_nodes`]).
-    pub fn with_geometry(
-        mesh: &Mesh,
+    pub fn with_geometry<M>(
+        mesh: &M,
         dofs: &DofMap,
         density: f64,
         geometry: Geometry,
-    ) -> Result<Self, FemError> {
+    ) -> Result<Self, FemError>
+    where
+        M: ElementMesh<Dim = Mandel<D>>,
+    {
         if !(density.is_finite() && density > 0.0) {
             return Err(FemError::invalid(
                 "density",
@@ -88,48 +106,68 @@ impl Assembly {
     /// The points are known only once the mesh is checked, so the mesh's errors come first;
     /// then `densities` must have one entry per point (an error names the expected length)
     /// and each must be finite and > 0 (an error names the first bad index and value).
-    pub fn with_point_densities(
-        mesh: &Mesh,
+    pub fn with_point_densities<M>(
+        mesh: &M,
         dofs: &DofMap,
         densities: &[f64],
         geometry: Geometry,
-    ) -> Result<Self, FemError> {
+    ) -> Result<Self, FemError>
+    where
+        M: ElementMesh<Dim = Mandel<D>>,
+    {
         Self::build(mesh, dofs, Density::PerPoint(densities), geometry)
     }
 
     /// Where the Gauss points of `mesh` in `geometry` will be, before any assembly: each
     /// point's element and position (m), in the order of `gauss_points`, so that a caller
     /// can give each its density ([`Assembly::with_point_densities`]).
-    pub fn gauss_layout(
-        mesh: &Mesh,
+    #[allow(clippy::type_complexity)]
+    pub fn gauss_layout<M>(
+        mesh: &M,
         geometry: Geometry,
-    ) -> Result<(Vec<usize>, Vec<[f64; 2]>), FemError> {
-        mesh.validate()?;
-        geometry.check_mesh(mesh)?;
+    ) -> Result<(Vec<usize>, Vec<<Mandel<D> as Dimension>::Point>), FemError>
+    where
+        M: ElementMesh<Dim = Mandel<D>>,
+    {
+        mesh.check(geometry)?;
         let gauss = GaussData::new(mesh, geometry)?;
-        Ok((gauss.elements, gauss.positions))
+        let points = Self::points(&gauss);
+        Ok((gauss.elements, points))
     }
 
-    fn build(
-        mesh: &Mesh,
+    fn points(gauss: &GaussData) -> Vec<<Mandel<D> as Dimension>::Point> {
+        gauss
+            .positions
+            .iter()
+            .map(|x| <Mandel<D> as Dimension>::point(*x))
+            .collect()
+    }
+
+    fn build<M>(
+        mesh: &M,
         dofs: &DofMap,
         density: Density<'_>,
         geometry: Geometry,
-    ) -> Result<Self, FemError> {
-        if dofs.n_nodes() != mesh.nodes.len() {
+    ) -> Result<Self, FemError>
+    where
+        M: ElementMesh<Dim = Mandel<D>>,
+    {
+        let components = <Mandel<D> as Dimension>::COMPONENTS;
+        let n_nodes = mesh.node_positions().len();
+        if dofs.n_nodes() != n_nodes || dofs.components() != components {
             return Err(FemError::invalid(
                 "dofs",
                 format!(
-                    "the dof map has {} nodes, the mesh {}",
+                    "the dof map has {} nodes of {} components, the mesh {n_nodes} of \
+                     {components}",
                     dofs.n_nodes(),
-                    mesh.nodes.len()
+                    dofs.components(),
                 ),
             ));
         }
-        mesh.validate()?;
-        geometry.check_mesh(mesh)?;
-        if let Some(&n) = geometry
-            .axis_nodes(mesh)
+        mesh.check(geometry)?;
+        if let Some(&n) = mesh
+            .axis_nodes(geometry)
             .iter()
             .find(|&&n| dofs.free(n, 0).is_some())
         {
@@ -138,7 +176,7 @@ impl Assembly {
                 format!(
                     "node {n} lies on the axis (r = {:e} m) with a free radial velocity; \
                      prescribe u_r = 0 on the axis",
-                    mesh.nodes[n][0]
+                    mesh.node_positions()[n].as_ref()[0]
                 ),
             ));
         }
@@ -146,7 +184,7 @@ impl Assembly {
         if let Density::PerPoint(densities) = density {
             mass::check_densities(densities, gauss.len(), mass::Zero::Refused)?;
         }
-        let (b_free, b_prescribed) = strain_operator(&gauss, dofs)?;
+        let (b_free, b_prescribed) = strain_operator::<D>(&gauss, dofs)?;
         let nodal = match density {
             Density::Uniform(rho) => mass::nodal_masses(mesh, &gauss, |_| rho)?,
             Density::PerPoint(rho) => mass::nodal_masses(mesh, &gauss, |p| rho[p])?,
@@ -154,13 +192,13 @@ impl Assembly {
         let mut lumped_mass_free = vec![0.0; dofs.n_free()];
         let mut lumped_mass_prescribed = vec![0.0; dofs.n_prescribed()];
         for (node, m) in nodal.iter().enumerate() {
-            for comp in 0..2 {
+            for comp in 0..components {
                 match dofs.dof(node, comp) {
                     Some(Dof::Free(i)) => {
                         if !(m.is_finite() && *m > 0.0) {
                             return Err(FemError::invalid(
                                 "mesh",
-                                format!("node {node} has mass {m} (does it belong to a triangle?); its free dofs cannot be inverted"),
+                                format!("node {node} has mass {m} (does it belong to an element?); its free dofs cannot be inverted"),
                             ));
                         }
                         lumped_mass_free[i] = *m;
@@ -171,7 +209,7 @@ impl Assembly {
             }
         }
         Ok(Self {
-            gauss_points: gauss.positions.clone(),
+            gauss_points: Self::points(&gauss),
             gauss_volumes: gauss.volumes.clone(),
             gauss_element: gauss.elements.clone(),
             b_free,
@@ -201,37 +239,37 @@ impl Assembly {
 
     /// Compliance blocks `S_p = V_p · S₀` (S₀ in 1/Pa, Mandel), the `S` of eq. 15 with the
     /// volume weighting that keeps `W` symmetric.
-    pub fn compliance_blocks(&self, s0: &SMatrix<f64, 4, 4>) -> Vec<SMatrix<f64, 4, 4>> {
+    pub fn compliance_blocks(&self, s0: &SMatrix<f64, D, D>) -> Vec<SMatrix<f64, D, D>> {
         self.gauss_volumes.iter().map(|v| s0 * *v).collect()
     }
 
     /// Strain (or strain rate) at each Gauss point, Mandel `(xx, yy, zz, √2 xy)` (zz: the
-    /// hoop strain `θθ` in axisymmetry), from a
+    /// hoop strain `θθ` in axisymmetry; 3D: `(xx, yy, zz, √2 yz, √2 xz, √2 xy)`), from a
     /// nodal field given as free and prescribed values: `(B_f u_f + B_p u_p)_p / V_p`.
     pub fn strain(
         &self,
         free: &[f64],
         prescribed: &[f64],
-    ) -> Result<Vec<SVector<f64, 4>>, FemError> {
+    ) -> Result<Vec<SVector<f64, D>>, FemError> {
         self.dofs.check_lengths(free, prescribed)?;
-        let mut bu = vec![0.0; MANDEL * self.n_points()];
+        let mut bu = vec![0.0; D * self.n_points()];
         add_mul(&self.b_free, free, &mut bu);
         add_mul(&self.b_prescribed, prescribed, &mut bu);
         Ok(bu
-            .chunks_exact(MANDEL)
+            .chunks_exact(D)
             .zip(&self.gauss_volumes)
             .map(|(e, v)| SVector::from_column_slice(e) / *v)
             .collect())
     }
 
     /// Internal force `Bᵀσ` (N/m, or N per radian) on free and prescribed dofs for Mandel stresses `σ`
-    /// (Pa, flat, 4 per Gauss point). On prescribed dofs it is the reaction's main part.
+    /// (Pa, flat, `D` per Gauss point). On prescribed dofs it is the reaction's main part.
     pub fn internal_force(&self, sigma: &[f64]) -> Result<(Vec<f64>, Vec<f64>), FemError> {
-        if sigma.len() != MANDEL * self.n_points() {
+        if sigma.len() != D * self.n_points() {
             return Err(FemError::invalid(
                 "sigma",
                 format!(
-                    "{} values for {} Gauss points × 4",
+                    "{} values for {} Gauss points × {D}",
                     sigma.len(),
                     self.n_points()
                 ),

@@ -1,60 +1,62 @@
-//! The discrete strain operator `B` (eq. 12, 15): row block `p` (4 rows, Mandel plane
-//! strain `(xx, yy, zz, √2 xy)`, tension positive) maps nodal velocities to
-//! `V_p · ε̇(x_p)`, with `ε̇ = sym ∇v`. So `B v` is the volume-weighted strain rate,
-//! `Bᵀσ` the internal force (N per metre of thickness), and `W = S + h² B M⁻¹ Bᵀ` of
-//! eq. 16 is symmetric when `S` carries `V_p` too. In plane strain the zz row is
-//! structurally empty (`ε̇zz = 0`) but kept, because `σzz` enters the yield cone. In
-//! axisymmetry (`x = r`, `y` the axis, `docs/axisymmetry.md`) the third row is the hoop
-//! strain rate `ε̇θθ = v_r / r`, and `V_p` carries `r_p`: the row's entries
-//! `V_p N_a(x_p) / r_p` are those of `∫ ε̇θθ r dr dy`.
+//! The discrete strain operator `B` (eq. 12, 15): row block `p` (`D` rows, Mandel; plane
+//! strain `(xx, yy, zz, √2 xy)`, 3D `(xx, yy, zz, √2 yz, √2 xz, √2 xy)`, tension positive)
+//! maps nodal velocities to `V_p · ε̇(x_p)`, with `ε̇ = sym ∇v`. So `B v` is the
+//! volume-weighted strain rate, `Bᵀσ` the internal force (N per metre of thickness in
+//! plane strain), and `W = S + h² B M⁻¹ Bᵀ` of eq. 16 is symmetric when `S` carries `V_p`
+//! too. In plane strain the zz row is structurally empty (`ε̇zz = 0`) but kept, because
+//! `σzz` enters the yield cone. In axisymmetry (`x = r`, `y` the axis,
+//! `docs/axisymmetry.md`) the third row is the hoop strain rate `ε̇θθ = v_r / r`, and `V_p`
+//! carries `r_p`: the row's entries `V_p N_a(x_p) / r_p` are those of `∫ ε̇θθ r dr dy`.
+//! Each dimension's rows are [`Dimension::strain_rows`].
 use faer::sparse::{SparseColMat, Triplet};
 
 use super::gauss::GaussData;
+use crate::dimension::{Dimension, Mandel};
 use crate::dofs::{Dof, DofMap};
 use crate::error::FemError;
-use crate::geometry::Geometry;
 
-/// Mandel rows per Gauss point.
+/// Mandel rows per Gauss point in plane strain and axisymmetry.
 pub const MANDEL: usize = 4;
 
 type Sparse = SparseColMat<usize, f64>;
 
-/// `(B_free, B_prescribed)`.
-pub(crate) fn strain_operator(
+/// `(B_free, B_prescribed)` with `D` rows per point.
+pub(crate) fn strain_operator<const D: usize>(
     gauss: &GaussData,
     dofs: &DofMap,
-) -> Result<(Sparse, Sparse), FemError> {
-    let s = std::f64::consts::FRAC_1_SQRT_2;
+) -> Result<(Sparse, Sparse), FemError>
+where
+    Mandel<D>: Dimension,
+{
     let mut free = Vec::new();
     let mut prescribed = Vec::new();
-    let axisymmetric = gauss.geometry == Geometry::Axisymmetric;
     for p in 0..gauss.len() {
         let v = gauss.volumes[p];
-        let r = MANDEL * p;
-        // r_p > 0 at every Gauss point of an axisymmetric mesh (`GaussData::new`).
-        let radius = gauss.positions[p][0];
+        let r = D * p;
         for (node, n, g) in gauss.point(p) {
-            // ε̇xx = ∂vx/∂x, ε̇yy = ∂vy/∂y, √2 ε̇xy = (∂vx/∂y + ∂vy/∂x)/√2,
-            // axisymmetric: ε̇θθ = v_r / r.
-            let hoop = axisymmetric.then(|| (r + 2, n / radius));
-            let entries = [
-                (0, [Some((r, g[0])), Some((r + 3, s * g[1])), hoop]),
-                (1, [Some((r + 1, g[1])), Some((r + 3, s * g[0])), None]),
-            ];
-            for (comp, rows) in entries {
+            for comp in 0..<Mandel<D> as Dimension>::COMPONENTS {
+                let rows = <Mandel<D> as Dimension>::strain_rows(
+                    gauss.geometry,
+                    n,
+                    g,
+                    gauss.positions[p],
+                    comp,
+                );
                 let dof = dofs.dof(node, comp).ok_or_else(|| {
                     FemError::invalid("dofs", format!("node {node} is not in the dof map"))
                 })?;
                 for (row, value) in rows.into_iter().flatten() {
                     match dof {
-                        Dof::Free(j) => free.push(Triplet::new(row, j, v * value)),
-                        Dof::Prescribed(j) => prescribed.push(Triplet::new(row, j, v * value)),
+                        Dof::Free(j) => free.push(Triplet::new(r + row, j, v * value)),
+                        Dof::Prescribed(j) => {
+                            prescribed.push(Triplet::new(r + row, j, v * value))
+                        }
                     }
                 }
             }
         }
     }
-    let rows = MANDEL * gauss.len();
+    let rows = D * gauss.len();
     let build = |n: usize, t: &[Triplet<usize, usize, f64>]| {
         SparseColMat::try_new_from_triplets(rows, n, t)
             .map_err(|e| FemError::invalid("B", format!("sparse assembly failed: {e:?}")))
