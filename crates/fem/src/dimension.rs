@@ -202,7 +202,7 @@ impl ElementMesh for Mesh {
         for (xi, w) in rule.points.iter().zip(rule.weights) {
             let m = map_point(self.order, &coords, *xi)
                 .ok_or_else(|| det_error("triangle", e, "mass", xi))?;
-            let weight = geometry.weight(&m.position);
+            let weight = geometry.weight(m.position);
             for (d, n) in diag.iter_mut().zip(&m.shape) {
                 *d += w * m.det_j * n * n * weight;
             }

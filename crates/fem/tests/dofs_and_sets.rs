@@ -203,10 +203,11 @@ fn dofmap_in_3d_fixes_exactly_the_named_axes() {
     let values: Vec<f64> = (0..dofs.n_free()).map(|i| i as f64).collect();
     let prescribed = vec![-1.0; dofs.n_prescribed()];
     let v = dofs.nodal_vectors::<3>(&values, &prescribed).unwrap();
-    for node in 0..n {
+    assert_eq!(v.len(), n);
+    for (node, vn) in v.iter().enumerate() {
         for c in 0..3 {
             let expected = dofs.free(node, c).map_or(-1.0, |i| i as f64);
-            assert_eq!(v[node][c], expected);
+            assert_eq!(vn[c], expected);
         }
     }
     assert!(

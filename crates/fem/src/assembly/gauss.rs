@@ -41,7 +41,7 @@ impl GaussData {
         };
         for (e, element) in elements.iter().enumerate() {
             for m in mesh.stress_points(e)? {
-                let weight = geometry.weight(&m.position);
+                let weight = geometry.weight(m.position);
                 if !(weight.is_finite() && weight > 0.0) {
                     return Err(MeshError::element(
                         format!("triangle {e}"),

@@ -290,7 +290,7 @@ impl Assembly<4> {
                     position[0] += n[a] * mesh.nodes[node][0];
                     position[1] += n[a] * mesh.nodes[node][1];
                 }
-                let weight = self.geometry.weight(&position);
+                let weight = self.geometry.weight(position);
                 let value = at(k, q, position)?;
                 for (a, &node) in edge.nodes.iter().enumerate() {
                     let f = load(*w, n[a], tangent, &value);
