@@ -37,7 +37,7 @@ fn vtu_p1_two_triangles_round_trips_exactly() {
     let s = FieldSnapshot {
         mesh: MeshView {
             nodes: &nodes,
-            triangles: &triangles,
+            elements: &triangles,
         },
         time: 0.125,
         displacement: &displacement,
@@ -102,7 +102,7 @@ fn vtu_p2_triangle_is_quadratic_and_pure_shear_gives_sqrt3_tau() {
     let s = FieldSnapshot {
         mesh: MeshView {
             nodes: &nodes,
-            triangles: &triangles,
+            elements: &triangles,
         },
         time: 2.0,
         displacement: &zero,
@@ -296,7 +296,7 @@ fn field_on_deformed_p2_mesh_png() {
     let (u, strain) = footing_fields(&nodes, &triangles);
     let mesh = MeshView {
         nodes: &nodes,
-        triangles: &triangles,
+        elements: &triangles,
     };
     let path = out_dir("png").join("field_plastic_strain.png");
     plot_field_on_mesh(
@@ -329,7 +329,7 @@ fn field_on_undeformed_p1_mesh_png() {
     let triangles = vec![vec![0, 1, 2], vec![0, 2, 3]];
     let mesh = MeshView {
         nodes: &nodes,
-        triangles: &triangles,
+        elements: &triangles,
     };
     let path = out_dir("png").join("field_p1.png");
     plot_field_on_mesh(
@@ -357,7 +357,7 @@ fn bad_inputs_name_the_field_and_write_nothing() {
     let triangles = vec![vec![0, 1, 2]];
     let mesh = MeshView {
         nodes: &nodes,
-        triangles: &triangles,
+        elements: &triangles,
     };
     let zero = [[0.0; 2]; 3];
     let good = FieldSnapshot {
@@ -428,19 +428,19 @@ fn bad_inputs_name_the_field_and_write_nothing() {
     let bad_mesh = FieldSnapshot {
         mesh: MeshView {
             nodes: &nodes,
-            triangles: &wrong_index,
+            elements: &wrong_index,
         },
         ..good
     };
     assert_eq!(
         field_of(write_vtu(&vtu, &bad_mesh).unwrap_err()),
-        "mesh.triangles"
+        "mesh.elements"
     );
     let nan_node = [[0.0, 0.0], [f64::NAN, 0.0], [0.0, 1.0]];
     let bad_nodes = FieldSnapshot {
         mesh: MeshView {
             nodes: &nan_node,
-            triangles: &triangles,
+            elements: &triangles,
         },
         ..good
     };

@@ -98,7 +98,7 @@ fn principal_stresses_of_known_tensors() {
         &FieldSnapshot {
             mesh: MeshView {
                 nodes: &nodes,
-                triangles: &triangles,
+                elements: &triangles,
             },
             time: 0.0,
             displacement: &zero,

@@ -2,41 +2,54 @@
 //! every writer runs before touching a file.
 use super::OutputError;
 
-/// A triangle mesh snapshot, node coordinates in m.
+/// A mesh snapshot, node coordinates in m: triangles in the plane (`N = 2`, the default)
+/// or tetrahedra in space (`N = 3`).
 ///
 /// Each triangle is P1 (3 nodes) or P2 (6 nodes, Gmsh order: corners 0, 1, 2, then the
-/// mid-edge nodes of edges 01, 12, 20), counter-clockwise. P1 and P2 may be mixed.
+/// mid-edge nodes of edges 01, 12, 20), counter-clockwise; each tetrahedron P1 (4 nodes)
+/// or P2 (10 nodes, Gmsh order: vertices, then edges 01, 12, 20, 30, 32, 31). Orders may be
+/// mixed.
 #[derive(Debug, Clone, Copy)]
-pub struct MeshView<'a> {
-    pub nodes: &'a [[f64; 2]],
-    pub triangles: &'a [Vec<usize>],
+pub struct MeshView<'a, const N: usize = 2> {
+    pub nodes: &'a [[f64; N]],
+    pub elements: &'a [Vec<usize>],
 }
 
-impl MeshView<'_> {
-    /// Non-empty, finite coordinates, 3 or 6 in-range node indices per triangle.
+impl<const N: usize> MeshView<'_, N> {
+    /// The node counts of a P1 and a P2 element: triangles in 2D, tetrahedra in 3D.
+    pub(crate) const NODES_PER_ELEMENT: [usize; 2] = if N == 3 { [4, 10] } else { [3, 6] };
+
+    /// Non-empty, finite coordinates, a P1 or P2 element's node count of in-range node
+    /// indices per element.
     pub(crate) fn validate(&self) -> Result<(), OutputError> {
+        let kind = if N == 3 { "tetrahedr" } else { "triangle" };
+        let [p1, p2] = Self::NODES_PER_ELEMENT;
         if self.nodes.is_empty() {
             return Err(OutputError::invalid("mesh.nodes", "the mesh has no nodes"));
         }
-        if self.triangles.is_empty() {
+        if self.elements.is_empty() {
             return Err(OutputError::invalid(
-                "mesh.triangles",
-                "the mesh has no triangles",
+                "mesh.elements",
+                "the mesh has no elements",
             ));
         }
         check_finite("mesh.nodes", self.nodes)?;
-        for (e, tri) in self.triangles.iter().enumerate() {
-            if tri.len() != 3 && tri.len() != 6 {
+        for (e, element) in self.elements.iter().enumerate() {
+            if element.len() != p1 && element.len() != p2 {
                 return Err(OutputError::invalid(
-                    "mesh.triangles",
-                    format!("triangle {e} has {} nodes (expected 3 or 6)", tri.len()),
+                    "mesh.elements",
+                    format!(
+                        "element {e} has {} nodes (expected {p1} or {p2}: {kind}{})",
+                        element.len(),
+                        if N == 3 { "a" } else { "s" }
+                    ),
                 ));
             }
-            if let Some(&n) = tri.iter().find(|&&n| n >= self.nodes.len()) {
+            if let Some(&n) = element.iter().find(|&&n| n >= self.nodes.len()) {
                 return Err(OutputError::invalid(
-                    "mesh.triangles",
+                    "mesh.elements",
                     format!(
-                        "triangle {e} refers to node {n} but the mesh has {} nodes",
+                        "element {e} refers to node {n} but the mesh has {} nodes",
                         self.nodes.len()
                     ),
                 ));

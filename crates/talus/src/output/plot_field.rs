@@ -90,7 +90,7 @@ fn draw_plot_field_map(
     map: &FieldMap,
 ) -> Result<(), OutputError> {
     mesh.validate()?;
-    check_len("values", values.len(), mesh.triangles.len(), "element")?;
+    check_len("values", values.len(), mesh.elements.len(), "element")?;
     check_finite_scalars("values", values)?;
     if !(map.resolution.is_finite() && map.resolution >= 0.0) {
         return Err(OutputError::invalid(
@@ -176,7 +176,7 @@ impl FieldPlot<'_> {
         let chart = &mut frame.chart;
         let fills = self
             .mesh
-            .triangles
+            .elements
             .iter()
             .zip(self.values)
             .flat_map(|(tri, &v)| {
@@ -196,10 +196,10 @@ impl FieldPlot<'_> {
         }
 
         let (pw, ph) = frame.plot_px;
-        let element_px = (pw * ph / self.mesh.triangles.len() as f64).sqrt();
+        let element_px = (pw * ph / self.mesh.elements.len() as f64).sqrt();
         if element_px >= MIN_EDGE_SPACING_PX {
             let edge = RGBColor(30, 30, 30).mix(0.35);
-            for tri in self.mesh.triangles {
+            for tri in self.mesh.elements {
                 chart.draw_series([PathElement::new(
                     element_outline(tri, self.deformed),
                     edge.stroke_width(1),
@@ -249,7 +249,7 @@ fn element_outline(tri: &[usize], x: &[[f64; 2]]) -> Vec<(f64, f64)> {
 /// Edges used by one element only, as node paths (with the mid-edge node for P2).
 fn boundary_edges(mesh: &MeshView) -> Vec<Vec<usize>> {
     let mut count: HashMap<(usize, usize), (usize, Vec<usize>)> = HashMap::new();
-    for tri in mesh.triangles {
+    for tri in mesh.elements {
         for k in 0..3 {
             let (a, b) = (tri[k], tri[(k + 1) % 3]);
             let path = if tri.len() == 6 {
@@ -273,7 +273,7 @@ fn boundary_edges(mesh: &MeshView) -> Vec<Vec<usize>> {
 }
 
 fn used_nodes(mesh: &MeshView) -> Vec<usize> {
-    let mut used: Vec<usize> = mesh.triangles.iter().flatten().copied().collect();
+    let mut used: Vec<usize> = mesh.elements.iter().flatten().copied().collect();
     used.sort_unstable();
     used.dedup();
     used

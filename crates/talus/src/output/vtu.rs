@@ -7,24 +7,30 @@ use super::mesh::{check_finite, check_finite_scalars, check_finite_value, check_
 use super::{MeshView, OutputError};
 
 /// VTK cell type ids; VTK's quadratic triangle orders its nodes like Gmsh's 6-node
-/// triangle (corners, then mid-edges 01, 12, 20), so connectivity is copied as is.
+/// triangle (corners, then mid-edges 01, 12, 20), so connectivity is copied as is. VTK's
+/// quadratic tetrahedron takes the mid-edges 01, 12, 02, 03, 13, 23 where Gmsh's 10-node
+/// one has 01, 12, 20, 30, 32, 31: the last two are swapped ([`vtk_connectivity`]).
 const VTK_TRIANGLE: u8 = 5;
 const VTK_QUADRATIC_TRIANGLE: u8 = 22;
+const VTK_TETRA: u8 = 10;
+const VTK_QUADRATIC_TETRA: u8 = 24;
 
-/// The fields of one time step.
+/// The fields of one time step: on triangles in the plane (`N = 2`, Mandel size `D = 4`,
+/// the defaults) or on tetrahedra in space (`N = 3`, `D = 6`).
 ///
 /// Units: time s, displacement m, velocity m/s, stress Pa (tension positive), plastic
 /// strain dimensionless.
 #[derive(Debug, Clone, Copy)]
-pub struct FieldSnapshot<'a> {
-    pub mesh: MeshView<'a>,
+pub struct FieldSnapshot<'a, const N: usize = 2, const D: usize = 4> {
+    pub mesh: MeshView<'a, N>,
     pub time: f64,
     /// Per node, m.
-    pub displacement: &'a [[f64; 2]],
+    pub displacement: &'a [[f64; N]],
     /// Per node, m/s.
-    pub velocity: &'a [[f64; 2]],
-    /// Per element (average over its Gauss points), Mandel `(xx, yy, zz, √2 xy)`, Pa.
-    pub stress: &'a [[f64; 4]],
+    pub velocity: &'a [[f64; N]],
+    /// Per element (average over its Gauss points), Mandel `(xx, yy, zz, √2 xy)` (2D) or
+    /// `(xx, yy, zz, √2 yz, √2 xz, √2 xy)` (3D), Pa.
+    pub stress: &'a [[f64; D]],
     /// Per element, cumulative equivalent plastic strain `∫‖ε̇ᵖ‖ dt`.
     pub plastic_strain: &'a [f64],
     /// Per element, its material's index in the scene's list (`material`, from 0).
@@ -34,11 +40,17 @@ pub struct FieldSnapshot<'a> {
     pub pore_pressure: Option<&'a [f64]>,
 }
 
-impl FieldSnapshot<'_> {
+impl<const N: usize, const D: usize> FieldSnapshot<'_, N, D> {
     /// Checked, with the stress's derived values (computed once: checked, then written).
     fn validate(&self) -> Result<Derived, OutputError> {
+        if (N, D) != (2, 4) && (N, D) != (3, 6) {
+            return Err(OutputError::invalid(
+                "stress",
+                format!("{D} Mandel components on a mesh in {N}D: 4 in 2D, 6 in 3D"),
+            ));
+        }
         self.mesh.validate()?;
-        let (n_nodes, n_elements) = (self.mesh.nodes.len(), self.mesh.triangles.len());
+        let (n_nodes, n_elements) = (self.mesh.nodes.len(), self.mesh.elements.len());
         check_finite_value("time", self.time)?;
         check_len("displacement", self.displacement.len(), n_nodes, "node")?;
         check_len("velocity", self.velocity.len(), n_nodes, "node")?;
@@ -72,15 +84,15 @@ impl FieldSnapshot<'_> {
 /// dimensionless, one entry per element (the mean over its Gauss points); zz is the hoop
 /// component `θθ` in axisymmetry.
 #[derive(Debug, Clone, Copy, Default)]
-pub struct FieldExtras<'a> {
+pub struct FieldExtras<'a, const D: usize = 4> {
     /// Total small strain `B u` of the nodal displacement.
-    pub strain: Option<&'a [[f64; 4]]>,
+    pub strain: Option<&'a [[f64; D]]>,
     /// The last step's plastic strain increment `Δεᵖ = Δε − S Δσ` (`S` the elastic
     /// compliance of the element's material).
-    pub plastic_strain_increment: Option<&'a [[f64; 4]]>,
+    pub plastic_strain_increment: Option<&'a [[f64; D]]>,
 }
 
-impl FieldExtras<'_> {
+impl<const D: usize> FieldExtras<'_, D> {
     fn validate(&self, n_elements: usize) -> Result<(), OutputError> {
         let fields = [
             ("strain", self.strain),
@@ -96,29 +108,53 @@ impl FieldExtras<'_> {
     }
 }
 
-/// Von Mises equivalent stress `√(3/2) ‖dev σ‖` of a Mandel stress, Pa.
+/// Von Mises equivalent stress `√(3/2) ‖dev σ‖` of a Mandel stress (4 or 6 components:
+/// normal components first, then shears), Pa.
 ///
 /// The Mandel norm is the tensor (Frobenius) norm, so no factor is needed for the shear.
-pub fn von_mises(m: &[f64; 4]) -> f64 {
+pub fn von_mises<const D: usize>(m: &[f64; D]) -> f64 {
     let p = (m[0] + m[1] + m[2]) / 3.0;
-    let s2 = (m[0] - p).powi(2) + (m[1] - p).powi(2) + (m[2] - p).powi(2) + m[3].powi(2);
+    let normal = (m[0] - p).powi(2) + (m[1] - p).powi(2) + (m[2] - p).powi(2);
+    let s2 = m[3..].iter().fold(normal, |s, t| s + t.powi(2));
     (1.5 * s2).sqrt()
 }
 
 /// Mean pressure `−tr σ / 3` of a Mandel stress, Pa (compression positive).
-pub fn pressure(m: &[f64; 4]) -> f64 {
+pub fn pressure<const D: usize>(m: &[f64; D]) -> f64 {
     -(m[0] + m[1] + m[2]) / 3.0
 }
 
 /// Principal stresses `[σ1, σ2, σ3]`, `σ1 ≥ σ2 ≥ σ3`, of a Mandel stress, Pa (tension
-/// positive): the in-plane pair `(σxx + σyy)/2 ± √(((σxx − σyy)/2)² + σxy²)` and `σzz`
-/// (the hoop stress in axisymmetry), sorted.
-pub fn principal_stresses(m: &[f64; 4]) -> [f64; 3] {
-    let centre = 0.5 * (m[0] + m[1]);
-    let radius = (0.5 * (m[0] - m[1])).hypot(m[3] / SQRT_2);
-    let mut s = [centre + radius, centre - radius, m[2]];
+/// positive). 2D: the in-plane pair `(σxx + σyy)/2 ± √(((σxx − σyy)/2)² + σxy²)` and
+/// `σzz` (the hoop stress in axisymmetry), sorted; 3D: the eigenvalues of the tensor.
+pub fn principal_stresses<const D: usize>(m: &[f64; D]) -> [f64; 3] {
+    let m: &[f64] = m;
+    let mut s = if m.len() == 6 {
+        let t = tensor_components(m);
+        let tensor = nalgebra::Matrix3::new(
+            t[0], t[3], t[5], //
+            t[3], t[1], t[4], //
+            t[5], t[4], t[2],
+        );
+        let e = tensor.symmetric_eigenvalues();
+        [e[0], e[1], e[2]]
+    } else {
+        let centre = 0.5 * (m[0] + m[1]);
+        let radius = (0.5 * (m[0] - m[1])).hypot(m[3] / SQRT_2);
+        [centre + radius, centre - radius, m[2]]
+    };
     s.sort_by(|a, b| b.total_cmp(a));
     s
+}
+
+/// A Mandel vector's plain tensor components in VTK's order `XX, YY, ZZ, XY, YZ, XZ`
+/// (2D: `YZ = XZ = 0`; 3D Mandel order `xx, yy, zz, √2 yz, √2 xz, √2 xy`).
+fn tensor_components(m: &[f64]) -> [f64; 6] {
+    if m.len() == 6 {
+        [m[0], m[1], m[2], m[5] / SQRT_2, m[3] / SQRT_2, m[4] / SQRT_2]
+    } else {
+        [m[0], m[1], m[2], m[3] / SQRT_2, 0.0, 0.0]
+    }
 }
 
 /// Each stress entry's von Mises stress, pressure and principal stresses ([`derived`]).
@@ -130,7 +166,7 @@ pub(super) struct Derived {
 
 /// The derived values of every stress entry; `Invalid` unless all are finite: finite
 /// stresses near `f64::MAX` could overflow.
-pub(super) fn derived(stress: &[[f64; 4]]) -> Result<Derived, OutputError> {
+pub(super) fn derived<const D: usize>(stress: &[[f64; D]]) -> Result<Derived, OutputError> {
     let mut d = Derived {
         von_mises: Vec::with_capacity(stress.len()),
         pressure: Vec::with_capacity(stress.len()),
@@ -153,14 +189,20 @@ pub(super) fn derived(stress: &[[f64; 4]]) -> Result<Derived, OutputError> {
 
 /// Writes `s` to `path` as a VTK XML unstructured grid (ASCII).
 ///
-/// Point data: `displacement` (m) and `velocity` (m/s) as 3-vectors with z = 0. Cell data:
-/// `stress` as a symmetric tensor in plain components, VTK order `XX, YY, ZZ, XY, YZ, XZ`
-/// (σxy = m₃/√2, YZ = XZ = 0; Pa, tension positive), `von_mises` (Pa), `pressure`
+/// Point data: `displacement` (m) and `velocity` (m/s) as 3-vectors (z = 0 in 2D). Cell
+/// data: `stress` as a symmetric tensor in plain components, VTK order `XX, YY, ZZ, XY,
+/// YZ, XZ` (2D: σxy = m₃/√2, YZ = XZ = 0; 3D: the Mandel shears over √2; Pa, tension
+/// positive), `von_mises` (Pa), `pressure`
 /// (−tr σ/3, Pa, compression positive), `principal_stress` (3 components `σ1 ≥ σ2 ≥ σ3`,
 /// Pa, tension positive, [`principal_stresses`]) and `plastic_strain`. The time (s) is
 /// stored as the `TimeValue` field. Numbers are written in Rust's shortest round-trip
 /// form, so they read back exactly.
-pub fn write_vtu(path: &Path, s: &FieldSnapshot) -> Result<(), OutputError> {
+/// Cells are VTK triangles (5) and quadratic triangles (22) in 2D, tetrahedra (10) and
+/// quadratic tetrahedra (24) in 3D.
+pub fn write_vtu<const N: usize, const D: usize>(
+    path: &Path,
+    s: &FieldSnapshot<N, D>,
+) -> Result<(), OutputError> {
     write_vtu_with(path, s, &FieldExtras::default())
 }
 
@@ -169,21 +211,25 @@ pub fn write_vtu(path: &Path, s: &FieldSnapshot) -> Result<(), OutputError> {
 /// the engineering `γxy = 2 εxy`; dimensionless, extension positive). Errors (`Invalid`,
 /// nothing written): those of [`write_vtu`], an extra field without one entry per element
 /// or with a non-finite value.
-pub fn write_vtu_with(
+pub fn write_vtu_with<const N: usize, const D: usize>(
     path: &Path,
-    s: &FieldSnapshot,
-    extras: &FieldExtras,
+    s: &FieldSnapshot<N, D>,
+    extras: &FieldExtras<D>,
 ) -> Result<(), OutputError> {
     let derived = s.validate()?;
-    extras.validate(s.mesh.triangles.len())?;
+    extras.validate(s.mesh.elements.len())?;
     let xml = vtu_string(s, extras, &derived);
     super::atomic::write(path, xml)
 }
 
-fn vtu_string(s: &FieldSnapshot, extras: &FieldExtras, derived: &Derived) -> String {
+fn vtu_string<const N: usize, const D: usize>(
+    s: &FieldSnapshot<N, D>,
+    extras: &FieldExtras<D>,
+    derived: &Derived,
+) -> String {
     let mesh = s.mesh;
-    let mut x = String::with_capacity(64 * (mesh.nodes.len() * 3 + mesh.triangles.len() * 4));
-    begin_piece(&mut x, s.time, mesh.nodes.len(), mesh.triangles.len());
+    let mut x = String::with_capacity(64 * (mesh.nodes.len() * 3 + mesh.elements.len() * 4));
+    begin_piece(&mut x, s.time, mesh.nodes.len(), mesh.elements.len());
     // Writing to a String cannot fail: the `fmt::Result`s are ignored on purpose.
     let _ = writeln!(x, r#"      <PointData Vectors="displacement">"#);
     vectors(&mut x, "displacement", s.displacement);
@@ -197,11 +243,11 @@ fn vtu_string(s: &FieldSnapshot, extras: &FieldExtras, derived: &Derived) -> Str
     scalars(&mut x, "plastic_strain", s.plastic_strain);
     if let Some(p_w) = s.pore_pressure {
         scalars(&mut x, "pore_pressure", p_w);
-        let effective: Vec<[f64; 4]> = s
+        let effective: Vec<[f64; D]> = s
             .stress
             .iter()
             .zip(p_w)
-            .map(|(m, p)| [m[0] + p, m[1] + p, m[2] + p, m[3]])
+            .map(|(m, p)| std::array::from_fn(|k| if k < 3 { m[k] + p } else { m[k] }))
             .collect();
         tensor(&mut x, "effective_stress", &effective);
     }
@@ -215,15 +261,25 @@ fn vtu_string(s: &FieldSnapshot, extras: &FieldExtras, derived: &Derived) -> Str
         indices(&mut x, "material", material);
     }
     let _ = writeln!(x, "      </CellData>");
-    points_and_cells(&mut x, mesh.nodes, mesh.triangles, |tri| {
-        if tri.len() == 6 {
-            VTK_QUADRATIC_TRIANGLE
-        } else {
-            VTK_TRIANGLE
-        }
+    let cells: Vec<Vec<usize>> = mesh.elements.iter().map(|e| vtk_connectivity(e)).collect();
+    points_and_cells(&mut x, mesh.nodes, &cells, |cell| match cell.len() {
+        6 => VTK_QUADRATIC_TRIANGLE,
+        4 => VTK_TETRA,
+        10 => VTK_QUADRATIC_TETRA,
+        _ => VTK_TRIANGLE,
     });
     end_piece(&mut x);
     x
+}
+
+/// An element's nodes in VTK's order: as Gmsh's, but a 10-node tetrahedron's last two
+/// mid-edge nodes swapped (Gmsh edges 32, 31; VTK edges 13, 23).
+fn vtk_connectivity(element: &[usize]) -> Vec<usize> {
+    let mut cell = element.to_vec();
+    if cell.len() == 10 {
+        cell.swap(8, 9);
+    }
+    cell
 }
 
 /// XML header, `TimeValue` (s) as field data, and the opening `<Piece>` tag.
@@ -255,13 +311,22 @@ pub(super) fn end_piece(x: &mut String) {
     let _ = writeln!(x, "</VTKFile>");
 }
 
-/// A 2-vector per entry, written as a 3-vector with z = 0.
-pub(super) fn vectors(x: &mut String, name: &str, data: &[[f64; 2]]) {
+/// A 2- or 3-vector per entry, written as a 3-vector (z = 0 in 2D).
+pub(super) fn vectors<const N: usize>(x: &mut String, name: &str, data: &[[f64; N]]) {
     open_array(x, "Float64", name, 3, 8);
     for v in data {
-        let _ = writeln!(x, "{:e} {:e} 0", v[0], v[1]);
+        write_point(x, v);
     }
     close_array(x, 8);
+}
+
+/// `x y z` (z = 0 for a point in the plane).
+fn write_point(x: &mut String, v: &[f64]) {
+    let _ = match v {
+        [a, b] => writeln!(x, "{a:e} {b:e} 0"),
+        [a, b, c, ..] => writeln!(x, "{a:e} {b:e} {c:e}"),
+        _ => Ok(()),
+    };
 }
 
 /// One integer per entry (`Int32`), e.g. a material index.
@@ -282,9 +347,13 @@ pub(super) fn scalars(x: &mut String, name: &str, data: &[f64]) {
 }
 
 /// `stress` as a symmetric tensor in plain components (VTK order `XX, YY, ZZ, XY, YZ, XZ`,
-/// σxy = m₃/√2, YZ = XZ = 0), then its `von_mises`, `pressure` and `principal_stress`
+/// [`tensor_components`]), then its `von_mises`, `pressure` and `principal_stress`
 /// (3 components, `σ1 ≥ σ2 ≥ σ3`), `derived` from [`derived`].
-pub(super) fn stress_and_invariants(x: &mut String, stress: &[[f64; 4]], derived: &Derived) {
+pub(super) fn stress_and_invariants<const D: usize>(
+    x: &mut String,
+    stress: &[[f64; D]],
+    derived: &Derived,
+) {
     tensor(x, "stress", stress);
     scalars(x, "von_mises", &derived.von_mises);
     scalars(x, "pressure", &derived.pressure);
@@ -299,35 +368,38 @@ pub(super) fn stress_and_invariants(x: &mut String, stress: &[[f64; 4]], derived
 }
 
 /// A Mandel field (stress or strain) as a symmetric tensor in plain components.
-fn tensor(x: &mut String, name: &str, mandel: &[[f64; 4]]) {
+fn tensor<const D: usize>(x: &mut String, name: &str, mandel: &[[f64; D]]) {
     let _ = writeln!(
         x,
         r#"        <DataArray type="Float64" Name="{name}" NumberOfComponents="6" ComponentName0="XX" ComponentName1="YY" ComponentName2="ZZ" ComponentName3="XY" ComponentName4="YZ" ComponentName5="XZ" format="ascii">"#
     );
     for m in mandel {
-        let _ = writeln!(
-            x,
-            "{:e} {:e} {:e} {:e} 0 0",
-            m[0],
-            m[1],
-            m[2],
-            m[3] / SQRT_2
-        );
+        let t = tensor_components(m);
+        if D == 6 {
+            let _ = writeln!(
+                x,
+                "{:e} {:e} {:e} {:e} {:e} {:e}",
+                t[0], t[1], t[2], t[3], t[4], t[5]
+            );
+        } else {
+            let _ = writeln!(x, "{:e} {:e} {:e} {:e} 0 0", t[0], t[1], t[2], t[3]);
+        }
     }
     close_array(x, 8);
 }
 
-/// `<Points>` (z = 0) and `<Cells>`: each cell's point ids, running offsets, VTK types.
-pub(super) fn points_and_cells<C: AsRef<[usize]>>(
+/// `<Points>` (z = 0 in 2D) and `<Cells>`: each cell's point ids, running offsets, VTK
+/// types.
+pub(super) fn points_and_cells<C: AsRef<[usize]>, const N: usize>(
     x: &mut String,
-    points: &[[f64; 2]],
+    points: &[[f64; N]],
     cells: &[C],
     cell_type: impl Fn(&[usize]) -> u8,
 ) {
     let _ = writeln!(x, "      <Points>");
     open_array(x, "Float64", "Points", 3, 8);
     for p in points {
-        let _ = writeln!(x, "{:e} {:e} 0", p[0], p[1]);
+        write_point(x, p);
     }
     close_array(x, 8);
     let _ = writeln!(x, "      </Points>");

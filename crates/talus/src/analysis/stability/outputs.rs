@@ -415,7 +415,7 @@ pub fn write_mechanism(
     let time = found.equilibrium.state.time;
     let mesh = MeshView {
         nodes: &model.mesh.nodes,
-        triangles: &model.mesh.triangles,
+        elements: &model.mesh.triangles,
     };
     let h = scene.spec.time.step;
     let velocity: Vec<[f64; 2]> = t

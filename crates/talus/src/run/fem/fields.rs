@@ -189,7 +189,7 @@ pub(super) fn write_snapshot(
         &FieldSnapshot {
             mesh: MeshView {
                 nodes: &model.mesh.nodes,
-                triangles: &model.mesh.triangles,
+                elements: &model.mesh.triangles,
             },
             time: state.time,
             displacement: &state.displacement,

@@ -57,7 +57,7 @@ pub(super) fn write_plots(
         &out.join("plastic_strain.png"),
         &MeshView {
             nodes: &model.mesh.nodes,
-            triangles: &model.mesh.triangles,
+            elements: &model.mesh.triangles,
         },
         None,
         &plastic,
