@@ -82,6 +82,13 @@ impl SizeEstimate {
                 };
                 (2.0 * cells[0] as f64 * cells[1] as f64, order)
             }
+            MeshSpec::Box { .. } => {
+                return Err(crate::scene::dimension::three_d_key(
+                    scene,
+                    "mesh.box",
+                    "a box of tetrahedra",
+                ))
+            }
             MeshSpec::Gmsh { path, order } => {
                 let mesh = Mesh::from_msh(&scene.resolve(path))
                     .map_err(|e| scene.error("mesh.gmsh.path", e.to_string()))?;

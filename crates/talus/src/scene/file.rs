@@ -1,8 +1,21 @@
 //! A scene file of either kind: finite elements (`[mesh]`) or material points (`[grid]`).
 use std::path::{Path, PathBuf};
 
-use super::source::{error_at, read};
-use super::{MpmScene, Scene, SceneError};
+use super::source::{error_at, read, SceneDocument};
+use super::{MpmScene, Scene, SceneError, SceneSpec};
+
+/// A 3D FEM scene: read and checked key by key (its own errors first), then refused, since
+/// a 3D scene file does not run yet (`docs/3d.md`, 'Next').
+fn three_d_scene(source: &str, path: Option<PathBuf>) -> SceneError {
+    let scene = match SceneDocument::<SceneSpec<[f64; 3]>>::parse(source, path) {
+        Ok(scene) => scene,
+        Err(e) => return e,
+    };
+    if let Err(e) = super::dimension::check(&scene, source, &scene.spec) {
+        return e;
+    }
+    scene.error("analysis.geometry", super::dimension::NO_3D_RUN)
+}
 
 /// What [`SceneFile::parse`] found.
 #[derive(Debug, Clone)]
@@ -24,7 +37,13 @@ impl SceneFile {
             // Not TOML: the FEM parser reports the syntax error with its line.
             return Scene::parse(source, path).map(SceneFile::Fem);
         };
+        let three_d = table
+            .get("analysis")
+            .and_then(|a| a.get("geometry"))
+            .and_then(|g| g.as_str())
+            == Some("3d");
         match (table.contains_key("mesh"), table.contains_key("grid")) {
+            (true, false) if three_d => Err(three_d_scene(source, path)),
             (true, false) => Scene::parse(source, path).map(SceneFile::Fem),
             (false, true) => MpmScene::parse(source, path).map(SceneFile::Mpm),
             (true, true) => {

@@ -1,7 +1,7 @@
 use std::path::PathBuf;
 
 use super::source::{error_at, Locate, SceneDocument};
-use super::{SceneError, SceneSpec};
+use super::{SceneError, SceneSpec, SceneVector};
 
 /// A parsed FEM scene.
 pub type Scene = SceneDocument<SceneSpec>;
@@ -29,7 +29,8 @@ pub fn builtin_footing_with_cells(cells: [usize; 2]) -> Scene {
     scene
 }
 
-impl Scene {
+/// A FEM scene in 2D or 3D (`V` its vectors): the errors and paths of both.
+impl<V: SceneVector> SceneDocument<SceneSpec<V>> {
     /// An error at `field` (a path such as `material.young_modulus` or `boundary[1].nodes`),
     /// with the line where that field stands in the file.
     pub fn error(&self, field: &str, message: impl Into<String>) -> SceneError {
@@ -45,8 +46,8 @@ impl Scene {
     }
 }
 
-impl Locate for Scene {
+impl<V: SceneVector> Locate for SceneDocument<SceneSpec<V>> {
     fn error(&self, field: &str, message: impl Into<String>) -> SceneError {
-        Scene::error(self, field, message)
+        SceneDocument::<SceneSpec<V>>::error(self, field, message)
     }
 }

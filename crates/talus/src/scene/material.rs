@@ -205,9 +205,9 @@ impl<'de> Deserialize<'de> for Materials {
 /// A named region: the elements whose centroid lies in `box` `[[x0, y0], [x1, y1]]` (m).
 /// A Gmsh mesh's physical surfaces are regions under their own names without an entry.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct RegionSpec {
+#[serde(deny_unknown_fields, bound = "")]
+pub struct RegionSpec<V: super::SceneVector = [f64; 2]> {
     pub name: String,
     #[serde(rename = "box")]
-    pub corners: [[f64; 2]; 2],
+    pub corners: [V; 2],
 }

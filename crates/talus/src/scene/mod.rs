@@ -4,6 +4,7 @@
 //! [`SceneFile`] tells the kinds apart: `[mesh]` is a finite-element [`Scene`], `[grid]`
 //! a material-point [`MpmScene`].
 pub mod check;
+pub mod dimension;
 mod error;
 mod file;
 mod load;

@@ -4,10 +4,10 @@ use serde::{Deserialize, Serialize};
 
 /// A monitored point (m): the nearest node (FEM) or the grid-interpolated value (MPM).
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct MonitorSpec {
+#[serde(deny_unknown_fields, bound = "")]
+pub struct MonitorSpec<V: super::SceneVector = [f64; 2]> {
     pub name: String,
-    pub point: [f64; 2],
+    pub point: V,
 }
 
 /// The columns a monitor adds to `history.csv`, in order.

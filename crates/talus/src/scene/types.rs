@@ -1,12 +1,40 @@
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
 use super::{Materials, RegionSpec, SolverSpec, WaterSpec};
 
-/// The whole scene. Optional sections cost nothing when left out: no gravity, no
-/// tractions, default solver settings and outputs.
+/// A point or vector of a scene (m, m/s, m/s², Pa, N): `[x, y]` in plane strain and
+/// axisymmetry, `[x, y, z]` in 3D (`[analysis] geometry = "3d"`, `docs/3d.md`); y is
+/// vertical in both.
+pub trait SceneVector:
+    Copy
+    + Default
+    + std::fmt::Debug
+    + PartialEq
+    + Serialize
+    + DeserializeOwned
+    + AsRef<[f64]>
+    + AsMut<[f64]>
+    + Send
+    + Sync
+    + 'static
+{
+    /// 2 or 3.
+    const DIM: usize;
+}
+impl SceneVector for [f64; 2] {
+    const DIM: usize = 2;
+}
+impl SceneVector for [f64; 3] {
+    const DIM: usize = 3;
+}
+
+/// The whole scene, its points and vectors `V` (2D by default, [`SceneVector`]).
+/// Optional sections cost nothing when left out: no gravity, no tractions, default solver
+/// settings and outputs.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct SceneSpec {
+#[serde(deny_unknown_fields, bound = "")]
+pub struct SceneSpec<V: SceneVector = [f64; 2]> {
     #[serde(default)]
     pub title: Option<String>,
     pub mesh: MeshSpec,
@@ -14,25 +42,26 @@ pub struct SceneSpec {
     pub material: Materials,
     /// Named regions of the mesh by box (Gmsh physical surfaces are regions already).
     #[serde(default)]
-    pub region: Vec<RegionSpec>,
+    pub region: Vec<RegionSpec<V>>,
     /// A drained water table (default: dry).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub water: Option<WaterSpec>,
-    /// Body acceleration (m/s²), e.g. `[0.0, -9.81]`; absent means weightless.
+    /// Body acceleration (m/s²), e.g. `[0.0, -9.81]` (3D: `[0.0, -9.81, 0.0]`); absent
+    /// means weightless.
     #[serde(default)]
-    pub gravity: Option<[f64; 2]>,
+    pub gravity: Option<V>,
     /// Multiplier of `gravity` in time (see [`Ramp`](super::Ramp)); default constant 1.
     #[serde(default)]
     pub gravity_ramp: Option<Vec<[f64; 2]>>,
     #[serde(default)]
-    pub boundary: Vec<BoundarySpec>,
+    pub boundary: Vec<BoundarySpec<V>>,
     #[serde(default)]
-    pub traction: Vec<TractionSpec>,
+    pub traction: Vec<TractionSpec<V>>,
     #[serde(default)]
-    pub pressure: Vec<PressureSpec>,
+    pub pressure: Vec<PressureSpec<V>>,
     /// Forces at the nodes nearest given points.
     #[serde(default)]
-    pub point_load: Vec<PointLoadSpec>,
+    pub point_load: Vec<PointLoadSpec<V>>,
     pub time: TimeSpec,
     /// Initial stress (default: stress free).
     #[serde(default)]
@@ -46,7 +75,7 @@ pub struct SceneSpec {
     pub output: OutputSpec,
     /// Points whose displacement and velocity are recorded (`docs/scenes.md`, 'Results').
     #[serde(default)]
-    pub monitor: Vec<super::MonitorSpec>,
+    pub monitor: Vec<super::MonitorSpec<V>>,
     /// A factor of safety instead of a run to the end (`docs/stability.md`).
     #[serde(default)]
     pub stability: Option<super::StabilitySpec>,
@@ -75,6 +104,20 @@ pub enum MeshSpec {
         #[serde(default = "uniform")]
         ratio: [f64; 2],
     },
+    /// A structured box of tetrahedra (3D: each hexahedral cell cut into 6), graded
+    /// geometrically away from `focus` by `ratio` per cell along each axis; sets `left`,
+    /// `right` (x), `bottom`, `top` (y), `back`, `front` (z).
+    Box {
+        x: [f64; 2],
+        y: [f64; 2],
+        z: [f64; 2],
+        cells: [usize; 3],
+        order: Order,
+        #[serde(default)]
+        focus: Option<[f64; 3]>,
+        #[serde(default = "uniform3")]
+        ratio: [f64; 3],
+    },
     /// A Gmsh `.msh` 4.1 file, relative to the scene file; `order = "P2"` turns a linear
     /// (P1) mesh into P2, with mid-edge nodes on straight edges.
     Gmsh {
@@ -88,35 +131,67 @@ fn uniform() -> [f64; 2] {
     [1.0, 1.0]
 }
 
-/// Nodes by the name of a mesh set or by an axis-aligned box `[[xmin, ymin], [xmax, ymax]]`.
+fn uniform3() -> [f64; 3] {
+    [1.0, 1.0, 1.0]
+}
+
+/// Nodes by the name of a mesh set or by an axis-aligned box `[[xmin, ymin], [xmax, ymax]]`
+/// (3D: `[[x0, y0, z0], [x1, y1, z1]]`).
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
-#[serde(untagged)]
-pub enum Selection {
+#[serde(untagged, bound = "")]
+pub enum Selection<V: SceneVector = [f64; 2]> {
     Named(String),
     Box {
         #[serde(rename = "box")]
-        corners: [[f64; 2]; 2],
+        corners: [V; 2],
     },
 }
 
+/// The fixed velocity components: `"x"`, `"y"`, `"xy"` in 2D; also `"z"`, `"xz"`,
+/// `"yz"`, `"xyz"` in 3D.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Fix {
     X,
     Y,
     Xy,
+    Z,
+    Xz,
+    Yz,
+    Xyz,
+}
+
+impl Fix {
+    /// Whether velocity component `comp` (0: x, 1: y, 2: z) is fixed.
+    pub fn fixes(self, comp: usize) -> bool {
+        let axes: &[usize] = match self {
+            Fix::X => &[0],
+            Fix::Y => &[1],
+            Fix::Z => &[2],
+            Fix::Xy => &[0, 1],
+            Fix::Xz => &[0, 2],
+            Fix::Yz => &[1, 2],
+            Fix::Xyz => &[0, 1, 2],
+        };
+        axes.contains(&comp)
+    }
+
+    /// Whether it names z, which a 2D scene has not.
+    pub fn names_z(self) -> bool {
+        self.fixes(2)
+    }
 }
 
 /// Dirichlet condition: the fixed components move at `velocity` (default 0, m/s).
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct BoundarySpec {
+#[serde(deny_unknown_fields, bound = "")]
+pub struct BoundarySpec<V: SceneVector = [f64; 2]> {
     #[serde(default)]
     pub name: Option<String>,
-    pub nodes: Selection,
+    pub nodes: Selection<V>,
     pub fix: Fix,
     #[serde(default)]
-    pub velocity: [f64; 2],
+    pub velocity: V,
     /// Multiplier of `velocity` in time; default constant 1.
     #[serde(default)]
     pub ramp: Option<Vec<[f64; 2]>>,
@@ -125,12 +200,14 @@ pub struct BoundarySpec {
     pub stages: Option<Vec<String>>,
 }
 
-/// Surface traction (Pa) on the boundary edges selected.
+/// Surface traction (Pa) on the boundary edges (3D: faces) selected.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct TractionSpec {
-    pub edges: Selection,
-    pub value: [f64; 2],
+#[serde(deny_unknown_fields, bound = "")]
+pub struct TractionSpec<V: SceneVector = [f64; 2]> {
+    /// `edges` in 2D, `faces` in 3D (`scene::dimension` refuses the other key).
+    #[serde(alias = "faces")]
+    pub edges: Selection<V>,
+    pub value: V,
     /// Multiplier of `value` in time; default constant 1.
     #[serde(default)]
     pub ramp: Option<Vec<[f64; 2]>>,
@@ -142,9 +219,11 @@ pub struct TractionSpec {
 /// Normal pressure (Pa, positive pushing into the body) on the boundary edges selected,
 /// straight or curved; each edge's outward normal comes from its triangle.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct PressureSpec {
-    pub edges: Selection,
+#[serde(deny_unknown_fields, bound = "")]
+pub struct PressureSpec<V: SceneVector = [f64; 2]> {
+    /// `edges` in 2D, `faces` in 3D (`scene::dimension` refuses the other key).
+    #[serde(alias = "faces")]
+    pub edges: Selection<V>,
     /// Pa; with `gradient`, the pressure at y = 0.
     pub value: f64,
     /// dp/dy (Pa/m): the pressure is `value + gradient · y`, e.g. water on a wall,
@@ -162,10 +241,10 @@ pub struct PressureSpec {
 /// A force (N per metre of thickness; axisymmetric: N per radian) on the node nearest
 /// `point` (m).
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct PointLoadSpec {
-    pub point: [f64; 2],
-    pub force: [f64; 2],
+#[serde(deny_unknown_fields, bound = "")]
+pub struct PointLoadSpec<V: SceneVector = [f64; 2]> {
+    pub point: V,
+    pub force: V,
     /// Multiplier of `force` in time; default constant 1.
     #[serde(default)]
     pub ramp: Option<Vec<[f64; 2]>>,
@@ -240,6 +319,8 @@ pub enum GeometryKind {
     /// A meridian section, `x = r ≥ 0`, `y` the axis; integrals per radian, reported
     /// forces for the whole circumference.
     Axisymmetric,
+    /// A 3D body on tetrahedra (`docs/3d.md`); forces in N.
+    ThreeD,
 }
 
 /// By name, with an error that names the field and the value (serde's own names neither
@@ -250,8 +331,10 @@ impl<'de> Deserialize<'de> for GeometryKind {
         match name.as_str() {
             "plane_strain" => Ok(GeometryKind::PlaneStrain),
             "axisymmetric" => Ok(GeometryKind::Axisymmetric),
+            "3d" => Ok(GeometryKind::ThreeD),
             _ => Err(serde::de::Error::custom(format!(
-                "analysis.geometry = \"{name}\": expected \"plane_strain\" or \"axisymmetric\""
+                "analysis.geometry = \"{name}\": expected \"plane_strain\", \"axisymmetric\" \
+                 or \"3d\""
             ))),
         }
     }
@@ -262,6 +345,7 @@ impl Serialize for GeometryKind {
         s.serialize_str(match self {
             GeometryKind::PlaneStrain => "plane_strain",
             GeometryKind::Axisymmetric => "axisymmetric",
+            GeometryKind::ThreeD => "3d",
         })
     }
 }
@@ -272,7 +356,7 @@ impl GeometryKind {
     pub fn force_unit(self) -> &'static str {
         match self {
             GeometryKind::PlaneStrain => "N/m",
-            GeometryKind::Axisymmetric => "N",
+            GeometryKind::Axisymmetric | GeometryKind::ThreeD => "N",
         }
     }
 
@@ -280,6 +364,7 @@ impl GeometryKind {
         match self {
             GeometryKind::PlaneStrain => talus_fem::Geometry::PlaneStrain,
             GeometryKind::Axisymmetric => talus_fem::Geometry::Axisymmetric,
+            GeometryKind::ThreeD => talus_fem::Geometry::ThreeDimensional,
         }
     }
 }

@@ -5,6 +5,7 @@ use talus_fem::{
     State,
 };
 
+use crate::scene::dimension::three_d_key;
 use crate::scene::{
     check, scales, scales::ramp_max, AnalysisKind, Fix, MeshSpec, Order, Ramp, Scene, SceneError,
     SceneSpec, Selection, TimeSpec, WaterSpec, WaterTable,
@@ -112,6 +113,10 @@ pub(super) fn build(
             Fix::X => Constraint::FixX,
             Fix::Y => Constraint::FixY,
             Fix::Xy => Constraint::Fixed,
+            Fix::Z | Fix::Xz | Fix::Yz | Fix::Xyz => {
+                let what = format!("{:?} names z, which", b.fix);
+                return Err(three_d_key(scene, &format!("boundary[{k}].fix"), &what));
+            }
         };
         if !b.velocity.iter().all(|v| v.is_finite()) {
             return Err(scene.error(&format!("boundary[{k}].velocity"), "must be finite"));
@@ -211,7 +216,7 @@ pub(super) fn build(
         let is_reaction = b.name.is_some() && b.name == spec.output.reaction;
         for &n in nodes {
             for comp in 0..2 {
-                let fixed = matches!((b.fix, comp), (Fix::Xy, _) | (Fix::X, 0) | (Fix::Y, 1));
+                let fixed = b.fix.fixes(comp);
                 if let (true, Some(j)) = (fixed, dofs.prescribed(n, comp)) {
                     prescribed_velocity[j] = b.velocity[comp];
                     owner[j] = k;
@@ -548,6 +553,7 @@ fn check_scales(scene: &Scene, mesh: &Mesh) -> Result<(), SceneError> {
 }
 
 pub(super) fn build_mesh(scene: &Scene) -> Result<Mesh, SceneError> {
+    crate::scene::dimension::check(scene, &scene.source, &scene.spec)?;
     match &scene.spec.mesh {
         MeshSpec::Rectangle {
             x,
@@ -579,6 +585,7 @@ pub(super) fn build_mesh(scene: &Scene) -> Result<Mesh, SceneError> {
             Mesh::rectangle(&xs, &ys, order)
                 .map_err(|e| scene.error("mesh.rectangle", e.to_string()))
         }
+        MeshSpec::Box { .. } => Err(three_d_key(scene, "mesh.box", "a box of tetrahedra")),
         MeshSpec::Gmsh { path, order } => {
             // The .msh file named as well as the scene's line: the error is in it.
             let file = scene.resolve(path);
