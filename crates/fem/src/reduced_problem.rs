@@ -25,10 +25,10 @@ use crate::{Loads, Model, State};
 pub struct FemStats {
     /// Reaction on the reported boundary: the force it applies to the body, vertical,
     /// positive downward, N per metre of thickness (axisymmetric: N on the whole
-    /// circumference, `2π` times the per-radian force).
+    /// circumference, `2π` times the per-radian force; 3D: N).
     pub reaction_force: f64,
-    /// Force each prescribed dof's condition applies to the body (N/m, or N per radian,
-    /// [`prescribed_forces`]).
+    /// Force each prescribed dof's condition applies to the body (N/m, N per radian, or N
+    /// in 3D, [`prescribed_forces`]).
     pub prescribed_forces: Vec<f64>,
 }
 
@@ -111,7 +111,8 @@ where
     }
 
     /// The reaction of the reported boundary in a state at rest (`M a = 0`): `Bᵀσ − f` on
-    /// its vertical prescribed dofs, positive downward (N/m), `f` at the state's time.
+    /// its vertical prescribed dofs, positive downward (N/m; N in 3D), `f` at the state's
+    /// time.
     pub fn reaction(&self, state: &State<D>) -> f64 {
         self.reported_reaction(&prescribed_forces_at_rest(self, state))
     }

@@ -21,21 +21,24 @@
 //! pressure, `σ = −p_c 1` at every Gauss point, in equilibrium with the pressure on its
 //! outer faces, the top's carried by the platen's prescribed dofs; then the platen moves
 //! down at 1 mm/s (axial strain rate 1 %/s), quasi-static (masses `r h² K_jj`,
-//! `r = 1e-4`, as the scene's `inertia_ratio`), 60 steps of 0.05 s: 3 % axial strain, the
-//! peak reached near 0.45 %. Measured, as the scene does:
+//! `r = 1e-5`, [`INERTIA_RATIO`]), 120 steps of 0.05 s: 6 % axial strain, the peak reached
+//! near 0.45 %. Measured, as the scene does:
 //! - the peak deviator `q = σ_1 − σ_3` from the platen's reaction, `F / L²` (the top
 //!   pressure loads the platen's dofs and is subtracted, so the reaction is the deviator
 //!   force), over the whole last third of the run;
 //! - the dilatancy ratio `dε_v/dε_1` over the last third, from the displacement of the
 //!   corner `(L, L, L)`: `ε_i = u_i / L`;
-//! - the stress of every Gauss point: `σ_xx = σ_zz = −p_c`, `σ_yy = −(p_c + q)`, the three
-//!   shear components (Mandel rows 3–5, `√2 yz, √2 xz, √2 xy`) 0;
+//! - the stress of every Gauss point: `σ_xx = σ_zz = −p_c` over the last third, and at the
+//!   end `σ_yy = −(p_c + q)` and the three shear components (Mandel rows 3–5,
+//!   `√2 yz, √2 xz, √2 xy`) 0, all to 1e-6; at every step, the lateral stresses within
+//!   the inertial transients' bound (`INERTIA_RATIO`);
 //! - the forces of the rollers: `p_c L²` on x = 0 and z = 0, `(p_c + q) L²` on y = 0.
 //!
 //! The reaction passes through `B` (its 3D rows), the face pressures, the quasi-static
 //! masses and the engine's update (`prescribed_forces`); the closed forms use `k_d` of the
 //! material (`DruckerPrager::k_d`, from its `ConeFit`), and the other fit's `k_d` misses
-//! by far more than the tolerance.
+//! by far more than the tolerance. Solver: the scene's, `StepSettings::fem()` (talus-ssn's
+//! `Settings::fem()`, 8 halvings).
 use std::time::Instant;
 
 use nalgebra::{SMatrix, SVector};
@@ -58,12 +61,24 @@ const POISSON: f64 = 0.3;
 const PHI: f64 = 30.0;
 const COHESION: f64 = 5.0e3;
 const P_C: f64 = 1.0e5;
-/// Platen velocity (m/s, downward), step (s), steps: 0.05 % axial strain per step, 3 % in all.
+/// Platen velocity (m/s, downward), step (s), steps: 0.05 % axial strain per step, 6 % in
+/// all (the residual stresses of the yield onset's transient fade slowly, below).
 const PLATEN: f64 = 1.0e-3;
 const H: f64 = 0.05;
-const STEPS: usize = 60;
-/// Quasi-static masses `r h² K_jj` (`scenes/triaxial.toml`: `inertia_ratio = 1e-4`).
-const INERTIA_RATIO: f64 = 1e-4;
+const STEPS: usize = 120;
+/// Quasi-static masses `r h² K_jj`, with `r` ten times below `scenes/triaxial.toml`'s
+/// `inertia_ratio = 1e-4`. Two errors pull `r` apart. At the yield onset the lateral
+/// velocity jumps from the elastic to the plastic rate, and the inertial forces of that
+/// jump (`M` is not proportional to the nodes' volumes, and interior nodes accelerate
+/// too) leave a non-uniform stress of about `11 r p_c`; once the body flows plastically
+/// that self-equilibrated residual fades only slowly (by 5 % per step at first, then
+/// 0.4 %: a perturbation along the cone's meridian does not turn the flow, so it barely
+/// relaxes), so the Gauss points stay apart by about 1.5e-3 of that transient. The plateau's
+/// velocities, recovered as `M⁻¹` times a force imbalance of the Newton tolerance, carry
+/// an error `∝ 1/r`. Measured on the P2 cube, 120 steps: `r = 1e-4`: dε_v/dε_1 to 5e-8,
+/// lateral stress off by 1.8e-6 p_c (fails 1e-6); `1e-5`: 1e-7 and 1.8e-7 p_c; `3e-6`:
+/// 5e-7 and 5e-8 p_c; `1e-6` (60 steps): 1e-6 on the ratio (fails).
+const INERTIA_RATIO: f64 = 1e-5;
 /// The tolerance (relative; absolute on quantities whose closed form is 0, in
 /// units of p_c for stresses).
 const TOL: f64 = 1e-6;
@@ -173,7 +188,11 @@ fn cube(order: ElementOrder, soil: DruckerPrager) -> (Model<6>, State<6>, usize)
         model.add_load(load, None);
     }
     for &n in &top {
-        let j = model.assembly.dofs().prescribed(n, 1).expect("a platen dof");
+        let j = model
+            .assembly
+            .dofs()
+            .prescribed(n, 1)
+            .expect("a platen dof");
         model.prescribed_velocity[j] = -PLATEN;
         model.reaction_dofs.push((j, 1));
     }
@@ -260,7 +279,10 @@ fn run(order: ElementOrder, fit: ConeFit, theta: f64) -> Run {
         report = Some(r);
     }
     let seconds = start.elapsed().as_secs_f64();
-    let (u0, u1) = (from.expect("the plateau's start"), state.displacement[corner]);
+    let (u0, u1) = (
+        from.expect("the plateau's start"),
+        state.displacement[corner],
+    );
     let strain = |k: usize| (u1[k] - u0[k]) / L;
     let (e_x, e_1, e_z) = (strain(0), strain(1), strain(2));
 
@@ -300,7 +322,11 @@ fn run(order: ElementOrder, fit: ConeFit, theta: f64) -> Run {
         axial_spread: hi - lo,
         axial_q: -axial_mean - P_C,
         rollers: [roller("left", 0), roller("bottom", 1), roller("back", 2)],
-        plastic_strain: state.plastic_strain.iter().copied().fold(f64::INFINITY, f64::min),
+        plastic_strain: state
+            .plastic_strain
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min),
         newton_iterations: newton,
         max_newton_iterations: max_newton,
         substeps,
@@ -374,7 +400,14 @@ fn check(order: ElementOrder, fit: ConeFit, theta: f64) {
         r.lateral_ratio
     );
 
-    // The stress of every Gauss point: lateral −p_c, axial −(p_c + q), no shear.
+    // The stress of every Gauss point: lateral −p_c, axial −(p_c + q), no shear; off it
+    // only by the inertial transients of the start and of the yield onset (≈ 11 r p_c,
+    // `INERTIA_RATIO`), and to 1e-6 over the plateau.
+    assert!(
+        r.lateral_worst_any_step <= 20.0 * INERTIA_RATIO * P_C,
+        "{case}: a lateral stress was off −p_c by {} Pa",
+        r.lateral_worst_any_step
+    );
     assert!(
         r.lateral_worst_plateau <= TOL * P_C,
         "{case}: a lateral stress is off −p_c by {} Pa on the plateau",

@@ -1,5 +1,7 @@
 //! Loads on the faces of a tetrahedral mesh (3D, N): tractions and normal pressures over
-//! [`BoundaryFace`]s, the 3D counterparts of `loads.rs`' edge loads. A face is a P1 or P2
+//! [`BoundaryFace`]s, the 3D counterparts of `loads.rs`' edge loads. Each face is first
+//! checked to be on the boundary and turned outward
+//! ([`TetrahedralMesh::orient_boundary_faces`]), as 2D edges are. A face is a P1 or P2
 //! triangle `x(ξ, η)` in Gmsh order, counter-clockwise seen from outside, so
 //! `∂x/∂ξ × ∂x/∂η dξ dη = n dA` with `n` the outward normal. Radon's 7-point rule
 //! (degree 5) integrates `p N_a n dA` exactly for a `p` linear in space on flat and
@@ -105,20 +107,10 @@ impl Assembly<6> {
                 ),
             ));
         }
-        let npf = mesh.order.nodes_per_triangle();
+        let faces = mesh.orient_boundary_faces(faces)?;
         let rule = mass_rule();
         let mut out = self.zero_forces();
         for (k, face) in faces.iter().enumerate() {
-            if face.nodes.len() != npf || face.nodes.iter().any(|&n| n >= mesh.nodes.len()) {
-                return Err(FemError::invalid(
-                    "faces",
-                    format!(
-                        "face {:?} must have {npf} nodes below {}",
-                        face.nodes,
-                        mesh.nodes.len()
-                    ),
-                ));
-            }
             for (q, (xi, w)) in rule.points.iter().zip(rule.weights).enumerate() {
                 let n = mesh.order.shape_functions(*xi);
                 let dn = mesh.order.reference_gradients(*xi);

@@ -44,7 +44,7 @@ impl GaussData {
                 let weight = geometry.weight(m.position);
                 if !(weight.is_finite() && weight > 0.0) {
                     return Err(MeshError::element(
-                        format!("triangle {e}"),
+                        format!("element {e}"),
                         format!(
                             "its Gauss point at {:?} lies at r = {:e} m: an axisymmetric \
                              element must lie in r > 0 inside",

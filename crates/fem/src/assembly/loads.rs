@@ -93,7 +93,7 @@ where
         out
     }
 
-    /// A force `[fx, fy]` (N) on one node, split into free and prescribed dofs like the
+    /// A force `[fx, fy]` (3D: `[fx, fy, fz]`, N) on one node, split into free and prescribed dofs like the
     /// other loads (a component on a prescribed dof enters only the reaction). Plane
     /// strain: N per metre of thickness (a line load along the out-of-plane direction).
     /// Axisymmetric: N per radian, like every load there (`[F_r, F_y]`): a ring load of

@@ -49,9 +49,10 @@ where
     pub b_free: SparseColMat<usize, f64>,
     /// `(D·n_gp) × n_prescribed`: the same rows for the prescribed dofs.
     pub b_prescribed: SparseColMat<usize, f64>,
-    /// Lumped mass per free dof (kg/m), all > 0.
+    /// Lumped mass per free dof (kg/m in plane strain, kg per radian in axisymmetry, kg
+    /// in 3D), all > 0.
     pub lumped_mass_free: Vec<f64>,
-    /// Lumped mass per prescribed dof (kg/m).
+    /// Lumped mass per prescribed dof (same units).
     pub lumped_mass_prescribed: Vec<f64>,
     dofs: DofMap,
     gauss: GaussData,
@@ -262,7 +263,7 @@ where
             .collect())
     }
 
-    /// Internal force `Bᵀσ` (N/m, or N per radian) on free and prescribed dofs for Mandel stresses `σ`
+    /// Internal force `Bᵀσ` (N/m, N per radian, or N in 3D) on free and prescribed dofs for Mandel stresses `σ`
     /// (Pa, flat, `D` per Gauss point). On prescribed dofs it is the reaction's main part.
     pub fn internal_force(&self, sigma: &[f64]) -> Result<(Vec<f64>, Vec<f64>), FemError> {
         if sigma.len() != D * self.n_points() {

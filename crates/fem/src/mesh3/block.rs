@@ -2,7 +2,7 @@
 //! tetrahedra around its diagonal from the lowest to the highest corner (Kuhn's
 //! subdivision), so every face of the grid is cut along the diagonal through its own
 //! lowest corner in both cells that share it: the mesh is conforming.
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 
 use super::{face_key, TetrahedralMesh, TETRAHEDRON_FACES};
 use crate::element::tet10::EDGES;
@@ -125,12 +125,7 @@ fn is_direct(v: &[[usize; 3]], nodes: &[[f64; 3]], id: impl Fn([usize; 3]) -> us
 /// Each side's nodes and outward faces: the tetrahedron faces met once whose vertices all
 /// lie on that side's plane.
 fn add_sides(mesh: &mut TetrahedralMesh, refined: &[Vec<f64>]) {
-    let mut count: HashMap<[usize; 3], usize> = HashMap::new();
-    for t in &mesh.tetrahedra {
-        for f in 0..4 {
-            *count.entry(face_key(t, f)).or_default() += 1;
-        }
-    }
+    let boundary = mesh.boundary_face_owners();
     for (name, axis, upper) in SIDES {
         let plane = if upper {
             refined[axis][refined[axis].len() - 1]
@@ -142,7 +137,7 @@ fn add_sides(mesh: &mut TetrahedralMesh, refined: &[Vec<f64>]) {
         let mut faces = Vec::new();
         for (e, t) in mesh.tetrahedra.iter().enumerate() {
             for (f, vertices) in TETRAHEDRON_FACES.iter().enumerate() {
-                if count[&face_key(t, f)] == 1 && vertices.iter().all(|&v| on(t[v])) {
+                if boundary.contains_key(&face_key(t, f)) && vertices.iter().all(|&v| on(t[v])) {
                     faces.push(mesh.boundary_face(e, f));
                 }
             }

@@ -2,7 +2,7 @@
 //! vertical axis, as in 2D): nodes, tetrahedra, named node, face and element sets.
 //! [`TetrahedralMesh::block`] builds structured ones, [`TetrahedralMesh::from_msh`] reads
 //! Gmsh's.
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 
 use crate::element::tetrahedron::tetrahedron_jacobian_determinant;
 use crate::element::ElementOrder;
@@ -66,6 +66,63 @@ impl TetrahedralMesh {
             nodes.extend(TETRAHEDRON_FACE_MID_NODES[f].iter().map(|&m| t[m]));
         }
         BoundaryFace { nodes }
+    }
+
+    /// The boundary: each face met by one tetrahedron only, by its sorted vertices
+    /// ([`face_key`]), with that tetrahedron and its local face.
+    pub(crate) fn boundary_face_owners(&self) -> HashMap<[usize; 3], (usize, usize)> {
+        let mut seen: HashMap<[usize; 3], Option<(usize, usize)>> = HashMap::new();
+        for (e, t) in self.tetrahedra.iter().enumerate() {
+            for f in 0..4 {
+                seen.entry(face_key(t, f))
+                    .and_modify(|owner| *owner = None)
+                    .or_insert(Some((e, f)));
+            }
+        }
+        seen.into_iter()
+            .filter_map(|(k, owner)| owner.map(|o| (k, o)))
+            .collect()
+    }
+
+    /// `faces` as this mesh's boundary faces, each turned outward (with its mid-edge nodes
+    /// in P2) whatever the order its nodes were given in, so that a pressure pushes into
+    /// the body. A face with the wrong node count or an unknown node, an interior face and
+    /// a triangle that is no face of the mesh are refused, naming `faces` and the face.
+    pub fn orient_boundary_faces(
+        &self,
+        faces: &[BoundaryFace],
+    ) -> Result<Vec<BoundaryFace>, MeshError> {
+        let per_face = self.order.nodes_per_triangle();
+        let owners = self.boundary_face_owners();
+        faces
+            .iter()
+            .enumerate()
+            .map(|(k, face)| {
+                let n = &face.nodes;
+                if n.len() != per_face || n.iter().any(|&v| v >= self.nodes.len()) {
+                    return Err(MeshError::invalid(
+                        "faces",
+                        format!(
+                            "face {k} {n:?} must have {per_face} nodes below {}",
+                            self.nodes.len()
+                        ),
+                    ));
+                }
+                let mut key = [n[0], n[1], n[2]];
+                key.sort_unstable();
+                let &(e, f) = owners.get(&key).ok_or_else(|| {
+                    MeshError::invalid(
+                        "faces",
+                        format!(
+                            "face {k} (vertices {:?}) is not on the boundary of the mesh: an \
+                             interior face, or no face of a tetrahedron",
+                            &n[..3]
+                        ),
+                    )
+                })?;
+                Ok(self.boundary_face(e, f))
+            })
+            .collect()
     }
 
     /// Checks every tetrahedron: the right node count, known nodes, and `det J > 0` at its

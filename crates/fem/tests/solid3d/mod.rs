@@ -4,6 +4,7 @@
 //! nodal fields split into free and prescribed dofs, and distorted tetrahedral blocks.
 #![allow(dead_code)]
 use faer::linalg::solvers::Solve;
+use faer::prelude::Reborrow;
 use faer::sparse::linalg::matmul::sparse_sparse_matmul;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{MatMut, Par, Side};
