@@ -6,7 +6,7 @@
 //! `∂x/∂ξ × ∂x/∂η dξ dη = n dA` with `n` the outward normal. Radon's 7-point rule
 //! (degree 5) integrates `p N_a n dA` exactly for a `p` linear in space on flat and
 //! curved (P2) faces: `N_a` has degree 2, `∂x/∂ξ × ∂x/∂η` degree 2 on a P2 face.
-use super::loads::check_vector;
+use super::loads::{check_vector, finite_pressure};
 use super::Assembly;
 use crate::error::FemError;
 use crate::mesh3::{BoundaryFace, TetrahedralMesh};
@@ -69,21 +69,7 @@ impl Assembly<6> {
         self.face_integral(
             mesh,
             faces,
-            |k, q, x| {
-                let value = p(x);
-                if value.is_finite() {
-                    Ok(value)
-                } else {
-                    Err(FemError::invalid(
-                        "pressure",
-                        format!(
-                            "p = {value} Pa at quadrature point {q} ({x:?}) of face {k} \
-                             (nodes {:?}) must be finite",
-                            faces[k].nodes
-                        ),
-                    ))
-                }
-            },
+            |k, q, x| finite_pressure(p(x), q, &x, ("face", k, &faces[k].nodes)),
             |w, n, normal, &pk| normal.map(|c| -w * n * pk * c),
         )
     }

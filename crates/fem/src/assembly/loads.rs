@@ -29,6 +29,27 @@ const GL4_WEIGHTS: [f64; 4] = [
     0.173_927_422_568_726_93,
 ];
 
+/// A varying pressure's value `p` (Pa) at quadrature point `q` (at `x`) of facet `k`
+/// (`kind` "edge" or "face", its nodes given), refused unless finite.
+pub(super) fn finite_pressure(
+    p: f64,
+    q: usize,
+    x: &[f64],
+    (kind, k, nodes): (&str, usize, &[usize]),
+) -> Result<f64, FemError> {
+    if p.is_finite() {
+        Ok(p)
+    } else {
+        Err(FemError::invalid(
+            "pressure",
+            format!(
+                "p = {p} Pa at quadrature point {q} ({x:?}) of {kind} {k} (nodes {nodes:?}) \
+                 must be finite"
+            ),
+        ))
+    }
+}
+
 pub(super) fn check_vector(field: &'static str, v: &[f64]) -> Result<(), FemError> {
     if v.iter().all(|x| x.is_finite()) {
         Ok(())
@@ -208,21 +229,7 @@ impl Assembly<4> {
             mesh,
             &oriented,
             (&GL4_POINTS, &GL4_WEIGHTS),
-            |k, q, x| {
-                let value = p(x);
-                if value.is_finite() {
-                    Ok(value)
-                } else {
-                    Err(FemError::invalid(
-                        "pressure",
-                        format!(
-                            "p = {value} Pa at quadrature point {q} ({x:?}) of edge {k} \
-                             (nodes {:?}) must be finite",
-                            edges[k].nodes
-                        ),
-                    ))
-                }
-            },
+            |k, q, x| finite_pressure(p(x), q, &x, ("edge", k, &edges[k].nodes)),
             |w, n, tangent, &pk| [-w * n * pk * tangent[1], w * n * pk * tangent[0]],
         )
     }
