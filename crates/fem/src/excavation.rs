@@ -40,7 +40,10 @@
 //! - Other loads that `R` carried (a traction on its edges, a point force on a node only
 //!   it holds) reach `K` through it: add their nodal forces (the `Assembly`'s load
 //!   methods, spread over nodes by `DofMap::scatter`) to `F`.
-use crate::{Dof, DofMap, FemError, Model, State};
+use crate::dofs::{Dof, DofMap};
+use crate::error::FemError;
+use crate::model::Model;
+use crate::state::State;
 
 /// Whether each triangle of a mesh of `n_triangles` is in `elements` (each once, in range).
 fn selection(n_triangles: usize, elements: &[usize]) -> Result<Vec<bool>, FemError> {

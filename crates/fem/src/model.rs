@@ -8,7 +8,8 @@ use talus_bipotential::{FlowRule, Material};
 use talus_engine::Ramp;
 
 use crate::dimension::{Dimension, ElementMesh, Mandel};
-use crate::{Assembly, FemError};
+use crate::assembly::Assembly;
+use crate::error::FemError;
 
 /// A load that follows a ramp: its nodal forces at multiplier 1 (N/m).
 #[derive(Debug, Clone, PartialEq)]

@@ -18,7 +18,8 @@ use talus_ssn::{
 use crate::assembly::add_mul_transpose;
 use crate::dofs::Dof;
 use crate::dimension::{Dimension, Mandel};
-use crate::{Loads, Model, State};
+use crate::model::{Loads, Model};
+use crate::state::State;
 
 /// What a FEM sub-step measured.
 #[derive(Debug, Clone, PartialEq)]
