@@ -54,7 +54,11 @@ pub trait Discretization<const D: usize = 4> {
     fn loading(&self, state: &Self::State, h: f64) -> Loading;
 
     /// Eqs. 15–16 for the sub-step of length `h` from `state`.
-    fn begin(&self, state: &Self::State, h: f64) -> Result<(Self::Substep, Problem<D>), Self::Error>;
+    fn begin(
+        &self,
+        state: &Self::State,
+        h: f64,
+    ) -> Result<(Self::Substep, Problem<D>), Self::Error>;
 
     /// After a converged solve (`sigma`, `z = Wσ + q`): `None` when the sub-step is
     /// settled, or the next problem to solve from `sigma` (MPM's friction passes).
@@ -107,7 +111,11 @@ impl<T: Discretization<D>, const D: usize> Discretization<D> for &T {
     fn loading(&self, state: &Self::State, h: f64) -> Loading {
         (**self).loading(state, h)
     }
-    fn begin(&self, state: &Self::State, h: f64) -> Result<(Self::Substep, Problem<D>), Self::Error> {
+    fn begin(
+        &self,
+        state: &Self::State,
+        h: f64,
+    ) -> Result<(Self::Substep, Problem<D>), Self::Error> {
         (**self).begin(state, h)
     }
     fn after_solve(

@@ -4,7 +4,7 @@
 //! [`Assembly`](crate::Assembly), [`Model`](crate::Model) and [`State`](crate::State) are
 //! generic over that Mandel size `D` (4 by default); [`Dimension`] says what each size
 //! means, [`ElementMesh`] what the operators read from its meshes.
-use crate::element::tetrahedron::{map_tetrahedron_point, mandel_strain_rows};
+use crate::element::tetrahedron::{mandel_strain_rows, map_tetrahedron_point};
 use crate::element::{map_point, ElementOrder};
 use crate::error::MeshError;
 use crate::geometry::Geometry;

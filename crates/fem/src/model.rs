@@ -7,8 +7,8 @@ use nalgebra::SMatrix;
 use talus_bipotential::{FlowRule, Material};
 use talus_engine::Ramp;
 
-use crate::dimension::{Dimension, ElementMesh, Mandel};
 use crate::assembly::Assembly;
+use crate::dimension::{Dimension, ElementMesh, Mandel};
 use crate::error::FemError;
 
 /// A load that follows a ramp: its nodal forces at multiplier 1 (N/m).
@@ -307,9 +307,11 @@ fn smallest_side<P: AsRef<[f64]>>(nodes: &[P]) -> f64 {
     let dim = nodes.first().map_or(0, |p| p.as_ref().len());
     (0..dim)
         .map(|k| {
-            let (lo, hi) = nodes.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                (lo.min(p.as_ref()[k]), hi.max(p.as_ref()[k]))
-            });
+            let (lo, hi) = nodes
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                    (lo.min(p.as_ref()[k]), hi.max(p.as_ref()[k]))
+                });
             hi - lo
         })
         .fold(f64::INFINITY, f64::min)

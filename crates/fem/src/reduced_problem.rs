@@ -16,8 +16,8 @@ use talus_ssn::{
 };
 
 use crate::assembly::add_mul_transpose;
-use crate::dofs::Dof;
 use crate::dimension::{Dimension, Mandel};
+use crate::dofs::Dof;
 use crate::model::{Loads, Model};
 use crate::state::State;
 

@@ -571,7 +571,9 @@ fn faces_are_oriented_outward_and_interior_faces_refused() {
         let err = asm.pressure(&mesh, &[interior.clone()], P).unwrap_err();
         assert_eq!(field(&err), "faces", "{err}");
         assert!(err.to_string().contains("not on the boundary"), "{err}");
-        let err = asm.traction(&mesh, &[interior], [0.0, -P, 0.0]).unwrap_err();
+        let err = asm
+            .traction(&mesh, &[interior], [0.0, -P, 0.0])
+            .unwrap_err();
         assert_eq!(field(&err), "faces", "{err}");
     }
 }

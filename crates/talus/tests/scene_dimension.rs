@@ -167,5 +167,8 @@ fn a_3d_scene_file_is_checked_then_refused_at_its_geometry() {
     let err = SceneFile::parse(&bad, None).unwrap_err();
     assert!(err.line.is_some() && err.message.contains("`xyz`"), "{err}");
     let edges = replaced(BLOCK, "faces = \"right\"", "edges = \"right\"");
-    assert_eq!(SceneFile::parse(&edges, None).unwrap_err().field, "pressure[0].edges");
+    assert_eq!(
+        SceneFile::parse(&edges, None).unwrap_err().field,
+        "pressure[0].edges"
+    );
 }

@@ -59,9 +59,13 @@ fn write_block(mesh: &TetrahedralMesh, stress: [f64; 6], name: &str) -> String {
 
 #[test]
 fn p2_cells_are_vtk_quadratic_tetrahedra_with_vtk_mid_edge_order() {
-    let mesh =
-        TetrahedralMesh::block(&[0.0, 1.0, 2.5], &[0.0, 0.7], &[0.0, 0.4, 1.0], ElementOrder::P2)
-            .unwrap();
+    let mesh = TetrahedralMesh::block(
+        &[0.0, 1.0, 2.5],
+        &[0.0, 0.7],
+        &[0.0, 0.4, 1.0],
+        ElementOrder::P2,
+    )
+    .unwrap();
     let xml = write_block(&mesh, [0.0; 6], "p2");
     let cells = mesh.tetrahedra.len();
     assert_eq!(attr(&xml, "NumberOfCells"), cells.to_string());
@@ -100,8 +104,8 @@ fn p2_cells_are_vtk_quadratic_tetrahedra_with_vtk_mid_edge_order() {
 
 #[test]
 fn p1_cells_are_vtk_tetrahedra_and_mandel_shears_go_to_their_vtk_slots() {
-    let mesh = TetrahedralMesh::block(&[0.0, 1.0], &[0.0, 1.0], &[0.0, 1.0], ElementOrder::P1)
-        .unwrap();
+    let mesh =
+        TetrahedralMesh::block(&[0.0, 1.0], &[0.0, 1.0], &[0.0, 1.0], ElementOrder::P1).unwrap();
     // Plain tensor xx = 1, yy = 2, zz = 3, yz = 4, xz = 5, xy = 6 (Pa).
     let mandel = [1.0, 2.0, 3.0, SQRT_2 * 4.0, SQRT_2 * 5.0, SQRT_2 * 6.0];
     let xml = write_block(&mesh, mandel, "p1");
@@ -119,7 +123,10 @@ fn p1_cells_are_vtk_tetrahedra_and_mandel_shears_go_to_their_vtk_slots() {
     e.sort_by(|a, b| b.total_cmp(a));
     let principal = array(&xml, "principal_stress");
     for k in 0..3 {
-        assert!((principal[k] - e[k]).abs() < 1e-12 * 12.0, "{principal:?} vs {e:?}");
+        assert!(
+            (principal[k] - e[k]).abs() < 1e-12 * 12.0,
+            "{principal:?} vs {e:?}"
+        );
     }
     // Trace invariance: the principal stresses sum to tr σ = 6.
     assert!((principal[..3].iter().sum::<f64>() - 6.0).abs() < 1e-12);
@@ -144,8 +151,7 @@ fn principal_stresses_of_a_rotated_diagonal_tensor_are_its_diagonal() {
     for (got, want) in p.iter().zip(s) {
         assert!((got - want).abs() < 1e-9 * 85.0e3, "{p:?} vs {s:?}");
     }
-    let vm = (((s[0] - s[1]).powi(2) + (s[1] - s[2]).powi(2) + (s[2] - s[0]).powi(2)) / 2.0)
-        .sqrt();
+    let vm = (((s[0] - s[1]).powi(2) + (s[1] - s[2]).powi(2) + (s[2] - s[0]).powi(2)) / 2.0).sqrt();
     assert!((von_mises(&mandel) - vm).abs() < 1e-9 * vm);
     // Pure shear τ_yz: von Mises √3 τ, principal (τ, 0, −τ).
     let tau = 20.0e3;
@@ -158,8 +164,8 @@ fn principal_stresses_of_a_rotated_diagonal_tensor_are_its_diagonal() {
 
 #[test]
 fn mismatched_dimensions_and_node_counts_are_refused() {
-    let mesh = TetrahedralMesh::block(&[0.0, 1.0], &[0.0, 1.0], &[0.0, 1.0], ElementOrder::P1)
-        .unwrap();
+    let mesh =
+        TetrahedralMesh::block(&[0.0, 1.0], &[0.0, 1.0], &[0.0, 1.0], ElementOrder::P1).unwrap();
     let zero = vec![[0.0; 3]; mesh.nodes.len()];
     let n = mesh.tetrahedra.len();
     let plastic = vec![0.0; n];

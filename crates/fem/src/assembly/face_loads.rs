@@ -30,10 +30,15 @@ impl Assembly<6> {
         t: [f64; 3],
     ) -> Result<(Vec<f64>, Vec<f64>), FemError> {
         check_vector("traction", &t)?;
-        self.face_integral(mesh, faces, |_, _, _| Ok(()), |w, n, normal, _| {
-            let da = normal.iter().map(|c| c * c).sum::<f64>().sqrt();
-            t.map(|tc| w * n * da * tc)
-        })
+        self.face_integral(
+            mesh,
+            faces,
+            |_, _, _| Ok(()),
+            |w, n, normal, _| {
+                let da = normal.iter().map(|c| c * c).sum::<f64>().sqrt();
+                t.map(|tc| w * n * da * tc)
+            },
+        )
     }
 
     /// Normal pressure `f_a = −p ∫ N_a n dA` over `faces`, `p` in Pa, positive pushing
@@ -51,9 +56,12 @@ impl Assembly<6> {
                 format!("{p} Pa must be finite"),
             ));
         }
-        self.face_integral(mesh, faces, |_, _, _| Ok(()), |w, n, normal, _| {
-            normal.map(|c| -w * n * p * c)
-        })
+        self.face_integral(
+            mesh,
+            faces,
+            |_, _, _| Ok(()),
+            |w, n, normal, _| normal.map(|c| -w * n * p * c),
+        )
     }
 
     /// A pressure varying in space, `f_a = −∫ p(x) N_a n dA` (Pa, positive pushing into

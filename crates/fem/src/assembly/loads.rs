@@ -150,7 +150,13 @@ where
         )
     }
 
-    pub(super) fn add_force(&self, out: &mut (Vec<f64>, Vec<f64>), node: usize, comp: usize, f: f64) {
+    pub(super) fn add_force(
+        &self,
+        out: &mut (Vec<f64>, Vec<f64>),
+        node: usize,
+        comp: usize,
+        f: f64,
+    ) {
         match self.dofs.dof(node, comp) {
             Some(Dof::Free(i)) => out.0[i] += f,
             Some(Dof::Prescribed(j)) => out.1[j] += f,
@@ -158,7 +164,6 @@ where
         }
     }
 }
-
 
 /// Edge loads of a triangle mesh (2D).
 impl Assembly<4> {

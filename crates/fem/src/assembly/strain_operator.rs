@@ -48,9 +48,7 @@ where
                 for (row, value) in rows.into_iter().flatten() {
                     match dof {
                         Dof::Free(j) => free.push(Triplet::new(r + row, j, v * value)),
-                        Dof::Prescribed(j) => {
-                            prescribed.push(Triplet::new(r + row, j, v * value))
-                        }
+                        Dof::Prescribed(j) => prescribed.push(Triplet::new(r + row, j, v * value)),
                     }
                 }
             }

@@ -151,7 +151,14 @@ pub fn principal_stresses<const D: usize>(m: &[f64; D]) -> [f64; 3] {
 /// (2D: `YZ = XZ = 0`; 3D Mandel order `xx, yy, zz, √2 yz, √2 xz, √2 xy`).
 fn tensor_components(m: &[f64]) -> [f64; 6] {
     if m.len() == 6 {
-        [m[0], m[1], m[2], m[5] / SQRT_2, m[3] / SQRT_2, m[4] / SQRT_2]
+        [
+            m[0],
+            m[1],
+            m[2],
+            m[5] / SQRT_2,
+            m[3] / SQRT_2,
+            m[4] / SQRT_2,
+        ]
     } else {
         [m[0], m[1], m[2], m[3] / SQRT_2, 0.0, 0.0]
     }

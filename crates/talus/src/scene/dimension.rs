@@ -56,7 +56,12 @@ pub fn check<V: SceneVector>(
     if let super::MeshSpec::Box { .. } = spec.mesh {
         return Err(three_d_key(scene, "mesh.box", "a box of tetrahedra"));
     }
-    if let Some((k, b)) = spec.boundary.iter().enumerate().find(|(_, b)| b.fix.names_z()) {
+    if let Some((k, b)) = spec
+        .boundary
+        .iter()
+        .enumerate()
+        .find(|(_, b)| b.fix.names_z())
+    {
         let what = format!("{:?} names z, which", b.fix);
         return Err(three_d_key(scene, &format!("boundary[{k}].fix"), &what));
     }
