@@ -23,6 +23,7 @@ pub mod mesh;
 pub mod mesh3;
 mod model;
 pub mod quadrature;
+mod quasi_static;
 mod reduced_problem;
 mod state;
 

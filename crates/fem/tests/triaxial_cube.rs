@@ -41,7 +41,6 @@
 //! `Settings::fem()`, 8 halvings).
 use std::time::Instant;
 
-use nalgebra::{SMatrix, SVector};
 use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters};
 use talus_engine::{StepSettings, Stepper};
 use talus_fem::{
@@ -117,38 +116,6 @@ fn soil(fit: ConeFit, theta: f64) -> DruckerPrager {
     .expect("valid Drucker-Prager parameters")
 }
 
-/// The quasi-static lumped masses `r h² K_jj` of the free and prescribed dofs, with
-/// `K_jj = Σ_p b_pjᵀ (V_p S₀)⁻¹ b_pj` (`b_pj` point `p`'s 6 rows of column `j` of `B`):
-/// `crates/talus/src/model/fem/quasi_static.rs` in 3D.
-fn quasi_static_masses(model: &Model<6>, h: f64, r: f64) -> (Vec<f64>, Vec<f64>) {
-    let stiffness: SMatrix<f64, 6, 6> = model.compliances[0]
-        .try_inverse()
-        .expect("an elastic compliance is invertible");
-    let asm = &model.assembly;
-    let masses = |b: &faer::sparse::SparseColMat<usize, f64>| -> Vec<f64> {
-        let (cp, ri, val) = (b.symbolic().col_ptr(), b.symbolic().row_idx(), b.val());
-        (0..b.ncols())
-            .map(|j| {
-                // A column's entries of one point are contiguous (sorted rows).
-                let mut k_jj = 0.0;
-                let mut k = cp[j];
-                while k < cp[j + 1] {
-                    let p = ri[k] / 6;
-                    let mut bp = SVector::<f64, 6>::zeros();
-                    while k < cp[j + 1] && ri[k] / 6 == p {
-                        bp[ri[k] % 6] += val[k];
-                        k += 1;
-                    }
-                    k_jj += bp.dot(&(stiffness * bp)) / asm.gauss_volumes[p];
-                }
-                assert!(k_jj > 0.0, "dof {j} strains no Gauss point");
-                r * h * h * k_jj
-            })
-            .collect()
-    };
-    (masses(&asm.b_free), masses(&asm.b_prescribed))
-}
-
 /// The cube of `order` with `soil`, at rest under the isotropic cell pressure; and the
 /// node at its corner `(L, L, L)`.
 fn cube(order: ElementOrder, soil: DruckerPrager) -> (Model<6>, State<6>, usize) {
@@ -196,7 +163,9 @@ fn cube(order: ElementOrder, soil: DruckerPrager) -> (Model<6>, State<6>, usize)
         model.prescribed_velocity[j] = -PLATEN;
         model.reaction_dofs.push((j, 1));
     }
-    let (free, prescribed) = quasi_static_masses(&model, H, INERTIA_RATIO);
+    let (free, prescribed) = model
+        .quasi_static_masses(H, INERTIA_RATIO)
+        .expect("every dof strains a Gauss point");
     model.assembly.lumped_mass_free = free;
     model.assembly.lumped_mass_prescribed = prescribed;
     let dofs = model.assembly.dofs();

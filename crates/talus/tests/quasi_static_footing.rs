@@ -10,7 +10,7 @@
 //!   stiffness and the reaction oscillates about the plateau (the witness that the comparison can fail, e.g.
 //!   if the quasi-static run kept the material's mass).
 use talus::model::fem::ReactionForce;
-use talus::model::fem::{quasi_static_masses, FromScene, Model};
+use talus::model::fem::{FromScene, Model};
 use talus::run::fem::solver_settings;
 use talus::scene::{builtin_footing, Scene};
 use talus_engine::{StepSettings, Stepper};
@@ -37,7 +37,7 @@ fn footing(h: f64, velocity: f64, quasi_static: bool) -> Scene {
 fn reactions(scene: &Scene) -> (Vec<f64>, f64) {
     let model = Model::from_scene(scene).unwrap();
     let h = scene.spec.time.step;
-    let (k_free, _) = quasi_static_masses(&model, h, 1.0).expect("stiffness");
+    let (k_free, _) = model.quasi_static_masses(h, 1.0).expect("stiffness");
     let inertia = model
         .assembly
         .lumped_mass_free

@@ -10,7 +10,7 @@ pub mod stages;
 
 pub use build::{warnings, water_table, weight, FromScene};
 pub use monitors::NodeMonitors;
-pub use quasi_static::{quasi_static_masses, DEFAULT_INERTIA_RATIO};
+pub use quasi_static::DEFAULT_INERTIA_RATIO;
 pub use reaction_groups::ReactionGroups;
 pub use talus_fem::{
     prescribed_forces, prescribed_forces_at_rest, FemStats, Loads, Model, RampedForce,
