@@ -38,6 +38,9 @@ pub fn run(root: &Path) -> Result<bool, String> {
         ("talus", "mpm_column_step"),
         // The a = 2 column at h = 1/60 s (~2 min): finished, Newton its per step.
         ("talus", "mpm_column_a2_large_step"),
+        // 3D P2 tetrahedra (~30 s at the default 12k dofs; TALUS_3D_BENCH_SIZES=12x14x12
+        // for 50k, 20x21x20 for 205k: docs/3d.md).
+        ("talus-fem", "newton_3d"),
     ] {
         println!("== cargo bench -p {package} --bench {bench}");
         let out = run_checked(
@@ -72,17 +75,7 @@ pub fn run(root: &Path) -> Result<bool, String> {
     println!(
         "\nNewton iteration / elastic Cholesky factorization and solve, same mesh (target <= 2.0)"
     );
-    let ratios: Vec<&str> = outputs[2]
-        .lines()
-        .filter_map(|l| l.strip_prefix("ratio "))
-        .collect();
-    if ratios.is_empty() {
-        println!("step: ratios not found in the benchmark output");
-        ok = false;
-    }
-    for line in ratios {
-        println!("{line}");
-    }
+    ok &= print_ratios(&outputs[2], "step");
     println!("\nFooting: seconds per step, accepted and failed Newton iterations, peak memory");
     let rows: Vec<&str> = outputs[3].lines().filter(|l| l.starts_with('|')).collect();
     if rows.len() < 3 {
@@ -121,5 +114,22 @@ pub fn run(root: &Path) -> Result<bool, String> {
             ok = false;
         }
     }
+    println!("\n3D: Newton iteration / elastic Cholesky factorization and solve (target <= 2.5)");
+    ok &= print_ratios(&outputs[6], "newton_3d");
     Ok(ok)
+}
+
+/// Prints the `ratio …` lines of a benchmark's output; `false` when it has none.
+fn print_ratios(output: &str, bench: &str) -> bool {
+    let ratios: Vec<&str> = output
+        .lines()
+        .filter_map(|l| l.strip_prefix("ratio "))
+        .collect();
+    if ratios.is_empty() {
+        println!("{bench}: ratios not found in the benchmark output");
+    }
+    for line in &ratios {
+        println!("{line}");
+    }
+    !ratios.is_empty()
 }
