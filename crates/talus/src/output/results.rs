@@ -16,8 +16,10 @@ pub struct Results {
     boundaries: Vec<String>,
     monitors: Vec<String>,
     reported: Option<String>,
-    last: Vec<[f64; 2]>,
-    peak: Vec<([f64; 2], usize)>,
+    /// Force components per boundary: 2 (`fx, fy`) in 2D and MPM, 3 (`fx, fy, fz`) in 3D.
+    components: usize,
+    last: Vec<Vec<f64>>,
+    peak: Vec<(Vec<f64>, usize)>,
     monitor_values: Vec<Option<[f64; 4]>>,
     /// `(settlement, force)` of the reported boundary at every recorded step.
     curve: Vec<(f64, f64)>,
@@ -34,8 +36,8 @@ pub struct Results {
 /// checkpoint (`crate::run::checkpoint`).
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ResultsProgress {
-    last: Vec<[f64; 2]>,
-    peak: Vec<([f64; 2], usize)>,
+    last: Vec<Vec<f64>>,
+    peak: Vec<(Vec<f64>, usize)>,
     monitor_values: Vec<Option<[f64; 4]>>,
     curve: Vec<(f64, f64)>,
     steps: usize,
@@ -60,10 +62,23 @@ impl Results {
         monitors: &[(String, String)],
         reported: Option<String>,
     ) -> Result<Self, BadColumn> {
+        Self::with_components(base, boundaries, monitors, reported, 2)
+    }
+
+    /// [`Results::new`] with `components` force components per boundary (3 in 3D:
+    /// `NAME_fx, NAME_fy, NAME_fz`).
+    pub fn with_components(
+        base: &str,
+        boundaries: &[(String, String)],
+        monitors: &[(String, String)],
+        reported: Option<String>,
+        components: usize,
+    ) -> Result<Self, BadColumn> {
+        let components = components.clamp(1, crate::scene::REACTION_COLUMNS.len());
         let mut columns: Vec<(usize, String)> = Vec::new();
         let named = boundaries
             .iter()
-            .map(|b| (b, &crate::scene::REACTION_COLUMNS[..]))
+            .map(|b| (b, &crate::scene::REACTION_COLUMNS[..components]))
             .chain(
                 monitors
                     .iter()
@@ -92,8 +107,9 @@ impl Results {
             boundaries: boundaries.iter().map(|b| b.1.clone()).collect(),
             monitors: monitors.iter().map(|m| m.1.clone()).collect(),
             reported,
-            last: vec![[0.0; 2]; boundaries.len()],
-            peak: vec![([0.0; 2], 0); boundaries.len()],
+            components,
+            last: vec![vec![0.0; components]; boundaries.len()],
+            peak: vec![(vec![0.0; components], 0); boundaries.len()],
             monitor_values: vec![None; monitors.len()],
             curve: Vec::new(),
             steps: 0,
@@ -121,7 +137,11 @@ impl Results {
         let b = self
             .boundaries
             .iter()
-            .flat_map(|n| crate::scene::REACTION_COLUMNS.map(|s| format!(",{n}_{s}")));
+            .flat_map(|n| {
+                crate::scene::REACTION_COLUMNS[..self.components]
+                    .iter()
+                    .map(move |s| format!(",{n}_{s}"))
+            });
         let m = self
             .monitors
             .iter()
@@ -137,16 +157,19 @@ impl Results {
         &mut self,
         step: usize,
         time: f64,
-        forces: &[[f64; 2]],
+        forces: &[impl AsRef<[f64]>],
         monitors: &[Option<[f64; 4]>],
         reported: Option<(f64, f64)>,
     ) -> String {
         let mut row = String::new();
         for (k, f) in forces.iter().enumerate().take(self.boundaries.len()) {
-            row += &format!(",{:.10e},{:.10e}", f[0], f[1]);
-            self.last[k] = *f;
-            if norm(*f) > norm(self.peak[k].0) {
-                self.peak[k] = (*f, step);
+            let f = f.as_ref();
+            for c in 0..self.components {
+                row += &format!(",{:.10e}", f.get(c).copied().unwrap_or(0.0));
+            }
+            self.last[k] = f.to_vec();
+            if norm(f) > norm(&self.peak[k].0) {
+                self.peak[k] = (f.to_vec(), step);
             }
         }
         for (k, m) in monitors.iter().enumerate().take(self.monitors.len()) {
@@ -232,8 +255,8 @@ impl Results {
                 (
                     name.clone(),
                     BoundaryReaction {
-                        last: self.last[k],
-                        peak: self.peak[k].0,
+                        last: self.last[k].clone(),
+                        peak: self.peak[k].0.clone(),
                         peak_step: self.peak[k].1,
                     },
                 )
@@ -283,8 +306,12 @@ impl Results {
     }
 }
 
-fn norm(f: [f64; 2]) -> f64 {
-    f[0].hypot(f[1])
+/// `√(fx² + fy²)` in 2D (as before, bit for bit), `√(fx² + fy² + fz²)` in 3D.
+fn norm(f: &[f64]) -> f64 {
+    match f {
+        [x, y] => x.hypot(*y),
+        _ => f.iter().map(|v| v * v).sum::<f64>().sqrt(),
+    }
 }
 
 #[cfg(test)]

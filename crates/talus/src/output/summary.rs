@@ -34,13 +34,13 @@ pub struct CollapseTime {
 }
 
 /// Reaction of a named boundary (N/m): the force it applies to the body.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct BoundaryReaction {
-    /// `[fx, fy]` after the last step.
+    /// `[fx, fy]` (3D: `[fx, fy, fz]`) after the last step.
     #[serde(rename = "final")]
-    pub last: [f64; 2],
-    /// `[fx, fy]` of the step with the largest `√(fx² + fy²)`, and that step.
-    pub peak: [f64; 2],
+    pub last: Vec<f64>,
+    /// The force of the step with the largest `√(fx² + fy² [+ fz²])`, and that step.
+    pub peak: Vec<f64>,
     pub peak_step: usize,
 }
 

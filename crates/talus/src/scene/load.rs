@@ -6,6 +6,9 @@ use super::{SceneError, SceneSpec, SceneVector};
 /// A parsed FEM scene.
 pub type Scene = SceneDocument<SceneSpec>;
 
+/// A parsed 3D FEM scene (`[analysis] geometry = "3d"`).
+pub type Scene3 = SceneDocument<SceneSpec<[f64; 3]>>;
+
 /// The text of `scenes/footing.toml`, shipped in the binary.
 pub const BUILTIN_FOOTING: &str = include_str!("../../../../scenes/footing.toml");
 

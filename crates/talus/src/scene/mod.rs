@@ -22,7 +22,7 @@ mod water;
 
 pub use error::SceneError;
 pub use file::SceneFile;
-pub use load::{builtin_footing, builtin_footing_with_cells, Scene, BUILTIN_FOOTING};
+pub use load::{builtin_footing, builtin_footing_with_cells, Scene, Scene3, BUILTIN_FOOTING};
 pub use material::{Flow, MaterialModel, MaterialSpec, Materials, RegionSpec};
 pub use monitor::{bad_name, first_duplicate, MonitorSpec, MONITOR_COLUMNS, REACTION_COLUMNS};
 pub use mpm_load::MpmScene;

@@ -12,8 +12,8 @@ pub struct MonitorSpec<V: super::SceneVector = [f64; 2]> {
 
 /// The columns a monitor adds to `history.csv`, in order.
 pub const MONITOR_COLUMNS: [&str; 4] = ["ux", "uy", "vx", "vy"];
-/// The columns a named boundary adds.
-pub const REACTION_COLUMNS: [&str; 2] = ["fx", "fy"];
+/// The columns a named boundary adds: the first two in 2D (and MPM), all three in 3D.
+pub const REACTION_COLUMNS: [&str; 3] = ["fx", "fy", "fz"];
 
 /// Why a name cannot head CSV columns: empty, or holding a character a CSV reader would
 /// split or quote on.

@@ -423,8 +423,8 @@ pub fn write_mechanism(
         .iter()
         .map(|d| [d[0] / h, d[1] / h])
         .collect();
-    let stress = element_means::<4>(model, &t.stress);
-    let plastic: Vec<f64> = element_means::<1>(model, &t.plastic_increment)
+    let stress = element_means::<4, 4>(model, &t.stress);
+    let plastic: Vec<f64> = element_means::<1, 4>(model, &t.plastic_increment)
         .into_iter()
         .map(|[s]| s)
         .collect();

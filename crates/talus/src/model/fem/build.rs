@@ -202,53 +202,23 @@ pub(super) fn build(
         densities
     };
 
-    // Prescribed velocities: later conditions win where sets overlap.
-    let mut prescribed_velocity = vec![0.0; dofs.n_prescribed()];
-    // A dof no `[[boundary]]` fixes (the axis) belongs to no condition: index
-    // `boundary.len()`, which names no reaction group and follows no ramp.
-    let mut owner = vec![spec.boundary.len(); dofs.n_prescribed()];
-    let mut reaction_dofs = Vec::new();
-    let boundary_constraints = &constraints[axis_constraints..];
-    for (k, (b, (nodes, _))) in spec.boundary.iter().zip(boundary_constraints).enumerate() {
-        if nodes.is_empty() {
-            continue;
-        }
-        let is_reaction = b.name.is_some() && b.name == spec.output.reaction;
-        for &n in nodes {
-            for comp in 0..2 {
-                let fixed = b.fix.fixes(comp);
-                if let (true, Some(j)) = (fixed, dofs.prescribed(n, comp)) {
-                    prescribed_velocity[j] = b.velocity[comp];
-                    owner[j] = k;
-                    if is_reaction && !reaction_dofs.contains(&(j, comp)) {
-                        reaction_dofs.push((j, comp));
-                    }
-                }
-            }
-        }
-    }
-    // A dof follows the ramp of the condition that set its velocity.
-    let velocity_ramps: Vec<(Ramp, Vec<usize>)> = boundary_ramps
-        .into_iter()
-        .enumerate()
-        .filter_map(|(k, ramp)| {
-            let dofs: Vec<usize> = (0..owner.len()).filter(|&j| owner[j] == k).collect();
-            ramp.filter(|_| !dofs.is_empty()).map(|r| (r, dofs))
-        })
-        .collect();
-    if let Some(name) = &spec.output.reaction {
-        // A stage may switch the reported boundary off: its reaction is 0 there.
-        let switched_off = spec
-            .boundary
+    // A stage may switch the reported boundary off: its reaction is 0 there.
+    let switched_off = spec.output.reaction.as_ref().is_some_and(|name| {
+        spec.boundary
             .iter()
-            .any(|b| b.name.as_ref() == Some(name) && !acts(&b.stages));
-        if reaction_dofs.is_empty() && !switched_off {
-            return Err(scene.error(
-                "output.reaction",
-                format!("no boundary named `{name}` with fixed components"),
-            ));
-        }
-    }
+            .any(|b| b.name.as_ref() == Some(name) && !acts(&b.stages))
+    });
+    let boundary_nodes: Vec<Vec<usize>> = constraints[axis_constraints..]
+        .iter()
+        .map(|(nodes, _)| nodes.clone())
+        .collect();
+    let motion = super::motion::prescribed_motion(
+        scene,
+        &boundary_nodes,
+        boundary_ramps,
+        &dofs,
+        switched_off,
+    )?;
 
     // Added to the model in the order of the scene: a load without a ramp into the
     // constant forces, a ramped one kept apart at multiplier 1 (`Model::add_load`).
@@ -364,10 +334,10 @@ pub(super) fn build(
         model.add_load(forces, ramp);
     }
     super::quasi_static::scale_masses(scene, &mut model)?;
-    model.prescribed_velocity = prescribed_velocity;
-    model.velocity_ramps = velocity_ramps;
-    model.reaction_dofs = reaction_dofs;
-    model.dof_owner = owner;
+    model.prescribed_velocity = motion.velocity;
+    model.velocity_ramps = motion.velocity_ramps;
+    model.reaction_dofs = motion.reaction_dofs;
+    model.dof_owner = motion.owner;
     Ok(model)
 }
 

@@ -4,9 +4,9 @@
 use std::collections::BTreeMap;
 
 use talus_bipotential::Material;
-use talus_fem::Mesh;
+use talus_fem::ElementMesh;
 
-use crate::scene::{check, Materials, Scene, SceneError};
+use crate::scene::{check, Materials, SceneDocument, SceneError, SceneSpec, SceneVector};
 
 /// The scene's materials, checked, and each element's index into them.
 pub struct Ground {
@@ -16,24 +16,67 @@ pub struct Ground {
     pub regions: BTreeMap<String, Vec<usize>>,
 }
 
-/// The centroid of element `e`'s vertices (m).
-fn centroid(mesh: &Mesh, e: usize) -> [f64; 2] {
-    let t = &mesh.triangles[e];
-    let [a, b, c] = [mesh.nodes[t[0]], mesh.nodes[t[1]], mesh.nodes[t[2]]];
-    [(a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0]
+/// What the ground reads from a mesh of either dimension: its elements and their
+/// vertices, and its named element sets (Gmsh physical surfaces, 3D: volumes).
+pub(crate) trait GroundMesh: ElementMesh {
+    fn element_sets(&self) -> &BTreeMap<String, Vec<usize>>;
+}
+
+impl GroundMesh for talus_fem::Mesh {
+    fn element_sets(&self) -> &BTreeMap<String, Vec<usize>> {
+        &self.element_sets
+    }
+}
+
+impl GroundMesh for talus_fem::TetrahedralMesh {
+    fn element_sets(&self) -> &BTreeMap<String, Vec<usize>> {
+        &self.element_sets
+    }
+}
+
+/// The centroid of element `e`'s vertices (m): its first `V::DIM + 1` nodes (triangle,
+/// tetrahedron), summed in node order and divided once (2D: as before, bit for bit).
+fn centroid<V: SceneVector>(mesh: &impl GroundMesh, e: usize) -> V {
+    let element = &mesh.elements()[e];
+    let nodes = mesh.node_positions();
+    let vertices = V::DIM + 1;
+    let mut c = V::default();
+    for (k, x) in c.as_mut().iter_mut().enumerate() {
+        let sum = (element.iter().take(vertices))
+            .map(|&n| nodes[n].as_ref()[k])
+            .reduce(|a, b| a + b)
+            .unwrap_or(0.0);
+        *x = sum / vertices as f64;
+    }
+    c
+}
+
+/// `(x, y)` or `(x, y, z)` to 6 decimals, for messages.
+fn coordinates<V: SceneVector>(c: V) -> String {
+    let parts: Vec<String> = c.as_ref().iter().map(|v| format!("{v:.6}")).collect();
+    format!("({})", parts.join(", "))
 }
 
 /// The named regions: the mesh's element sets (Gmsh physical surfaces), then the scene's
 /// `[[region]]` boxes.
-fn regions(scene: &Scene, mesh: &Mesh) -> Result<BTreeMap<String, Vec<usize>>, SceneError> {
-    let mut regions = mesh.element_sets.clone();
+fn regions<V: SceneVector>(
+    scene: &SceneDocument<SceneSpec<V>>,
+    mesh: &impl GroundMesh,
+) -> Result<BTreeMap<String, Vec<usize>>, SceneError> {
+    let mut regions = mesh.element_sets().clone();
     for (k, r) in scene.spec.region.iter().enumerate() {
-        let [[x0, y0], [x1, y1]] = r.corners;
-        if !(r.corners.iter().flatten().all(|v| v.is_finite()) && x0 < x1 && y0 < y1) {
+        let [lo, hi] = r.corners;
+        let (lo, hi) = (lo.as_ref(), hi.as_ref());
+        let ordered = (0..V::DIM).all(|i| lo[i] < hi[i]);
+        if !(lo.iter().chain(hi).all(|v| v.is_finite()) && ordered) {
+            let (shape, order) = match V::DIM {
+                2 => ("[[x0, y0], [x1, y1]]", "x0 < x1 and y0 < y1"),
+                _ => ("[[x0, y0, z0], [x1, y1, z1]]", "x0 < x1, y0 < y1 and z0 < z1"),
+            };
             return Err(scene.error(
                 &format!("region[{k}].box"),
                 format!(
-                    "{:?} must be finite with x0 < x1 and y0 < y1 ([[x0, y0], [x1, y1]], m)",
+                    "{:?} must be finite with {order} ({shape}, m)",
                     r.corners
                 ),
             ));
@@ -48,10 +91,10 @@ fn regions(scene: &Scene, mesh: &Mesh) -> Result<BTreeMap<String, Vec<usize>>, S
                 ),
             ));
         }
-        let inside: Vec<usize> = (0..mesh.triangles.len())
+        let inside: Vec<usize> = (0..mesh.elements().len())
             .filter(|&e| {
-                let c = centroid(mesh, e);
-                (x0..=x1).contains(&c[0]) && (y0..=y1).contains(&c[1])
+                let c: V = centroid(mesh, e);
+                (0..V::DIM).all(|i| (lo[i]..=hi[i]).contains(&c.as_ref()[i]))
             })
             .collect();
         if inside.is_empty() {
@@ -67,7 +110,7 @@ fn regions(scene: &Scene, mesh: &Mesh) -> Result<BTreeMap<String, Vec<usize>>, S
 
 /// The elements of the region `name`, or an error at `field` listing the regions.
 pub(super) fn region<'a>(
-    scene: &Scene,
+    scene: &impl crate::scene::Locate,
     regions: &'a BTreeMap<String, Vec<usize>>,
     field: &str,
     name: &str,
@@ -89,7 +132,10 @@ pub(super) fn region<'a>(
 }
 
 /// The checked materials and the material of every element.
-pub fn ground(scene: &Scene, mesh: &Mesh) -> Result<Ground, SceneError> {
+pub fn ground<V: SceneVector>(
+    scene: &SceneDocument<SceneSpec<V>>,
+    mesh: &impl GroundMesh,
+) -> Result<Ground, SceneError> {
     let spec = &scene.spec;
     let all = spec.material.all();
     let mut materials = Vec::with_capacity(all.len());
@@ -97,7 +143,7 @@ pub fn ground(scene: &Scene, mesh: &Mesh) -> Result<Ground, SceneError> {
         materials.push(check::material(scene, &spec.material.field(k), m)?);
     }
     let regions = regions(scene, mesh)?;
-    let n = mesh.triangles.len();
+    let n = mesh.elements().len();
     // One material without regions fills the mesh.
     if let Materials::One(m) = &spec.material {
         if m.regions.is_empty() {
@@ -153,25 +199,22 @@ pub fn ground(scene: &Scene, mesh: &Mesh) -> Result<Ground, SceneError> {
         match owners.as_slice() {
             [k] => element_material.push(*k),
             [] => {
-                let c = centroid(mesh, e);
+                let c = coordinates::<V>(centroid(mesh, e));
                 return Err(scene.error(
                     "material",
                     format!(
-                        "the element with centroid ({:.6}, {:.6}) m is claimed by no material: \
-                         add its region to a material's regions",
-                        c[0], c[1]
+                        "the element with centroid {c} m is claimed by no material: add its \
+                         region to a material's regions"
                     ),
                 ));
             }
             [a, b, ..] => {
-                let c = centroid(mesh, e);
+                let c = coordinates::<V>(centroid(mesh, e));
                 return Err(scene.error(
                     &format!("{}.regions", spec.material.field(*b)),
                     format!(
-                        "the element with centroid ({:.6}, {:.6}) m is claimed by {} and by {}: \
-                         regions of two materials overlap",
-                        c[0],
-                        c[1],
+                        "the element with centroid {c} m is claimed by {} and by {}: regions \
+                         of two materials overlap",
                         label(*a),
                         label(*b)
                     ),

@@ -2,13 +2,16 @@
 //! scene, its initial state, the quasi-static masses, and the named boundaries and
 //! monitors a run reports.
 mod build;
+mod build3;
 mod materials;
 mod monitors;
+mod motion;
 mod quasi_static;
 mod reaction_groups;
 pub mod stages;
 
 pub use build::{warnings, water_table, weight, FromScene};
+pub use build3::{element_count, initial_state_3d, model_3d, Model3, State3};
 pub use monitors::NodeMonitors;
 pub use quasi_static::DEFAULT_INERTIA_RATIO;
 pub use reaction_groups::ReactionGroups;
@@ -25,8 +28,15 @@ pub type FemStepError = talus_engine::StepError<std::convert::Infallible>;
 /// Each element's mean of its Gauss points' values, `W` numbers per point in `values`
 /// (point `p` at `W p ..`): summed in point order, then divided by the element's count
 /// of points (an element without one: 0). A `values` too short leaves the rest unsummed.
-pub(crate) fn element_means<const W: usize>(model: &Model, values: &[f64]) -> Vec<[f64; W]> {
-    let n_el = model.mesh.triangles.len();
+pub(crate) fn element_means<const W: usize, const D: usize>(
+    model: &Model<D>,
+    values: &[f64],
+) -> Vec<[f64; W]>
+where
+    talus_fem::Mandel<D>: talus_fem::Dimension,
+{
+    use talus_fem::ElementMesh;
+    let n_el = model.mesh.elements().len();
     let mut sums = vec![[0.0; W]; n_el];
     let mut count = vec![0usize; n_el];
     for (v, &e) in values.chunks_exact(W).zip(&model.assembly.gauss_element) {

@@ -4,9 +4,9 @@
 //! stiffness whatever the density, the moduli, the mesh size and `h`
 //! (`docs/derivations.md`, 'The quasi-static limit'). The masses are talus-fem's
 //! `Model::quasi_static_masses`; here, the scene's choice and its bounds.
-use talus_fem::Model;
+use talus_fem::{Dimension, Mandel, Model};
 
-use crate::scene::{AnalysisKind, Scene, SceneError};
+use crate::scene::{AnalysisKind, SceneDocument, SceneError, SceneSpec, SceneVector};
 
 /// `inertia_ratio` when the scene gives none: inertia a ten-millionth of the stiffness. The
 /// paper footing's Newton iterations are those of its dynamic run at 1e-4 to 1e-8, and fail
@@ -32,7 +32,13 @@ pub const MIN_INERTIA_RATIO: f64 = 1e-12;
 /// For a quasi-static scene, replaces the assembly's lumped masses by the scaled ones of
 /// `Model::quasi_static_masses` (the weight keeps the material's density: it was assembled
 /// before). A dynamic scene keeps its masses; `inertia_ratio` is then refused.
-pub fn scale_masses(scene: &Scene, model: &mut Model) -> Result<(), SceneError> {
+pub fn scale_masses<V: SceneVector, const D: usize>(
+    scene: &SceneDocument<SceneSpec<V>>,
+    model: &mut Model<D>,
+) -> Result<(), SceneError>
+where
+    Mandel<D>: Dimension,
+{
     let analysis = &scene.spec.analysis;
     if analysis.kind == AnalysisKind::Dynamic {
         if let Some(r) = analysis.inertia_ratio {

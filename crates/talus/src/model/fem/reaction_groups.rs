@@ -56,12 +56,20 @@ impl ReactionGroups {
 
     /// `[fx, fy]` per group, from the force on every prescribed dof, times `scale`.
     pub fn sums(&self, forces: &[f64]) -> Vec<[f64; 2]> {
+        self.sums_of(forces)
+    }
+
+    /// The `C` force components per group (`[fx, fy]`, 3D `[fx, fy, fz]`), from the force
+    /// on every prescribed dof, times `scale`.
+    pub fn sums_of<const C: usize>(&self, forces: &[f64]) -> Vec<[f64; C]> {
         self.dofs
             .iter()
             .map(|dofs| {
-                let mut f = [0.0; 2];
+                let mut f = [0.0; C];
                 for &(j, comp) in dofs {
-                    f[comp] += forces.get(j).copied().unwrap_or(0.0);
+                    if let Some(f) = f.get_mut(comp) {
+                        *f += forces.get(j).copied().unwrap_or(0.0);
+                    }
                 }
                 f.map(|x| x * self.scale)
             })
@@ -70,7 +78,10 @@ impl ReactionGroups {
 
     /// The groups of a FEM model, reported per metre (plane strain) or for the whole
     /// circumference (axisymmetric).
-    pub fn of_model(model: &Model, names: &[Option<String>]) -> Self {
+    pub fn of_model<const D: usize>(model: &Model<D>, names: &[Option<String>]) -> Self
+    where
+        talus_fem::Mandel<D>: talus_fem::Dimension,
+    {
         Self {
             scale: model.assembly.geometry().whole_body_factor(),
             ..Self::new(

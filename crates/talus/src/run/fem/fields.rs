@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use nalgebra::SVector;
-use talus_fem::Dof;
+use talus_fem::{Dimension, Dof, ElementMesh, Mandel};
 
 use crate::model::fem::{element_means, Model, State};
 use crate::output::{self, FieldExtras, FieldSnapshot, MeshView, OutputError};
@@ -11,26 +11,49 @@ use crate::run::RunError;
 
 /// The stress and displacement after the last two steps of a run, from which a VTU's
 /// `plastic_strain_increment` is taken (`Δ` over the step that led to the written state).
-#[derive(Debug, Default)]
-pub(super) struct LastSteps {
-    before: Option<Kept>,
-    latest: Option<Kept>,
+/// `N` components per node: 2 in 2D, 3 in 3D.
+#[derive(Debug)]
+pub(super) struct LastSteps<const N: usize = 2> {
+    before: Option<Kept<N>>,
+    latest: Option<Kept<N>>,
 }
 
-#[derive(Debug, Default)]
-struct Kept {
+impl<const N: usize> Default for LastSteps<N> {
+    fn default() -> Self {
+        Self {
+            before: None,
+            latest: None,
+        }
+    }
+}
+
+#[derive(Debug)]
+struct Kept<const N: usize> {
     step: usize,
     sigma: Vec<f64>,
-    displacement: Vec<[f64; 2]>,
+    displacement: Vec<[f64; N]>,
+}
+
+impl<const N: usize> Default for Kept<N> {
+    fn default() -> Self {
+        Self {
+            step: 0,
+            sigma: Vec::new(),
+            displacement: Vec::new(),
+        }
+    }
 }
 
 /// The Mandel stress (flat, Pa) and nodal displacement (m) a step started from.
-type Start<'a> = (&'a [f64], &'a [[f64; 2]]);
+pub(super) type Start<'a, const N: usize = 2> = (&'a [f64], &'a [[f64; N]]);
 
-impl LastSteps {
+impl<const N: usize> LastSteps<N> {
     /// Keeps `state`, the state after `step`, and the one kept before it (reusing the
     /// older one's memory).
-    pub(super) fn push(&mut self, step: usize, state: &State) {
+    pub(super) fn push<const D: usize>(&mut self, step: usize, state: &State<D>)
+    where
+        Mandel<D>: Dimension<Point = [f64; N]>,
+    {
         let mut k = self.before.take().unwrap_or_default();
         k.step = step;
         k.sigma.clone_from(&state.sigma);
@@ -41,13 +64,20 @@ impl LastSteps {
     /// Where the step to `state`, the state after `step`, started: `state` itself at step 0
     /// (no step yet: a zero increment), else the kept state of `step − 1` when `state` is
     /// the last one kept. `None` when that state was not kept or has other sizes.
-    pub(super) fn start_of<'a>(&'a self, step: usize, state: &'a State) -> Option<Start<'a>> {
+    pub(super) fn start_of<'a, const D: usize>(
+        &'a self,
+        step: usize,
+        state: &'a State<D>,
+    ) -> Option<Start<'a, N>>
+    where
+        Mandel<D>: Dimension<Point = [f64; N]>,
+    {
         if step == 0 {
             return Some((&state.sigma, &state.displacement));
         }
         let latest = self.latest.as_ref()?;
         let before = self.before.as_ref()?;
-        let sizes = |k: &Kept| (k.sigma.len(), k.displacement.len());
+        let sizes = |k: &Kept<N>| (k.sigma.len(), k.displacement.len());
         (latest.step == step
             && before.step + 1 == step
             && sizes(before) == (state.sigma.len(), state.displacement.len()))
@@ -56,29 +86,44 @@ impl LastSteps {
 }
 
 /// Per-element averages of the Gauss-point stress and plastic strain.
-pub(super) fn element_fields(model: &Model, state: &State) -> (Vec<[f64; 4]>, Vec<f64>) {
-    let stress = element_means::<4>(model, &state.sigma);
-    let plastic = element_means::<1>(model, &state.plastic_strain);
+pub(super) fn element_fields<const D: usize>(
+    model: &Model<D>,
+    state: &State<D>,
+) -> (Vec<[f64; D]>, Vec<f64>)
+where
+    Mandel<D>: Dimension,
+{
+    let stress = element_means::<D, D>(model, &state.sigma);
+    let plastic = element_means::<1, D>(model, &state.plastic_strain);
     (stress, plastic.into_iter().map(|[p]| p).collect())
 }
 
 /// Each element's mean of its Gauss points' Mandel values.
-fn element_tensor_means(model: &Model, point_values: &[SVector<f64, 4>]) -> Vec<[f64; 4]> {
+fn element_tensor_means<const D: usize>(
+    model: &Model<D>,
+    point_values: &[SVector<f64, D>],
+) -> Vec<[f64; D]>
+where
+    Mandel<D>: Dimension,
+{
     let flat: Vec<f64> = point_values
         .iter()
         .flat_map(|v| v.iter().copied())
         .collect();
-    element_means::<4>(model, &flat)
+    element_means::<D, D>(model, &flat)
 }
 
 /// The small strain `B u` at each Gauss point (Mandel `(xx, yy, zz, √2 xy)`, zz the hoop
 /// strain `u_r / r` in axisymmetry) of the nodal displacement `u` (m), by the assembly's
 /// strain operator.
-fn point_strains(
-    model: &Model,
-    u: &[[f64; 2]],
+fn point_strains<const N: usize, const D: usize>(
+    model: &Model<D>,
+    u: &[[f64; N]],
     field: &'static str,
-) -> Result<Vec<SVector<f64, 4>>, RunError> {
+) -> Result<Vec<SVector<f64, D>>, RunError>
+where
+    Mandel<D>: Dimension,
+{
     let invalid = |message: String| RunError::Output(OutputError::Invalid { field, message });
     let dofs = model.assembly.dofs();
     if u.len() != dofs.n_nodes() {
@@ -106,7 +151,13 @@ fn point_strains(
 }
 
 /// Per element, the mean over its Gauss points of the total small strain `B u`.
-fn element_strains(model: &Model, state: &State) -> Result<Vec<[f64; 4]>, RunError> {
+fn element_strains<const N: usize, const D: usize>(
+    model: &Model<D>,
+    state: &State<D>,
+) -> Result<Vec<[f64; D]>, RunError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+{
     Ok(element_tensor_means(
         model,
         &point_strains(model, &state.displacement, "strain")?,
@@ -116,24 +167,27 @@ fn element_strains(model: &Model, state: &State) -> Result<Vec<[f64; 4]>, RunErr
 /// Per element, the mean over its Gauss points of the plastic strain increment of the step
 /// from `start` to `state`: `Δεᵖ = B Δu − S Δσ`, `S` the point's elastic compliance. It is
 /// what the step's solve gave, `−z_p / V_p` (eq. 15: `S Δσ = B Δu − V Δεᵖ` per point).
-fn element_plastic_increments(
-    model: &Model,
-    state: &State,
-    (sigma0, u0): Start,
-) -> Result<Vec<[f64; 4]>, RunError> {
+fn element_plastic_increments<const N: usize, const D: usize>(
+    model: &Model<D>,
+    state: &State<D>,
+    (sigma0, u0): Start<N>,
+) -> Result<Vec<[f64; D]>, RunError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+{
     let field = "plastic_strain_increment";
-    let du: Vec<[f64; 2]> = state
+    let du: Vec<[f64; N]> = state
         .displacement
         .iter()
         .zip(u0)
-        .map(|(u, u0)| [u[0] - u0[0], u[1] - u0[1]])
+        .map(|(u, u0)| std::array::from_fn(|k| u[k] - u0[k]))
         .collect();
     let mut increments = point_strains(model, &du, field)?;
-    if state.sigma.len() != 4 * increments.len() || sigma0.len() != state.sigma.len() {
+    if state.sigma.len() != D * increments.len() || sigma0.len() != state.sigma.len() {
         return Err(RunError::Output(OutputError::invalid(
             field,
             format!(
-                "{} and {} stresses for {} Gauss points × 4",
+                "{} and {} stresses for {} Gauss points × {D}",
                 sigma0.len(),
                 state.sigma.len(),
                 increments.len()
@@ -141,9 +195,9 @@ fn element_plastic_increments(
         )));
     }
     for (p, d) in increments.iter_mut().enumerate() {
-        let r = 4 * p..4 * p + 4;
-        let ds = SVector::<f64, 4>::from_column_slice(&state.sigma[r.clone()])
-            - SVector::<f64, 4>::from_column_slice(&sigma0[r]);
+        let r = D * p..D * p + D;
+        let ds = SVector::<f64, D>::from_column_slice(&state.sigma[r.clone()])
+            - SVector::<f64, D>::from_column_slice(&sigma0[r]);
         *d -= model.compliance_at(p) * ds;
     }
     Ok(element_tensor_means(model, &increments))
@@ -151,12 +205,15 @@ fn element_plastic_increments(
 
 /// The VTU of `state` at `path`; with `start`, the state its step started from, it holds
 /// the step's `plastic_strain_increment`.
-pub(super) fn write_snapshot(
-    model: &Model,
-    state: &State,
-    start: Option<Start>,
+pub(super) fn write_snapshot<const N: usize, const D: usize>(
+    model: &Model<D>,
+    state: &State<D>,
+    start: Option<Start<N>>,
     path: &Path,
-) -> Result<(), RunError> {
+) -> Result<(), RunError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+{
     let (stress, plastic) = element_fields(model, state);
     let strain = element_strains(model, state)?;
     let increment = start
@@ -170,14 +227,14 @@ pub(super) fn write_snapshot(
             .as_ref()
             .map_or(1.0, |r| r.at(state.time));
         let at_points: Vec<f64> = model.pore_pressure.iter().map(|p| f * p).collect();
-        (element_means::<1>(model, &at_points).into_iter())
+        (element_means::<1, D>(model, &at_points).into_iter())
             .map(|[p]| p)
             .collect::<Vec<f64>>()
     });
     let velocity = model
         .assembly
         .dofs()
-        .scatter(&state.velocity_free, &state.velocity_prescribed)
+        .nodal_vectors::<N>(&state.velocity_free, &state.velocity_prescribed)
         .map_err(|e| {
             RunError::Output(OutputError::Invalid {
                 field: "velocity",
@@ -188,8 +245,8 @@ pub(super) fn write_snapshot(
         path,
         &FieldSnapshot {
             mesh: MeshView {
-                nodes: &model.mesh.nodes,
-                elements: &model.mesh.triangles,
+                nodes: model.mesh.node_positions(),
+                elements: model.mesh.elements(),
             },
             time: state.time,
             displacement: &state.displacement,

@@ -1,0 +1,74 @@
+//! The prescribed motion of a FEM scene in either dimension: each `[[boundary]]`'s
+//! velocity on the dofs it fixes, the condition that owns each prescribed dof (its
+//! velocity, ramp and reaction), and the reported boundary's dofs (`[output] reaction`).
+use talus_fem::DofMap;
+
+use crate::scene::{Ramp, SceneDocument, SceneError, SceneSpec, SceneVector};
+
+/// What the `[[boundary]]` conditions prescribe, per prescribed dof.
+pub(super) struct PrescribedMotion {
+    /// Velocity at multiplier 1 (m/s).
+    pub velocity: Vec<f64>,
+    /// The condition (`boundary[k]`) whose velocity the dof follows: the last in file order
+    /// that fixes it; `boundary.len()` for a dof no condition fixes (the axis).
+    pub owner: Vec<usize>,
+    /// The reported boundary's dofs and their component.
+    pub reaction_dofs: Vec<(usize, usize)>,
+    /// The dofs that follow each ramp.
+    pub velocity_ramps: Vec<(Ramp, Vec<usize>)>,
+}
+
+/// The motion of `scene`'s boundaries on `dofs`: `nodes[k]` the nodes of `boundary[k]`
+/// (empty when it does not act), `ramps[k]` its checked ramp; `switched_off`: the reported
+/// boundary does not act here (a stage), so that it may hold no dof.
+pub(super) fn prescribed_motion<V: SceneVector>(
+    scene: &SceneDocument<SceneSpec<V>>,
+    nodes: &[Vec<usize>],
+    ramps: Vec<Option<Ramp>>,
+    dofs: &DofMap,
+    switched_off: bool,
+) -> Result<PrescribedMotion, SceneError> {
+    let spec = &scene.spec;
+    // Prescribed velocities: later conditions win where sets overlap.
+    let mut velocity = vec![0.0; dofs.n_prescribed()];
+    let mut owner = vec![spec.boundary.len(); dofs.n_prescribed()];
+    let mut reaction_dofs = Vec::new();
+    for (k, (b, nodes)) in spec.boundary.iter().zip(nodes).enumerate() {
+        let is_reaction = b.name.is_some() && b.name == spec.output.reaction;
+        for &n in nodes {
+            for comp in 0..V::DIM {
+                let fixed = b.fix.fixes(comp);
+                if let (true, Some(j)) = (fixed, dofs.prescribed(n, comp)) {
+                    velocity[j] = b.velocity.as_ref()[comp];
+                    owner[j] = k;
+                    if is_reaction && !reaction_dofs.contains(&(j, comp)) {
+                        reaction_dofs.push((j, comp));
+                    }
+                }
+            }
+        }
+    }
+    // A dof follows the ramp of the condition that set its velocity.
+    let velocity_ramps: Vec<(Ramp, Vec<usize>)> = ramps
+        .into_iter()
+        .enumerate()
+        .filter_map(|(k, ramp)| {
+            let dofs: Vec<usize> = (0..owner.len()).filter(|&j| owner[j] == k).collect();
+            ramp.filter(|_| !dofs.is_empty()).map(|r| (r, dofs))
+        })
+        .collect();
+    if let Some(name) = &spec.output.reaction {
+        if reaction_dofs.is_empty() && !switched_off {
+            return Err(scene.error(
+                "output.reaction",
+                format!("no boundary named `{name}` with fixed components"),
+            ));
+        }
+    }
+    Ok(PrescribedMotion {
+        velocity,
+        owner,
+        reaction_dofs,
+        velocity_ramps,
+    })
+}
