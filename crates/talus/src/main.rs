@@ -145,22 +145,26 @@ fn run(
     };
     // Before anything is allocated: the estimated memory and work (docs/scenes.md, 'Size').
     let estimate = match &scene {
-        SceneFile::Fem(s) => SizeEstimate::of_fem(s)?,
-        SceneFile::Mpm(s) => SizeEstimate::of_mpm(s),
+        SceneFile::Fem(s) => Some(SizeEstimate::of_fem(s)?),
+        SceneFile::Mpm(s) => Some(SizeEstimate::of_mpm(s)),
+        // The size estimate counts triangles' points: a 3D scene has none yet.
+        SceneFile::Fem3(_) => None,
     };
     let available = available_memory();
-    tracing::info!(
-        points = estimate.points,
-        bytes = estimate.bytes,
-        available,
-        "size estimate"
-    );
-    if let Err(e) = estimate.check(available) {
-        if !allow_large {
-            eprintln!("error: {e}");
-            return Ok(Exit::InvalidInput.into());
+    if let Some(estimate) = estimate {
+        tracing::info!(
+            points = estimate.points,
+            bytes = estimate.bytes,
+            available,
+            "size estimate"
+        );
+        if let Err(e) = estimate.check(available) {
+            if !allow_large {
+                eprintln!("error: {e}");
+                return Ok(Exit::InvalidInput.into());
+            }
+            tracing::warn!("{e} (--allow-large: running anyway)");
         }
-        tracing::warn!("{e} (--allow-large: running anyway)");
     }
     // The folder is this run's until it ends (docs/scenes.md, 'Durable outputs').
     let _lock = match folder::lock(&out) {
@@ -175,6 +179,7 @@ fn run(
     });
     match scene {
         SceneFile::Fem(scene) => run_fem(&scene, &options, None),
+        SceneFile::Fem3(scene) => run_fem3(&scene, &options, None),
         SceneFile::Mpm(scene) => run_mpm(&scene, &options, None),
     }
 }
@@ -224,6 +229,7 @@ fn resume(out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
     });
     match scene {
         SceneFile::Fem(scene) => run_fem(&scene, &options, Some(checkpoint)),
+        SceneFile::Fem3(scene) => run_fem3(&scene, &options, Some(checkpoint)),
         SceneFile::Mpm(scene) => run_mpm(&scene, &options, Some(checkpoint)),
     }
 }
@@ -252,6 +258,34 @@ fn run_fem(
         Ok(summary) => summary,
         Err(code) => return Ok(code.into()),
     };
+    report_fem_run(&summary, scene.spec.analysis.geometry.force_unit(), &out);
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `talus run` of a 3D scene (`docs/3d.md`): no factor-of-safety search or stages there.
+fn run_fem3(
+    scene: &talus::scene::Scene3,
+    options: &RunOptions,
+    resumed: Option<Checkpoint<serde_json::Value>>,
+) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    let out = options.out_dir.clone();
+    let summary = talus::run::fem::run_scene_3d(scene, options, resumed);
+    let summary = match ended(summary, &out) {
+        Ok(summary) => summary,
+        Err(code) => return Ok(code.into()),
+    };
+    report_fem_run(&summary, scene.spec.analysis.geometry.force_unit(), &out);
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The run's cost in one line, and the summary, of a FEM run in 2D or 3D.
+fn report_fem_run<const D: usize>(
+    summary: &talus::run::fem::RunSummary<D>,
+    force_unit: &str,
+    out: &std::path::Path,
+) where
+    talus_fem::Mandel<D>: talus_fem::Dimension,
+{
     // The run's cost in one line (issue 24): accepted and failed Newton iterations, the
     // sub-steps the halvings added and the smallest sub-step.
     let records = &summary.records;
@@ -291,12 +325,11 @@ fn run_fem(
             0.0
         },
         last.map(|r| r.reaction_force()).unwrap_or(0.0),
-        scene.spec.analysis.geometry.force_unit(),
+        force_unit,
         summary.displacements.last().copied().unwrap_or(0.0),
         out.display()
     );
-    print_summary(&out);
-    Ok(ExitCode::SUCCESS)
+    print_summary(out);
 }
 
 /// A `[stability]` scene: the factor of safety (`docs/stability.md`).

@@ -138,8 +138,8 @@ pub trait Shape {
 /// against `state`'s shape, then the steps of `span` by `h` with the run loop (from
 /// `state` after `span.from` when that is not 0: a staged run's next stage). A failed
 /// step comes back in [`Stepped::failure`].
-pub(crate) fn execute<D, O>(
-    stepper: &mut Stepper<D>,
+pub(crate) fn execute<D, O, const N: usize>(
+    stepper: &mut Stepper<D, N>,
     state: D::State,
     resumed: Option<Checkpoint<serde_json::Value>>,
     outputs: &mut O,
@@ -147,11 +147,11 @@ pub(crate) fn execute<D, O>(
     h: f64,
     options: &RunOptions,
     scene: (Option<&Path>, &str),
-) -> Result<Stepped<D>, RunError>
+) -> Result<Stepped<D, N>, RunError>
 where
-    D: Discretization,
+    D: Discretization<N>,
     D::State: Shape + serde::Serialize + serde::de::DeserializeOwned,
-    O: RunOutputs<D>,
+    O: RunOutputs<D, N>,
 {
     let resumed = match resumed {
         Some(c) => Some(c.with_state::<D::State>(&options.out_dir)?),

@@ -20,7 +20,7 @@ pub const HISTORY_COLUMNS: &str = "step,time,h,substeps,newton_iterations,failed
 
 /// What a method adds to the run loop: its columns, its files, its progress message, and
 /// the named boundaries and monitors of `summary.json`.
-pub trait RunOutputs<D: Discretization> {
+pub trait RunOutputs<D: Discretization<N>, const N: usize = 4> {
     /// `,name,...`: the columns after [`HISTORY_COLUMNS`].
     fn columns(&self) -> String;
     /// `,value,...`: those columns for `state` after `report`'s step (`None`: step 0).
@@ -107,7 +107,7 @@ impl Span {
 /// What the run loop returns when the run was neither interrupted nor collapsed: every
 /// step's report, the last state, and the step that failed (the files written before it
 /// are kept).
-pub struct Stepped<D: Discretization> {
+pub struct Stepped<D: Discretization<N>, const N: usize = 4> {
     pub reports: Vec<StepReport<D::Stats>>,
     pub state: D::State,
     pub failure: Option<(usize, StepError<D::Error>)>,
@@ -124,8 +124,8 @@ pub struct Stepped<D: Discretization> {
 /// folder, a `history.csv` that does not reach the checkpoint, outputs it cannot restore)
 /// is refused before any file is touched.
 #[allow(clippy::too_many_arguments)]
-pub fn run_steps<D, O>(
-    stepper: &mut Stepper<D>,
+pub fn run_steps<D, O, const N: usize>(
+    stepper: &mut Stepper<D, N>,
     begin: Begin<D::State>,
     span: Span,
     h: f64,
@@ -133,11 +133,11 @@ pub fn run_steps<D, O>(
     options: &RunOptions,
     scene_path: Option<&Path>,
     scene_source: &str,
-) -> Result<Stepped<D>, RunError>
+) -> Result<Stepped<D, N>, RunError>
 where
-    D: Discretization,
+    D: Discretization<N>,
     D::State: serde::Serialize,
-    O: RunOutputs<D>,
+    O: RunOutputs<D, N>,
 {
     let steps = span.total;
     let out: &Path = &options.out_dir;
@@ -201,7 +201,7 @@ where
     let mut last_checkpoint = None;
     let save = |step: usize,
                 state: &D::State,
-                stepper: &Stepper<D>,
+                stepper: &Stepper<D, N>,
                 watch: &CollapseWatch,
                 outputs: &O|
      -> Result<(), RunError> {
@@ -418,7 +418,7 @@ fn advice(settings: &StepSettings, h: f64, residual: f64) -> String {
 /// A file of step `step` could not be written (a full disk, a removed folder): the run
 /// stops, but `summary.json` still says why if it fits (it is small; the failed file's
 /// temporary copy was removed), so that the folder tells the same story as the exit code.
-fn output_failed<D: Discretization, O: RunOutputs<D>>(
+fn output_failed<D: Discretization<N>, O: RunOutputs<D, N>, const N: usize>(
     outputs: &O,
     summary_path: &Path,
     steps: usize,

@@ -6,10 +6,10 @@
 //! [`SceneVector`]: super::SceneVector
 use super::{GeometryKind, Locate, SceneError, SceneSpec, SceneVector};
 
-/// Why a 3D scene stops at its geometry: the models exist, the scene runner does not yet.
-pub(crate) const NO_3D_RUN: &str = "\"3d\": running a 3D scene file is not implemented \
-    yet; 3D models are built by talus-fem (Assembly and Model on a TetrahedralMesh, \
-    docs/3d.md, 'Next')";
+/// Why a 2D scene type refuses the 3D geometry: a 3D scene is read as one
+/// (`SceneFile::parse`, which `talus run` uses), with 3-component vectors.
+pub(crate) const NO_3D_RUN: &str = "\"3d\": a 3D scene is read as one (SceneFile::parse, \
+    `talus run`, docs/3d.md), not as a 2D scene";
 
 /// The sections whose loads act on boundary facets: edges in 2D, faces in 3D.
 const FACET_SECTIONS: [&str; 2] = ["traction", "pressure"];

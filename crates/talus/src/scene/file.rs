@@ -2,25 +2,22 @@
 use std::path::{Path, PathBuf};
 
 use super::source::{error_at, read, SceneDocument};
-use super::{MpmScene, Scene, SceneError, SceneSpec};
+use super::{MpmScene, Scene, Scene3, SceneError, SceneSpec};
 
-/// A 3D FEM scene: read and checked key by key (its own errors first), then refused, since
-/// a 3D scene file does not run yet (`docs/3d.md`, 'Next').
-fn three_d_scene(source: &str, path: Option<PathBuf>) -> SceneError {
-    let scene = match SceneDocument::<SceneSpec<[f64; 3]>>::parse(source, path) {
-        Ok(scene) => scene,
-        Err(e) => return e,
-    };
-    if let Err(e) = super::dimension::check(&scene, source, &scene.spec) {
-        return e;
-    }
-    scene.error("analysis.geometry", super::dimension::NO_3D_RUN)
+/// A 3D FEM scene: read and checked key by key (its own errors first, then a 2D key in
+/// it, `scene::dimension`).
+fn three_d_scene(source: &str, path: Option<PathBuf>) -> Result<Scene3, SceneError> {
+    let scene = SceneDocument::<SceneSpec<[f64; 3]>>::parse(source, path)?;
+    super::dimension::check(&scene, source, &scene.spec)?;
+    Ok(scene)
 }
 
 /// What [`SceneFile::parse`] found.
 #[derive(Debug, Clone)]
 pub enum SceneFile {
     Fem(Scene),
+    /// A 3D FEM scene (`[analysis] geometry = "3d"`, tetrahedra).
+    Fem3(Scene3),
     Mpm(MpmScene),
 }
 
@@ -43,7 +40,7 @@ impl SceneFile {
             .and_then(|g| g.as_str())
             == Some("3d");
         match (table.contains_key("mesh"), table.contains_key("grid")) {
-            (true, false) if three_d => Err(three_d_scene(source, path)),
+            (true, false) if three_d => three_d_scene(source, path).map(SceneFile::Fem3),
             (true, false) => Scene::parse(source, path).map(SceneFile::Fem),
             (false, true) => MpmScene::parse(source, path).map(SceneFile::Mpm),
             (true, true) => {

@@ -4,6 +4,7 @@ mod fields;
 mod plots;
 mod results;
 mod stages;
+mod three_d;
 
 use std::path::Path;
 use std::time::Instant;
@@ -20,18 +21,25 @@ use crate::scene::Scene;
 use fields::write_snapshot;
 use plots::write_plots;
 pub use results::FemResults;
+pub use three_d::run_scene_3d;
 
-/// What a finished run measured.
+/// What a finished run measured (`D`: 4 in 2D, 6 in 3D).
 #[derive(Debug, Clone)]
-pub struct RunSummary {
+pub struct RunSummary<const D: usize = 4>
+where
+    talus_fem::Mandel<D>: talus_fem::Dimension,
+{
     pub records: Vec<StepRecord>,
     /// Footing displacement (m, downward positive) after each step.
     pub displacements: Vec<f64>,
     pub seconds: f64,
-    pub final_state: State,
+    pub final_state: State<D>,
 }
 
-impl Shape for State {
+impl<const D: usize> Shape for State<D>
+where
+    talus_fem::Mandel<D>: talus_fem::Dimension,
+{
     const SIZES: &'static str = "stress, plastic strain, free and prescribed velocities, nodes";
     fn sizes(&self) -> Vec<usize> {
         vec![
@@ -230,8 +238,27 @@ struct Carried {
     histories: Vec<(usize, Vec<f64>)>,
 }
 
+/// The reported boundary's settlement (m, downward positive): the mean of `−u_y` over
+/// `nodes` (0 without nodes), in 2D and 3D.
+fn settlement<P: AsRef<[f64]>>(nodes: &[usize], displacement: &[P]) -> f64 {
+    let displacement = if nodes.is_empty() {
+        0.0
+    } else {
+        -nodes
+            .iter()
+            .map(|&n| displacement[n].as_ref()[1])
+            .sum::<f64>()
+            / nodes.len() as f64
+    };
+    // + 0.0: a settlement of −0 (no motion yet) is written as 0.
+    displacement + 0.0
+}
+
 /// The nodes of the reported boundary's prescribed dofs.
-fn reaction_nodes(model: &Model) -> Vec<usize> {
+fn reaction_nodes<const D: usize>(model: &Model<D>) -> Vec<usize>
+where
+    talus_fem::Mandel<D>: talus_fem::Dimension,
+{
     let dofs = model.assembly.dofs();
     model
         .reaction_dofs
@@ -263,18 +290,7 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
     }
 
     fn row(&mut self, step: usize, state: &State, report: Option<&StepRecord>) -> String {
-        let displacement = if self.reaction_nodes.is_empty() {
-            0.0
-        } else {
-            -self
-                .reaction_nodes
-                .iter()
-                .map(|&n| state.displacement[n][1])
-                .sum::<f64>()
-                / self.reaction_nodes.len() as f64
-        };
-        // + 0.0: a settlement of −0 (no motion yet) is written as 0.
-        let displacement = displacement + 0.0;
+        let displacement = settlement(&self.reaction_nodes, &state.displacement);
         if let Some(r) = report {
             self.histories.extend(
                 r.residual_histories
