@@ -73,6 +73,11 @@ fn step(
                 gauss_element: model.assembly.gauss_element,
             })
         }
+        // The Python package runs 2D scenes; a 3D one runs from `talus run` (docs/3d.md).
+        SceneFile::Fem3(scene) => Err(RunError::Scene(scene.error(
+            "analysis.geometry",
+            "\"3d\": the Python package does not run 3D scenes yet; run it with `talus run`",
+        ))),
         SceneFile::Mpm(scene) => {
             let p = match resumed {
                 Some(c) => resume_mpm_scene(scene, c, options)?,

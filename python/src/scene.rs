@@ -24,6 +24,9 @@ pub fn validate(source: &str, path: Option<PathBuf>) -> Result<SceneFile, SceneE
     let file = SceneFile::parse(source, path)?;
     match &file {
         SceneFile::Fem(scene) => talus::model::fem::stages::check_before_run(scene)?,
+        SceneFile::Fem3(scene) => {
+            talus::model::fem::model_3d(scene)?;
+        }
         SceneFile::Mpm(scene) => {
             MpmModel::from_scene(scene)?;
         }
@@ -34,6 +37,7 @@ pub fn validate(source: &str, path: Option<PathBuf>) -> Result<SceneFile, SceneE
 fn kind(file: &SceneFile) -> &'static str {
     match file {
         SceneFile::Fem(_) => "fem",
+        SceneFile::Fem3(_) => "fem3",
         SceneFile::Mpm(_) => "mpm",
     }
 }

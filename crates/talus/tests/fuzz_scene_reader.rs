@@ -98,6 +98,14 @@ fn read(bytes: &[u8], path: &Path) -> Result<Outcome, String> {
             finite(&model.loads_at(0.0).force_free, "the loads at t = 0")?;
             Ok(Outcome::Read)
         }
+        SceneFile::Fem3(scene) => match talus::model::fem::model_3d(&scene) {
+            Ok(model) => {
+                finite(&model.force_free, "the forces on free dofs")?;
+                finite(&model.prescribed_velocity, "the prescribed velocities")?;
+                Ok(Outcome::Read)
+            }
+            Err(e) => Ok(Outcome::Refused(e.to_string())),
+        },
         SceneFile::Mpm(scene) => {
             let estimate = SizeEstimate::of_mpm(&scene);
             if let Err(e) = estimate.check(None) {

@@ -42,7 +42,7 @@ fn with(from: &str, to: &str) -> String {
 fn scene(text: &str) -> MpmScene {
     match SceneFile::parse(text, None) {
         Ok(SceneFile::Mpm(scene)) => scene,
-        Ok(SceneFile::Fem(_)) => panic!("parsed as a FEM scene"),
+        Ok(_) => panic!("parsed as a FEM scene"),
         Err(e) => panic!("{e}"),
     }
 }
@@ -51,7 +51,7 @@ fn scene(text: &str) -> MpmScene {
 fn build_error(text: &str) -> SceneError {
     let scene = match SceneFile::parse(text, None) {
         Ok(SceneFile::Mpm(scene)) => scene,
-        Ok(SceneFile::Fem(_)) => panic!("parsed as a FEM scene"),
+        Ok(_) => panic!("parsed as a FEM scene"),
         Err(e) => return e,
     };
     MpmModel::from_scene(&scene)

@@ -73,7 +73,7 @@ fn tiny_with(from: &str, to: &str) -> String {
 fn build_error(text: &str) -> SceneError {
     let scene = match SceneFile::parse(text, None) {
         Ok(SceneFile::Mpm(scene)) => scene,
-        Ok(SceneFile::Fem(_)) => panic!("parsed as a FEM scene"),
+        Ok(_) => panic!("parsed as a FEM scene"),
         Err(e) => return e,
     };
     MpmModel::from_scene(&scene)
@@ -96,6 +96,7 @@ fn every_shipped_mpm_scene_parses_and_builds() {
                 names.push(path.file_name().unwrap().to_string_lossy().into_owned());
             }
             SceneFile::Fem(scene) => assert!(scene.path.is_some()),
+            SceneFile::Fem3(scene) => assert!(scene.path.is_some()),
         }
     }
     names.sort();

@@ -155,14 +155,12 @@ fn a_3_component_vector_in_a_2d_scene_is_refused_at_its_line() {
     let _ = fem(FOOTING);
 }
 
-/// A 3D scene file is read key by key (a bad key is named) and, valid, refused at its
-/// geometry: running it is not implemented yet.
+/// A 3D scene file is read key by key (a bad key is named) and, valid, read as a 3D
+/// scene (`SceneFile::Fem3`, which `talus run` runs: tests/block_3d.rs).
 #[test]
-fn a_3d_scene_file_is_checked_then_refused_at_its_geometry() {
+fn a_3d_scene_file_is_checked_key_by_key_and_read_as_3d() {
     use talus::scene::SceneFile;
-    let err = SceneFile::parse(BLOCK, None).unwrap_err();
-    assert_eq!(err.field, "analysis.geometry", "{err}");
-    assert!(err.message.contains("not implemented yet"), "{err}");
+    assert!(matches!(SceneFile::parse(BLOCK, None), Ok(SceneFile::Fem3(_))));
     let bad = replaced(BLOCK, "fix = \"z\"", "fix = \"w\"");
     let err = SceneFile::parse(&bad, None).unwrap_err();
     assert!(err.line.is_some() && err.message.contains("`xyz`"), "{err}");

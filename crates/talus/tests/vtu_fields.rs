@@ -614,7 +614,7 @@ fn block_and_column() -> String {
 fn mpm_displacement_is_the_position_change() {
     let scene = match SceneFile::parse(&block_and_column(), None) {
         Ok(SceneFile::Mpm(scene)) => scene,
-        Ok(SceneFile::Fem(_)) => panic!("parsed as a FEM scene"),
+        Ok(_) => panic!("parsed as a FEM scene"),
         Err(e) => panic!("{e}"),
     };
     let out = out_dir("mpm");

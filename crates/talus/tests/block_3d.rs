@@ -1,0 +1,165 @@
+//! 3D scenes run by `talus run` (`docs/3d.md`, 'Next' 1): an elastic block of ground under
+//! its own weight (`scenes/block_3d.toml`) against the uniaxial-strain column's closed
+//! form, the files a 3D run writes read back, and the 3D refusals naming their fields.
+//!
+//! The column: rollers on the sides and a fixed base leave only `u_y(y)`, so
+//! `ε_xx = ε_zz = 0` and equilibrium `dσ_yy/dy = ρ g` with a free top give
+//! `σ_yy = −ρ g (H − y)` and `σ_xx = σ_zz = ν/(1−ν) σ_yy` (Timoshenko & Goodier, *Theory
+//! of Elasticity*, the state of uniaxial strain; Jaky's K₀ of an elastic body). `u_y` is
+//! quadratic in y, which P2 tetrahedra hold exactly: the Gauss-point stresses are the
+//! closed form up to round-off and the quasi-static inertia (`r = 1e-7` of the stiffness).
+mod common;
+
+use common::{array, replaced, talus_run};
+use talus::model::fem::model_3d;
+use talus::output::Summary;
+use talus::run::fem::run_scene_3d;
+use talus::run::RunOptions;
+use talus::scene::{Scene3, SceneFile};
+
+const BLOCK: &str = include_str!("../../../scenes/block_3d.toml");
+const RHO: f64 = 2000.0;
+const G: f64 = 9.81;
+const NU: f64 = 0.25;
+const HEIGHT: f64 = 2.0;
+const VOLUME: f64 = 2.0;
+
+fn scene(text: &str) -> Scene3 {
+    match SceneFile::parse(text, None) {
+        Ok(SceneFile::Fem3(scene)) => scene,
+        Ok(_) => panic!("not read as a 3D scene"),
+        Err(e) => panic!("{e}"),
+    }
+}
+
+/// The error `talus run` stops a 3D scene with: reading it or building its model.
+fn error_of(text: &str) -> talus::scene::SceneError {
+    match SceneFile::parse(text, None) {
+        Ok(SceneFile::Fem3(scene)) => model_3d(&scene).err().expect("the scene must be refused"),
+        Ok(_) => panic!("not read as a 3D scene"),
+        Err(e) => e,
+    }
+}
+
+#[test]
+fn a_block_under_its_own_weight_is_the_uniaxial_strain_column() {
+    let scene = scene(BLOCK);
+    let dir = common::target_tmp_dir("block_3d", "column");
+    let summary = run_scene_3d(&scene, &RunOptions::new(dir.join("out")), None)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let model = model_3d(&scene).unwrap();
+    let sigma = &summary.final_state.sigma;
+    let scale = RHO * G * HEIGHT;
+    let (mut e_yy, mut e_lateral, mut e_shear) = (0.0f64, 0.0f64, 0.0f64);
+    for (p, x) in model.assembly.gauss_points.iter().enumerate() {
+        let s = &sigma[6 * p..6 * p + 6];
+        let syy = -RHO * G * (HEIGHT - x[1]);
+        let lateral = NU / (1.0 - NU) * syy;
+        e_yy = e_yy.max((s[1] - syy).abs() / scale);
+        e_lateral = e_lateral.max((s[0] - lateral).abs().max((s[2] - lateral).abs()) / scale);
+        e_shear = e_shear.max(s[3..].iter().fold(0.0f64, |m, v| m.max(v.abs())) / scale);
+    }
+    println!(
+        "{} Gauss points: σ_yy {e_yy:.2e}, σ_xx and σ_zz {e_lateral:.2e}, shears {e_shear:.2e} \
+         of ρ g H",
+        model.n_points()
+    );
+    assert!(e_yy < 1e-6, "σ_yy off by {e_yy:e} of ρ g H");
+    assert!(e_lateral < 1e-6, "σ_xx, σ_zz off by {e_lateral:e} of ρ g H");
+    assert!(e_shear < 1e-6, "shears of {e_shear:e} of ρ g H");
+    // The base carries the weight: the reported reaction and the named boundary's fy.
+    let weight = RHO * G * VOLUME;
+    let reaction = summary.records.last().unwrap().stats.as_ref().unwrap().reaction_force;
+    let written = Summary::read(&dir.join("out").join("summary.json")).unwrap();
+    let base = &written.boundaries["base"];
+    println!(
+        "weight {weight} N: reaction {reaction:.10e}, base fy {:.10e} (rel. {:.1e})",
+        base.last[1],
+        (base.last[1] - weight).abs() / weight
+    );
+    assert!((reaction.abs() - weight).abs() < 1e-9 * weight, "{reaction} against {weight}");
+    assert!((base.last[1] - weight).abs() < 1e-9 * weight, "{base:?}");
+    assert!(base.last[0].abs() < 1e-9 * weight && base.last[2].abs() < 1e-9 * weight);
+}
+
+#[test]
+fn a_3d_run_writes_history_summary_and_tetrahedral_vtus() {
+    let (out, stdout, _) = talus_run("block_3d", "files", BLOCK);
+    assert!(stdout.contains("3 steps"), "{stdout}");
+    let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    let header = history.lines().next().unwrap();
+    assert!(
+        header.ends_with(",reaction_force,footing_displacement,base_fx,base_fy,base_fz"),
+        "{header}"
+    );
+    assert_eq!(history.lines().count(), 1 + 4, "a row per step from step 0");
+    let summary = Summary::read(&out.join("summary.json")).unwrap();
+    assert_eq!(summary.steps, 3);
+    assert_eq!(summary.force_unit, "N");
+    assert_eq!(summary.boundaries["base"].last.len(), 3);
+    let pvd = std::fs::read_to_string(out.join("solution.pvd")).unwrap();
+    for step in 0..=3 {
+        let name = format!("vtu/step_{step:05}.vtu");
+        assert!(pvd.contains(&name), "{pvd}");
+        let xml = std::fs::read_to_string(out.join(&name)).unwrap();
+        let types = array(&xml, "types");
+        // 2 × 4 × 2 cells of 6 tetrahedra, P2: VTK's quadratic tetrahedron.
+        assert_eq!(types, vec![24.0; 96], "{name}");
+        assert_eq!(array(&xml, "displacement").len(), 3 * 225, "{name}: 3 per node");
+    }
+    assert!(out.join("force_displacement.png").exists());
+    assert!(!out.join("plastic_strain.png").exists(), "no field map in 3D");
+}
+
+#[test]
+fn what_3d_does_not_run_yet_is_refused_naming_its_field() {
+    let cases = [
+        ("[output]", "[water]\nlevel = 1.0\n\n[output]", "water"),
+        ("[output]", "[[monitor]]\nname = \"top\"\npoint = [0.5, 2.0, 0.5]\n\n[output]", "monitor"),
+        (
+            "[output]",
+            "[initial_stress]\nstress = [-1.0, -1.0, 0.0, -1.0]\n\n[output]",
+            "initial_stress.stress",
+        ),
+        ("cells = [2, 4, 2]", "cells = [2, 0, 2]", "mesh.box.cells"),
+        ("z = [0.0, 1.0]", "z = [1.0, 1.0]", "mesh.box.z"),
+        ("nodes = \"left\"", "nodes = \"west\"", "boundary[1].nodes"),
+        (
+            "nodes = \"left\"",
+            "nodes = { box = [[5.0, 0.0, 0.0], [6.0, 1.0, 1.0]] }",
+            "boundary[1].nodes",
+        ),
+    ];
+    for (from, to, field) in cases {
+        let err = error_of(&replaced(BLOCK, from, to));
+        assert_eq!(err.field, field, "{to}: {err}");
+        println!("{field}: {err}");
+    }
+    // A face load on a box of no boundary face, and on a face set the mesh lacks.
+    let loaded = format!(
+        "{BLOCK}\n[[pressure]]\nfaces = {{ box = [[0.2, 0.5, 0.2], [0.8, 1.5, 0.8]] }}\nvalue = 1e3\n"
+    );
+    assert_eq!(error_of(&loaded).field, "pressure[0].faces");
+    let named = format!("{BLOCK}\n[[traction]]\nfaces = \"roof\"\nvalue = [0.0, -1e3, 0.0]\n");
+    let err = error_of(&named);
+    assert_eq!(err.field, "traction[0].faces", "{err}");
+    assert!(err.message.contains("top"), "lists the face sets: {err}");
+}
+
+/// A uniform pressure on the top of the block, selected by a 3D box, adds `q A` to the
+/// base's reaction (the faces whose nodes all lie in the box, turned outward).
+#[test]
+fn a_pressure_on_faces_in_a_box_adds_its_resultant_to_the_base() {
+    let q = 1.0e4;
+    let text = format!(
+        "{BLOCK}\n[[pressure]]\nfaces = {{ box = [[0.0, 2.0, 0.0], [1.0, 2.0, 1.0]] }}\nvalue = {q}\n"
+    );
+    let scene = scene(&text);
+    let dir = common::target_tmp_dir("block_3d", "pressure");
+    let summary = run_scene_3d(&scene, &RunOptions::new(dir.join("out")), None)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let reaction = summary.records.last().unwrap().stats.as_ref().unwrap().reaction_force;
+    let expected = RHO * G * VOLUME + q * 1.0;
+    println!("reaction {reaction:.10e} N, expected {expected} N");
+    assert!((reaction.abs() - expected).abs() < 1e-9 * expected, "{reaction}");
+}
