@@ -69,7 +69,14 @@ fn a_block_under_its_own_weight_is_the_uniaxial_strain_column() {
     assert!(e_shear < 1e-6, "shears of {e_shear:e} of ρ g H");
     // The base carries the weight: the reported reaction and the named boundary's fy.
     let weight = RHO * G * VOLUME;
-    let reaction = summary.records.last().unwrap().stats.as_ref().unwrap().reaction_force;
+    let reaction = summary
+        .records
+        .last()
+        .unwrap()
+        .stats
+        .as_ref()
+        .unwrap()
+        .reaction_force;
     let written = Summary::read(&dir.join("out").join("summary.json")).unwrap();
     let base = &written.boundaries["base"];
     println!(
@@ -77,7 +84,10 @@ fn a_block_under_its_own_weight_is_the_uniaxial_strain_column() {
         base.last[1],
         (base.last[1] - weight).abs() / weight
     );
-    assert!((reaction.abs() - weight).abs() < 1e-9 * weight, "{reaction} against {weight}");
+    assert!(
+        (reaction.abs() - weight).abs() < 1e-9 * weight,
+        "{reaction} against {weight}"
+    );
     assert!((base.last[1] - weight).abs() < 1e-9 * weight, "{base:?}");
     assert!(base.last[0].abs() < 1e-9 * weight && base.last[2].abs() < 1e-9 * weight);
 }
@@ -105,17 +115,28 @@ fn a_3d_run_writes_history_summary_and_tetrahedral_vtus() {
         let types = array(&xml, "types");
         // 2 × 4 × 2 cells of 6 tetrahedra, P2: VTK's quadratic tetrahedron.
         assert_eq!(types, vec![24.0; 96], "{name}");
-        assert_eq!(array(&xml, "displacement").len(), 3 * 225, "{name}: 3 per node");
+        assert_eq!(
+            array(&xml, "displacement").len(),
+            3 * 225,
+            "{name}: 3 per node"
+        );
     }
     assert!(out.join("force_displacement.png").exists());
-    assert!(!out.join("plastic_strain.png").exists(), "no field map in 3D");
+    assert!(
+        !out.join("plastic_strain.png").exists(),
+        "no field map in 3D"
+    );
 }
 
 #[test]
 fn what_3d_does_not_run_yet_is_refused_naming_its_field() {
     let cases = [
         ("[output]", "[water]\nlevel = 1.0\n\n[output]", "water"),
-        ("[output]", "[[monitor]]\nname = \"top\"\npoint = [0.5, 2.0, 0.5]\n\n[output]", "monitor"),
+        (
+            "[output]",
+            "[[monitor]]\nname = \"top\"\npoint = [0.5, 2.0, 0.5]\n\n[output]",
+            "monitor",
+        ),
         (
             "[output]",
             "[initial_stress]\nstress = [-1.0, -1.0, 0.0, -1.0]\n\n[output]",
@@ -158,8 +179,18 @@ fn a_pressure_on_faces_in_a_box_adds_its_resultant_to_the_base() {
     let dir = common::target_tmp_dir("block_3d", "pressure");
     let summary = run_scene_3d(&scene, &RunOptions::new(dir.join("out")), None)
         .unwrap_or_else(|e| panic!("{e}"));
-    let reaction = summary.records.last().unwrap().stats.as_ref().unwrap().reaction_force;
+    let reaction = summary
+        .records
+        .last()
+        .unwrap()
+        .stats
+        .as_ref()
+        .unwrap()
+        .reaction_force;
     let expected = RHO * G * VOLUME + q * 1.0;
     println!("reaction {reaction:.10e} N, expected {expected} N");
-    assert!((reaction.abs() - expected).abs() < 1e-9 * expected, "{reaction}");
+    assert!(
+        (reaction.abs() - expected).abs() < 1e-9 * expected,
+        "{reaction}"
+    );
 }

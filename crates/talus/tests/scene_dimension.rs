@@ -160,7 +160,10 @@ fn a_3_component_vector_in_a_2d_scene_is_refused_at_its_line() {
 #[test]
 fn a_3d_scene_file_is_checked_key_by_key_and_read_as_3d() {
     use talus::scene::SceneFile;
-    assert!(matches!(SceneFile::parse(BLOCK, None), Ok(SceneFile::Fem3(_))));
+    assert!(matches!(
+        SceneFile::parse(BLOCK, None),
+        Ok(SceneFile::Fem3(_))
+    ));
     let bad = replaced(BLOCK, "fix = \"z\"", "fix = \"w\"");
     let err = SceneFile::parse(&bad, None).unwrap_err();
     assert!(err.line.is_some() && err.message.contains("`xyz`"), "{err}");

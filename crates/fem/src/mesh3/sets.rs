@@ -8,8 +8,7 @@ impl TetrahedralMesh {
     /// Every boundary face (met by one tetrahedron only), outward, with its mid-edge nodes
     /// in P2, in the order of its tetrahedron and local face.
     pub fn boundary_faces(&self) -> Vec<BoundaryFace> {
-        let mut owners: Vec<(usize, usize)> =
-            self.boundary_face_owners().into_values().collect();
+        let mut owners: Vec<(usize, usize)> = self.boundary_face_owners().into_values().collect();
         owners.sort_unstable();
         owners
             .into_iter()

@@ -134,14 +134,11 @@ impl Results {
 
     /// `,NAME_fx,NAME_fy,...,NAME_ux,...`: what follows the base header.
     pub fn header(&self) -> String {
-        let b = self
-            .boundaries
-            .iter()
-            .flat_map(|n| {
-                crate::scene::REACTION_COLUMNS[..self.components]
-                    .iter()
-                    .map(move |s| format!(",{n}_{s}"))
-            });
+        let b = self.boundaries.iter().flat_map(|n| {
+            crate::scene::REACTION_COLUMNS[..self.components]
+                .iter()
+                .map(move |s| format!(",{n}_{s}"))
+        });
         let m = self
             .monitors
             .iter()

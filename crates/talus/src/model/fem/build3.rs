@@ -12,8 +12,8 @@ use talus_fem::{
 };
 
 use crate::scene::{
-    check, scales, scales::ramp_max, AnalysisKind, Fix, MeshSpec, Order, Ramp, Scene3,
-    SceneError, Selection,
+    check, scales, scales::ramp_max, AnalysisKind, Fix, MeshSpec, Order, Ramp, Scene3, SceneError,
+    Selection,
 };
 
 /// A model of 3D stress points: Mandel size 6.
@@ -39,10 +39,18 @@ fn refuse_unsupported(scene: &Scene3) -> Result<(), SceneError> {
         return Err(not_in_3d(scene, "water", "a water table ([water])"));
     }
     if !spec.stage.is_empty() {
-        return Err(not_in_3d(scene, "stage", "a staged construction ([[stage]])"));
+        return Err(not_in_3d(
+            scene,
+            "stage",
+            "a staged construction ([[stage]])",
+        ));
     }
     if spec.stability.is_some() {
-        return Err(not_in_3d(scene, "stability", "a factor-of-safety search ([stability])"));
+        return Err(not_in_3d(
+            scene,
+            "stability",
+            "a factor-of-safety search ([stability])",
+        ));
     }
     if spec.initial_stress.is_some_and(|i| i.stress.is_some()) {
         return Err(not_in_3d(
@@ -52,7 +60,11 @@ fn refuse_unsupported(scene: &Scene3) -> Result<(), SceneError> {
         ));
     }
     if !spec.monitor.is_empty() {
-        return Err(not_in_3d(scene, "monitor", "a monitored point ([[monitor]])"));
+        return Err(not_in_3d(
+            scene,
+            "monitor",
+            "a monitored point ([[monitor]])",
+        ));
     }
     // Every material's saturated density belongs to the water, which 3D does not have.
     Ok(())
@@ -172,7 +184,10 @@ pub fn model_3d(scene: &Scene3) -> Result<Model3, SceneError> {
                 ))
             }
         };
-        loads.push((forces.map_err(|e| scene.error(&field, e.to_string()))?, ramp));
+        loads.push((
+            forces.map_err(|e| scene.error(&field, e.to_string()))?,
+            ramp,
+        ));
     }
     for (k, l) in spec.point_load.iter().enumerate() {
         let field = format!("point_load[{k}]");
@@ -221,7 +236,13 @@ pub fn initial_state_3d(scene: &Scene3, model: &Model3) -> Result<State3, SceneE
     let g = scene.spec.gravity.map_or(0.0, |g| -g[1]) * ramp.map_or(1.0, |r| r.at(0.0));
     let materials = scene.spec.material.all();
     let gammas: Vec<f64> = (materials.iter())
-        .map(|m| if g == 0.0 { 0.0 } else { m.density.unwrap_or(0.0) * g })
+        .map(|m| {
+            if g == 0.0 {
+                0.0
+            } else {
+                m.density.unwrap_or(0.0) * g
+            }
+        })
         .collect();
     if gammas.iter().any(|x| *x != gammas[0]) {
         return Err(not_in_3d(
@@ -279,10 +300,9 @@ fn build_mesh(scene: &Scene3) -> Result<TetrahedralMesh, SceneError> {
             let focus = focus.unwrap_or([x[0], y[0], z[0]]);
             let mut axes = Vec::with_capacity(3);
             for (k, (name, range)) in [("x", x), ("y", y), ("z", z)].into_iter().enumerate() {
-                let coords = talus_fem::graded_coordinates(
-                    range[0], range[1], cells[k], focus[k], ratio[k],
-                )
-                .map_err(|e| scene.error(&format!("mesh.box.{name}"), e.to_string()))?;
+                let coords =
+                    talus_fem::graded_coordinates(range[0], range[1], cells[k], focus[k], ratio[k])
+                        .map_err(|e| scene.error(&format!("mesh.box.{name}"), e.to_string()))?;
                 axes.push(coords);
             }
             let order = match order {
@@ -364,11 +384,17 @@ fn check_scales(scene: &Scene3, mesh: &TetrahedralMesh) -> Result<(), SceneError
         .fold(f64::INFINITY, f64::min);
     let norm = |v: &[f64; 3]| v.iter().map(|c| c * c).sum::<f64>().sqrt();
     let tractions = spec.traction.iter().enumerate().map(|(k, t)| {
-        (format!("traction[{k}].value"), norm(&t.value) * ramp_max(&t.ramp))
+        (
+            format!("traction[{k}].value"),
+            norm(&t.value) * ramp_max(&t.ramp),
+        )
     });
     let pressures = spec.pressure.iter().enumerate().map(|(k, p)| {
         let at = |y: f64| (p.value + p.gradient.unwrap_or(0.0) * y).abs();
-        (format!("pressure[{k}].value"), at(lo[1]).max(at(hi[1])) * ramp_max(&p.ramp))
+        (
+            format!("pressure[{k}].value"),
+            at(lo[1]).max(at(hi[1])) * ramp_max(&p.ramp),
+        )
     });
     // A point force spread over the smallest cell's face, as a stress.
     let points = spec.point_load.iter().enumerate().map(|(k, l)| {
@@ -376,7 +402,10 @@ fn check_scales(scene: &Scene3, mesh: &TetrahedralMesh) -> Result<(), SceneError
         (format!("point_load[{k}].force"), v)
     });
     let speeds = spec.boundary.iter().enumerate().map(|(k, b)| {
-        (format!("boundary[{k}].velocity"), norm(&b.velocity) * ramp_max(&b.ramp))
+        (
+            format!("boundary[{k}].velocity"),
+            norm(&b.velocity) * ramp_max(&b.ramp),
+        )
     });
     let imposed = scales::Imposed {
         materials: (spec.material.all().iter().enumerate())

@@ -71,14 +71,14 @@ fn regions<V: SceneVector>(
         if !(lo.iter().chain(hi).all(|v| v.is_finite()) && ordered) {
             let (shape, order) = match V::DIM {
                 2 => ("[[x0, y0], [x1, y1]]", "x0 < x1 and y0 < y1"),
-                _ => ("[[x0, y0, z0], [x1, y1, z1]]", "x0 < x1, y0 < y1 and z0 < z1"),
+                _ => (
+                    "[[x0, y0, z0], [x1, y1, z1]]",
+                    "x0 < x1, y0 < y1 and z0 < z1",
+                ),
             };
             return Err(scene.error(
                 &format!("region[{k}].box"),
-                format!(
-                    "{:?} must be finite with {order} ({shape}, m)",
-                    r.corners
-                ),
+                format!("{:?} must be finite with {order} ({shape}, m)", r.corners),
             ));
         }
         if regions.contains_key(&r.name) {

@@ -12,8 +12,8 @@ use talus_engine::Stepper;
 use super::fields::{write_snapshot, LastSteps};
 use super::{reaction_nodes, settlement, FemProgress, RunSummary, FEM_COLUMNS};
 use crate::model::fem::{
-    initial_state_3d, model_3d, prescribed_forces_at_rest, Model3, ReactionGroups, State3,
-    ReactionForce, StepRecord,
+    initial_state_3d, model_3d, prescribed_forces_at_rest, Model3, ReactionForce, ReactionGroups,
+    State3, StepRecord,
 };
 use crate::output::{self, Results};
 use crate::run::checkpoint::{self, Checkpoint, CheckpointError};
@@ -75,7 +75,11 @@ struct Outputs3<'a> {
 }
 
 impl<'a> Outputs3<'a> {
-    fn new(scene: &'a Scene3, model: &'a Model3, options: &'a RunOptions) -> Result<Self, RunError> {
+    fn new(
+        scene: &'a Scene3,
+        model: &'a Model3,
+        options: &'a RunOptions,
+    ) -> Result<Self, RunError> {
         let names: Vec<Option<String>> =
             scene.spec.boundary.iter().map(|b| b.name.clone()).collect();
         let groups = ReactionGroups::of_model(model, &names);
