@@ -194,3 +194,32 @@ fn a_pressure_on_faces_in_a_box_adds_its_resultant_to_the_base() {
         "{reaction}"
     );
 }
+
+/// A 3D mesh whose Newton factorization cannot fit the machine is refused before its
+/// nodes are allocated, naming `mesh.box.cells` with the estimate; the block itself is
+/// not. 200³ P2 cells are 6.4e7 nodes: the estimate (`model::fem::memory`, the peaks
+/// measured in docs/3d.md) is terabytes, beyond any machine this runs on. Refused in
+/// well under a second (allocating the mesh alone would take 4 GB).
+#[test]
+fn a_3d_mesh_too_large_for_the_memory_is_refused_with_the_estimate() {
+    assert!(model_3d(&scene(BLOCK)).is_ok());
+    let start = std::time::Instant::now();
+    let err = error_of(&replaced(
+        BLOCK,
+        "cells = [2, 4, 2]",
+        "cells = [200, 200, 200]",
+    ));
+    assert_eq!(err.field, "mesh.box.cells", "{err}");
+    assert!(
+        err.message.contains("GiB") && err.message.contains("64481201"),
+        "{err}"
+    );
+    assert!(
+        start.elapsed().as_secs_f64() < 1.0,
+        "refused before allocating"
+    );
+    // Associative flow (the elastic block) is estimated on the Cholesky curve: smaller.
+    use talus::model::fem::memory::peak_mib;
+    assert!(peak_mib(1e6, true) < peak_mib(1e6, false));
+    println!("{err}");
+}

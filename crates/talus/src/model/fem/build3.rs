@@ -297,6 +297,12 @@ fn build_mesh(scene: &Scene3) -> Result<TetrahedralMesh, SceneError> {
                     format!("{cells:?}: the number of cells must be ≥ 1 in x, y and z"),
                 ));
             }
+            let per_axis = |c: usize| match order {
+                Order::P1 => c as f64 + 1.0,
+                Order::P2 => 2.0 * c as f64 + 1.0,
+            };
+            let nodes = per_axis(cells[0]) * per_axis(cells[1]) * per_axis(cells[2]);
+            refuse_too_large(scene, "mesh.box.cells", nodes)?;
             let focus = focus.unwrap_or([x[0], y[0], z[0]]);
             let mut axes = Vec::with_capacity(3);
             for (k, (name, range)) in [("x", x), ("y", y), ("z", z)].into_iter().enumerate() {
@@ -316,6 +322,7 @@ fn build_mesh(scene: &Scene3) -> Result<TetrahedralMesh, SceneError> {
             let file = scene.resolve(path);
             let mesh = TetrahedralMesh::from_msh(&file)
                 .map_err(|e| scene.error("mesh.gmsh.path", format!("{}: {e}", file.display())))?;
+            refuse_too_large(scene, "mesh.gmsh.path", mesh.nodes.len() as f64)?;
             match (order, mesh.order) {
                 (Some(Order::P2), ElementOrder::P1) | (Some(Order::P1), ElementOrder::P2) => {
                     Err(scene.error(
@@ -337,6 +344,34 @@ fn build_mesh(scene: &Scene3) -> Result<TetrahedralMesh, SceneError> {
             "is 2D: a 3D scene is meshed by [mesh.box] or [mesh.gmsh] (tetrahedra)",
         )),
     }
+}
+
+/// Refuses a mesh of `nodes` nodes whose Newton factorization would not fit this
+/// machine's memory (`super::memory`), naming `field` and the estimate.
+fn refuse_too_large(scene: &Scene3, field: &str, nodes: f64) -> Result<(), SceneError> {
+    let machine = super::memory::machine_mib().unwrap_or(super::memory::UNKNOWN_MACHINE_MIB);
+    // Every node's 3 components: the free ones are fewer, by the boundary's.
+    let unknowns = 3.0 * nodes;
+    let associative = super::memory::associative(scene.spec.material.all());
+    let need = super::memory::peak_mib(unknowns, associative);
+    if need <= machine {
+        return Ok(());
+    }
+    Err(scene.error(
+        field,
+        format!(
+            "{nodes:.0} nodes, up to {unknowns:.3e} unknowns: a Newton step would need about \
+             {:.1} GiB ({} flow; estimated from the peaks measured in docs/3d.md, 'Memory \
+             and speed in 3D'), more than this machine's {:.1} GiB; coarsen the mesh",
+            need / 1024.0,
+            if associative {
+                "associative"
+            } else {
+                "non-associative"
+            },
+            machine / 1024.0
+        ),
+    ))
 }
 
 /// Each material's density (kg/m³), required with gravity or by a dynamic analysis, as

@@ -4,6 +4,7 @@
 mod build;
 mod build3;
 mod materials;
+pub mod memory;
 mod monitors;
 mod motion;
 mod quasi_static;
