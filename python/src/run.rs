@@ -9,9 +9,9 @@ use numpy::ndarray::Array2;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use talus::model::fem::{FromScene, Model};
+use talus::model::fem::{model_3d, FromScene, Model};
 use talus::run::checkpoint::Checkpoint;
-use talus::run::fem::{resume_scene, run_scene};
+use talus::run::fem::{resume_scene, run_scene, run_scene_3d};
 use talus::run::mpm::{resume_mpm_scene, run_mpm_scene};
 use talus::run::{RunError, RunOptions};
 use talus::scene::SceneFile;
@@ -24,9 +24,12 @@ use crate::watch::Watch;
 /// their row lengths.
 enum Final {
     Fem {
-        nodes: Vec<[f64; 2]>,
+        /// 2 in 2D, 3 in 3D: the width of `nodes` and `displacement`.
+        dim: usize,
+        nodes: Vec<f64>,
         cells: Vec<Vec<usize>>,
-        displacement: Vec<[f64; 2]>,
+        displacement: Vec<f64>,
+        /// Mandel components per Gauss point: 4 in 2D, 6 in 3D.
         stress: Vec<f64>,
         plastic_strain: Vec<f64>,
         gauss_element: Vec<usize>,
@@ -65,19 +68,29 @@ fn step(
             let model = Model::from_scene(scene)?;
             let state = summary.final_state;
             Ok(Final::Fem {
-                nodes: model.mesh.nodes,
+                dim: 2,
+                nodes: model.mesh.nodes.into_iter().flatten().collect(),
                 cells: model.mesh.triangles,
-                displacement: state.displacement,
+                displacement: state.displacement.into_iter().flatten().collect(),
                 stress: state.sigma,
                 plastic_strain: state.plastic_strain,
                 gauss_element: model.assembly.gauss_element,
             })
         }
-        // The Python package runs 2D scenes; a 3D one runs from `talus run` (docs/3d.md).
-        SceneFile::Fem3(scene) => Err(RunError::Scene(scene.error(
-            "analysis.geometry",
-            "\"3d\": the Python package does not run 3D scenes yet; run it with `talus run`",
-        ))),
+        SceneFile::Fem3(scene) => {
+            let summary = run_scene_3d(scene, options, resumed)?;
+            let model = model_3d(scene)?;
+            let state = summary.final_state;
+            Ok(Final::Fem {
+                dim: 3,
+                nodes: model.mesh.nodes.into_iter().flatten().collect(),
+                cells: model.mesh.tetrahedra,
+                displacement: state.displacement.into_iter().flatten().collect(),
+                stress: state.sigma,
+                plastic_strain: state.plastic_strain,
+                gauss_element: model.assembly.gauss_element,
+            })
+        }
         SceneFile::Mpm(scene) => {
             let p = match resumed {
                 Some(c) => resume_mpm_scene(scene, c, options)?,
@@ -243,6 +256,7 @@ fn finish<'py>(
     let fields = PyDict::new(py);
     match state {
         Final::Fem {
+            dim,
             nodes,
             cells,
             displacement,
@@ -257,12 +271,19 @@ fn finish<'py>(
             let cells = Array2::from_shape_vec((n_cells, per_cell), flat)
                 .map_err(|e| raise(py, "RunError", (e.to_string(), PyDict::new(py))))?;
             let n_points = plastic_strain.len();
-            let stress = Array2::from_shape_vec((n_points, 4), stress)
-                .map_err(|e| raise(py, "RunError", (e.to_string(), PyDict::new(py))))?;
+            let bad_shape = |e: numpy::ndarray::ShapeError| {
+                raise(py, "RunError", (e.to_string(), PyDict::new(py)))
+            };
+            let stress = Array2::from_shape_vec((n_points, 2 * dim), stress).map_err(bad_shape)?;
             let element: Vec<i64> = gauss_element.into_iter().map(|e| e as i64).collect();
-            fields.set_item("nodes", flat2(nodes).into_pyarray(py))?;
+            let (n_nodes, n_disp) = (nodes.len() / dim, displacement.len() / dim);
+            let nodes = Array2::from_shape_vec((n_nodes, dim), nodes).map_err(bad_shape)?;
+            let displacement =
+                Array2::from_shape_vec((n_disp, dim), displacement).map_err(bad_shape)?;
+            d.set_item("dimension", dim)?;
+            fields.set_item("nodes", nodes.into_pyarray(py))?;
             fields.set_item("cells", cells.into_pyarray(py))?;
-            fields.set_item("displacement", flat2(displacement).into_pyarray(py))?;
+            fields.set_item("displacement", displacement.into_pyarray(py))?;
             fields.set_item("stress", stress.into_pyarray(py))?;
             fields.set_item("plastic_strain", plastic_strain.into_pyarray(py))?;
             fields.set_item("gauss_element", element.into_pyarray(py))?;
@@ -274,6 +295,7 @@ fn finish<'py>(
             plastic_strain,
         } => {
             d.set_item("kind", "mpm")?;
+            d.set_item("dimension", 2)?;
             let n = stress.len();
             let stress = Array2::from_shape_vec((n, 4), stress.into_iter().flatten().collect())
                 .map_err(|e| raise(py, "RunError", (e.to_string(), PyDict::new(py))))?;

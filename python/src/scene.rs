@@ -37,7 +37,7 @@ pub fn validate(source: &str, path: Option<PathBuf>) -> Result<SceneFile, SceneE
 fn kind(file: &SceneFile) -> &'static str {
     match file {
         SceneFile::Fem(_) => "fem",
-        SceneFile::Fem3(_) => "fem3",
+        SceneFile::Fem3(_) => "fem",
         SceneFile::Mpm(_) => "mpm",
     }
 }

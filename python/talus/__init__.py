@@ -54,13 +54,15 @@ class Result:
     ``history``: one float64 array per ``history.csv`` column, in the file's order, with
     the file's values (row 0 is the initial state). ``summary``: the content of
     ``summary.json``. ``state``: the final state's arrays (see ``talus.run``).
-    ``kind``: ``"fem"`` or ``"mpm"``. ``stages``: a staged scene's stages, in order, each
+    ``kind``: ``"fem"`` or ``"mpm"``; ``dimension``: 2, or 3 for ``geometry = "3d"``.
+    ``stages``: a staged scene's stages, in order, each
     a dict of ``summary.json``'s entry (``name``, ``first_step``, ``last_step``, ``time``,
     ``elements``, ``deactivated``, ``activated``, ``reaction``, ``factor_of_safety``);
     ``history["stage"]`` is each row's stage index. Empty for an unstaged scene."""
 
     def __init__(self, raw: Dict[str, Any]) -> None:
         self.kind: str = raw["kind"]
+        self.dimension: int = int(raw.get("dimension", 2))
         self.history: Dict[str, np.ndarray] = dict(raw["history"])
         self.summary: Dict[str, Any] = json.loads(raw["summary_json"])
         self.state: Dict[str, np.ndarray] = dict(raw["state"])
@@ -74,7 +76,7 @@ class Result:
 
     def __repr__(self) -> str:
         steps = len(next(iter(self.history.values()))) - 1 if self.history else 0
-        return f"<talus.Result {self.kind}, {steps} steps, status {self.summary.get('status')!r}>"
+        return f"<talus.Result {self.kind} {self.dimension}D, {steps} steps, status {self.summary.get('status')!r}>"
 
 
 def _partial(raw: Dict[str, Any]) -> Dict[str, Any]:
@@ -138,11 +140,13 @@ def run(
     ``out``, the full state every that many steps and at an interruption, for ``resume``
     (docs/scenes.md, 'Checkpoints and resume').
 
-    FEM ``state``: ``nodes`` (n_nodes, 2), ``cells`` (n_cells, 3 or 6, int64, Gmsh node
-    order), ``displacement`` (n_nodes, 2), ``stress`` (n_points, 4, Mandel
-    σxx, σyy, σzz, √2 σxy), ``plastic_strain`` (n_points,), ``gauss_element`` (n_points,)
-    the cell of each Gauss point. MPM ``state``: ``positions``, ``velocity`` (n, 2),
-    ``stress`` (n, 4), ``plastic_strain`` (n,).
+    The result's ``dimension`` is 2, or 3 for a scene with ``geometry = "3d"``. FEM
+    ``state``: ``nodes`` (n_nodes, 2 or 3), ``cells`` (n_cells, int64, Gmsh node order:
+    3 or 6 per triangle, 4 or 10 per tetrahedron), ``displacement`` (n_nodes, 2 or 3),
+    ``stress`` (n_points, 4 or 6, Mandel σxx, σyy, σzz, √2 σxy in 2D; σxx, σyy, σzz,
+    √2 σyz, √2 σxz, √2 σxy in 3D), ``plastic_strain`` (n_points,), ``gauss_element``
+    (n_points,) the cell of each Gauss point. MPM ``state``: ``positions``, ``velocity``
+    (n, 2), ``stress`` (n, 4), ``plastic_strain`` (n,).
 
     Raises ``SceneError`` for a scene the model builder rejects, ``NotConverged`` when a
     step does not converge after its halvings, ``Collapsed`` when the load passes the

@@ -54,6 +54,8 @@ class Result:
     """What ``run`` returns."""
 
     kind: Literal["fem", "mpm"]
+    dimension: int
+    """2, or 3 for a scene with ``geometry = "3d"``."""
     history: Dict[str, npt.NDArray[np.float64]]
     """One float64 array per ``history.csv`` column (row 0: the initial state)."""
     summary: Dict[str, Any]
