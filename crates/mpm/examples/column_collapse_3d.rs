@@ -9,11 +9,12 @@
 //! A quarter of the cylinder (`Particles::fill_quarter_cylinder`) stands for the whole: slip
 //! walls on the symmetry planes x = 0 and z = 0, a Coulomb floor μ = 0.6, and the 2D
 //! scenes' sand (`scenes/column_a*.toml`: φ = 30°, c = 0, ψ = 0, E = 10 MPa, ν = 0.3,
-//! ρ = 1800 kg/m³; the outer cone, Drucker-Prager through Mohr-Coulomb's compression
-//! meridian), dx = R₀/10 by default, 2 × 2 × 2 particles per cell, h = 1 ms, FLIP 0.95.
-//! The front is the largest distance of a particle centre from the axis.
+//! ρ = 1800 kg/m³), dx = R₀/10 by default, 2 × 2 × 2 particles per cell, h = 1 ms, FLIP
+//! 0.95. The cone fit is the outer cone (Drucker-Prager through Mohr-Coulomb's compression
+//! meridian) by default, or `plane_strain` / `inner`. The front is the largest distance of
+//! a particle centre from the axis.
 //!
-//! `cargo run --release -p talus-mpm --example column_collapse_3d -- A [CELLS_PER_R0]`
+//! `cargo run --release -p talus-mpm --example column_collapse_3d -- A [CELLS_PER_R0] [FIT]`
 use std::time::Instant;
 
 use talus_bipotential::{ConeFit, DruckerPrager, DruckerPragerParameters};
@@ -39,6 +40,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
     let a: f64 = args.get(1).map_or(Ok(0.5), |s| s.parse())?;
     let per_r0: f64 = args.get(2).map_or(Ok(10.0), |s| s.parse())?;
+    let cone_fit = match args.get(3).map(String::as_str) {
+        None | Some("outer") => ConeFit::OuterCone,
+        Some("inner") => ConeFit::InnerCone,
+        Some("plane_strain") => ConeFit::PlaneStrain,
+        Some(other) => {
+            return Err(format!("cone fit {other:?}: outer, inner or plane_strain").into())
+        }
+    };
     let start = Instant::now();
     let h0 = a * R0;
     let dx = R0 / per_r0;
@@ -64,7 +73,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         friction_angle: 30.0,
         cohesion: 0.0,
         dilatancy_angle: 0.0,
-        cone_fit: ConeFit::OuterCone,
+        cone_fit,
     })?;
     let mpm = Mpm::try_new(
         grid,
@@ -78,7 +87,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let volume0: f64 = p.volume.iter().sum();
     println!(
         "a = {a}: R0 = {R0} m, H0 = {h0} m, dx = {dx} m, grid {n} x {ny} x {n} cells, \
-         {} particles",
+         {} particles, {cone_fit:?}",
         p.len()
     );
     let mut stepper = MpmStepper::new(mpm);

@@ -112,8 +112,8 @@ fn quarter_cylinder_collapse_keeps_mass_walls_and_symmetry() {
     let volume: f64 = p.volume.iter().sum();
     let dv = volume / volume0 - 1.0;
     let mut asymmetry = 0.0f64;
-    for q in 0..n {
-        let (x, y) = (p.position[q], p.position[mirror[q]]);
+    for (q, &m) in mirror.iter().enumerate() {
+        let (x, y) = (p.position[q], p.position[m]);
         for (i, j) in [(0, 2), (1, 1), (2, 0)] {
             asymmetry = asymmetry.max((x[i] - y[j]).abs() / dx);
         }

@@ -136,13 +136,13 @@ fn uniform_translation_is_exact_3d() {
             }
             let t = step as f64 * H;
             for k in 0..p.len() {
-                for a in 0..3 {
+                for (a, va) in v.iter().enumerate() {
                     assert!(
-                        (p.velocity[k][a] - v[a]).abs() <= 1e-13 * v[a].abs(),
+                        (p.velocity[k][a] - va).abs() <= 1e-13 * va.abs(),
                         "{shape:?}: v_{k} = {:?}",
                         p.velocity[k]
                     );
-                    let expected = start.position[k][a] + t * v[a];
+                    let expected = start.position[k][a] + t * va;
                     assert!(
                         (p.position[k][a] - expected).abs() <= 1e-14 * step as f64,
                         "{shape:?} step {step}: x_{k} = {:?}",
