@@ -1,5 +1,6 @@
 //! Grid boundary conditions, applied to nodes (ghost layers included) at or beyond a wall,
 //! or inside a box.
+use crate::dimension::{Dimension, Mandel, Vector};
 use crate::error::MpmError;
 use crate::grid::Grid;
 use crate::side::Side;
@@ -12,7 +13,8 @@ pub enum WallCondition {
     /// Normal component zero, tangential free.
     Slip,
     /// Normal component zero; tangential velocity reduced by Coulomb friction with the
-    /// normal force the wall carried (a rough floor). `coefficient` = μ ≥ 0.
+    /// normal force the wall carried (a rough floor). `coefficient` = μ ≥ 0. In 3D the
+    /// friction force is a vector of the wall's plane, of length ≤ μ R_n (Coulomb's cone).
     Friction { coefficient: f64 },
 }
 
@@ -22,43 +24,89 @@ pub struct Wall {
     pub condition: WallCondition,
 }
 
-/// Nodes inside `region` (`[[xmin, ymin], [xmax, ymax]]`, m) move with the given velocity
-/// components (m/s); `None` leaves a component free. A rigid footing, a moving wall.
+/// Nodes inside `region` (`[[xmin, ymin], [xmax, ymax]]`, m; 3D: `[[xmin, ymin, zmin],
+/// [xmax, ymax, zmax]]`) move with the given velocity components (m/s); `None` leaves a
+/// component free. A rigid footing, a moving wall.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PrescribedVelocity {
-    pub region: [[f64; 2]; 2],
-    pub velocity: [Option<f64>; 2],
+pub struct PrescribedVelocity<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
+    pub region: [Vector<D>; 2],
+    pub velocity: <Mandel<D> as Dimension>::Components,
 }
 
 /// Every condition of a scene's grid. Later entries win where they overlap: walls first,
 /// then prescribed velocities in order. Per velocity component: a component's velocity and
 /// the force that enforces it belong to the last condition that prescribes it
 /// (`docs/scenes.md`, 'Reactions').
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct GridBoundary {
+#[derive(Debug, Clone, PartialEq)]
+pub struct GridBoundary<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
     pub walls: Vec<Wall>,
-    pub prescribed: Vec<PrescribedVelocity>,
+    pub prescribed: Vec<PrescribedVelocity<D>>,
 }
 
-/// Per node: prescribed velocity per component, and the friction wall it lies on.
+impl<const D: usize> Default for GridBoundary<D>
+where
+    Mandel<D>: Dimension,
+{
+    fn default() -> Self {
+        Self {
+            walls: Vec::new(),
+            prescribed: Vec::new(),
+        }
+    }
+}
+
+/// A friction wall's hold on a node: the normal axis, the inward normal's sign, μ, and the
+/// tangential components it acts on (those no earlier condition prescribed).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(crate) struct Friction {
+    pub axis: usize,
+    pub sign: f64,
+    pub mu: f64,
+    pub tangential: [bool; 3],
+}
+
+impl Friction {
+    /// The tangential components it acts on.
+    pub fn components(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..3).filter(|&a| self.tangential[a])
+    }
+}
+
+/// Per node: prescribed velocity per component (3 entries, the last unused in 2D), and the
+/// friction wall it lies on.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(crate) struct NodeCondition {
-    pub velocity: [Option<f64>; 2],
+    pub velocity: [Option<f64>; 3],
     /// The prescribed box that set each component's velocity (`None`: a wall's zero), whose
     /// multiplier scales it in a sub-step (`crate::SubstepLoads`).
-    pub source: [Option<usize>; 2],
-    /// (normal axis, inward normal sign, μ).
-    pub friction: Option<(usize, f64, f64)>,
+    pub source: [Option<usize>; 3],
+    pub friction: Option<Friction>,
     /// Per component, the wall or box (index in walls, then prescribed) whose velocity it
     /// follows, for the force it applies: the last one that prescribes it; the tangential
     /// component of a friction node that nothing prescribes belongs to its friction wall
     /// (the friction force).
-    pub owner: [Option<usize>; 2],
+    pub owner: [Option<usize>; 3],
 }
 
-impl GridBoundary {
+impl<const D: usize> GridBoundary<D>
+where
+    Mandel<D>: Dimension,
+{
     pub(crate) fn validate(&self) -> Result<(), MpmError> {
+        let n = Mandel::<D>::AXES;
         for (k, w) in self.walls.iter().enumerate() {
+            if w.side.axis_and_end().0 >= n {
+                return Err(MpmError::invalid(
+                    format!("walls[{k}].side"),
+                    format!("{:?} is a z side: a 2D grid has none", w.side),
+                ));
+            }
             if let WallCondition::Friction { coefficient } = w.condition {
                 if !(coefficient.is_finite() && coefficient >= 0.0) {
                     return Err(MpmError::invalid(
@@ -69,14 +117,18 @@ impl GridBoundary {
             }
         }
         for (k, p) in self.prescribed.iter().enumerate() {
-            let [[x0, y0], [x1, y1]] = p.region;
-            if !(p.region.iter().flatten().all(|v| v.is_finite()) && x1 >= x0 && y1 >= y0) {
+            let [lo, hi] = p.region;
+            let finite = p
+                .region
+                .iter()
+                .all(|x| x.as_ref().iter().all(|v| v.is_finite()));
+            if !(finite && (0..n).all(|a| hi[a] >= lo[a])) {
                 return Err(MpmError::invalid(
                     format!("prescribed[{k}].region"),
                     format!("{:?} must be finite with max ≥ min", p.region),
                 ));
             }
-            if !p.velocity.iter().flatten().all(|v| v.is_finite()) {
+            if !p.velocity.as_ref().iter().flatten().all(|v| v.is_finite()) {
                 return Err(MpmError::invalid(
                     format!("prescribed[{k}].velocity"),
                     format!("{:?} must be finite", p.velocity),
@@ -92,19 +144,19 @@ impl GridBoundary {
     }
 
     /// The condition of every node of `grid`.
-    pub(crate) fn node_conditions(&self, grid: &Grid) -> Vec<NodeCondition> {
+    pub(crate) fn node_conditions(&self, grid: &Grid<D>) -> Vec<NodeCondition> {
+        let n_axes = Mandel::<D>::AXES;
         (0..grid.n_nodes())
             .map(|n| {
-                let [i, j] = grid.node_coordinates(n);
+                let ij = grid.node_coordinates(n);
                 let x = grid.node_position(n);
                 let mut c = NodeCondition::default();
                 for (k, w) in self.walls.iter().enumerate() {
                     let line = grid.wall_node(w.side);
-                    let on_wall = match w.side {
-                        Side::Left => i <= line,
-                        Side::Right => i >= line,
-                        Side::Bottom => j <= line,
-                        Side::Top => j >= line,
+                    let (normal_axis, end) = w.side.axis_and_end();
+                    let on_wall = match end {
+                        0 => ij[normal_axis] <= line,
+                        _ => ij[normal_axis] >= line,
                     };
                     if !on_wall {
                         continue;
@@ -112,9 +164,11 @@ impl GridBoundary {
                     let (axis, sign) = w.side.normal();
                     match w.condition {
                         WallCondition::Fixed => {
-                            c.velocity = [Some(0.0); 2];
-                            c.owner = [Some(k); 2];
-                            c.source = [None; 2];
+                            for a in 0..n_axes {
+                                c.velocity[a] = Some(0.0);
+                                c.owner[a] = Some(k);
+                                c.source[a] = None;
+                            }
                             c.friction = None;
                         }
                         WallCondition::Slip => {
@@ -126,9 +180,20 @@ impl GridBoundary {
                             c.velocity[axis] = Some(0.0);
                             c.owner[axis] = Some(k);
                             c.source[axis] = None;
-                            if c.velocity[1 - axis].is_none() {
-                                c.friction = Some((axis, sign, coefficient));
-                                c.owner[1 - axis] = Some(k);
+                            let mut tangential = [false; 3];
+                            for t in (0..n_axes).filter(|&t| t != axis) {
+                                tangential[t] = c.velocity[t].is_none();
+                            }
+                            if tangential.contains(&true) {
+                                c.friction = Some(Friction {
+                                    axis,
+                                    sign,
+                                    mu: coefficient,
+                                    tangential,
+                                });
+                                for t in (0..3).filter(|&t| tangential[t]) {
+                                    c.owner[t] = Some(k);
+                                }
                             }
                         }
                     }
@@ -136,20 +201,17 @@ impl GridBoundary {
                 // A tolerance of 1e-9 dx so that a box edge on a grid line includes it.
                 let eps = 1e-9 * grid.spacing();
                 for (k, p) in self.prescribed.iter().enumerate() {
-                    let [[x0, y0], [x1, y1]] = p.region;
-                    let inside = x[0] >= x0 - eps
-                        && x[0] <= x1 + eps
-                        && x[1] >= y0 - eps
-                        && x[1] <= y1 + eps;
+                    let [lo, hi] = p.region;
+                    let inside = (0..n_axes).all(|a| x[a] >= lo[a] - eps && x[a] <= hi[a] + eps);
                     if inside {
-                        for a in 0..2 {
-                            if let Some(v) = p.velocity[a] {
+                        for a in 0..n_axes {
+                            if let Some(v) = p.velocity.as_ref()[a] {
                                 c.velocity[a] = Some(v);
                                 c.owner[a] = Some(self.walls.len() + k);
                                 c.source[a] = Some(k);
                             }
                         }
-                        if c.velocity.iter().all(Option::is_some) {
+                        if c.velocity[..n_axes].iter().all(Option::is_some) {
                             c.friction = None;
                         }
                     }
@@ -198,15 +260,15 @@ mod tests {
             conditions[n]
         };
         // Bottom-left corner: x from the slip side (later), y from the box (latest).
-        assert_eq!(at(0, 0).owner, [Some(1), Some(3)]);
+        assert_eq!(at(0, 0).owner, [Some(1), Some(3), None]);
         // Bottom-right corner: the friction wall prescribes x; y stays the floor's.
-        assert_eq!(at(4, 0).owner, [Some(2), Some(0)]);
+        assert_eq!(at(4, 0).owner, [Some(2), Some(0), None]);
         // The friction wall's free tangential component carries its friction force.
-        assert_eq!(at(4, 2).owner, [Some(2), Some(2)]);
+        assert_eq!(at(4, 2).owner, [Some(2), Some(2), None]);
         assert!(at(4, 2).friction.is_some());
         // A slip side alone: only its normal component.
-        assert_eq!(at(0, 3).owner, [Some(1), Some(3)]);
+        assert_eq!(at(0, 3).owner, [Some(1), Some(3), None]);
         assert_eq!(at(0, 4).owner[0], Some(1));
-        assert_eq!(at(2, 2).owner, [None, None]);
+        assert_eq!(at(2, 2).owner, [None, None, None]);
     }
 }

@@ -4,66 +4,80 @@
 use talus_engine::{Discretization, Loading, Motion, Problem, StepReport};
 use talus_ssn::{ReducedSystem, SolveError};
 
+use crate::dimension::{Dimension, Mandel, Vector};
 use crate::{Mpm, MpmError, Particles, Substep, SubstepStats};
 
 /// The particles and the time they are at.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct MpmState {
+#[serde(bound = "")]
+pub struct MpmState<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
     pub time: f64,
-    pub particles: Particles,
+    pub particles: Particles<D>,
 }
 
 /// What one MPM step did.
-pub type MpmStepReport = StepReport<SubstepStats>;
+pub type MpmStepReport<const D: usize = 4> = StepReport<SubstepStats<D>>;
 
 /// The walls' and boxes' forces of an MPM step's report.
 pub trait GroupForces {
+    /// `[f64; 2]` or `[f64; 3]`.
+    type Force;
     /// Force each wall, then each prescribed box, applied to the material in the step's
-    /// last sub-step (N/m).
-    fn group_forces(&self) -> &[[f64; 2]];
+    /// last sub-step (N/m in 2D, N in 3D).
+    fn group_forces(&self) -> &[Self::Force];
 }
 
-impl GroupForces for MpmStepReport {
-    fn group_forces(&self) -> &[[f64; 2]] {
+impl<const D: usize> GroupForces for MpmStepReport<D>
+where
+    Mandel<D>: Dimension,
+{
+    type Force = Vector<D>;
+    fn group_forces(&self) -> &[Vector<D>] {
         self.stats.as_ref().map_or(&[], |s| &s.group_forces)
     }
 }
 
-impl Discretization for Mpm {
-    type State = MpmState;
-    type Substep = Substep;
-    type Stats = SubstepStats;
+impl<const D: usize> Discretization<D> for Mpm<D>
+where
+    Mandel<D>: Dimension,
+{
+    type State = MpmState<D>;
+    type Substep = Substep<D>;
+    type Stats = SubstepStats<D>;
     type Error = MpmError;
 
-    fn fixed_system(&self, _: f64) -> Option<Result<ReducedSystem<4>, SolveError>> {
+    fn fixed_system(&self, _: f64) -> Option<Result<ReducedSystem<D>, SolveError>> {
         None
     }
 
-    fn time(&self, state: &MpmState) -> f64 {
+    fn time(&self, state: &MpmState<D>) -> f64 {
         state.time
     }
 
-    fn stress<'s>(&self, state: &'s MpmState) -> &'s [f64] {
+    fn stress<'s>(&self, state: &'s MpmState<D>) -> &'s [f64] {
         state.particles.stress.as_flattened()
     }
 
     /// Constant loads: nothing jumps after the start.
-    fn loading(&self, _: &MpmState, _: f64) -> Loading {
+    fn loading(&self, _: &MpmState<D>, _: f64) -> Loading {
         Loading::default()
     }
 
-    fn begin(&self, state: &MpmState, h: f64) -> Result<(Substep, Problem), MpmError> {
+    fn begin(&self, state: &MpmState<D>, h: f64) -> Result<(Substep<D>, Problem<D>), MpmError> {
         let (substep, system) = self.begin_substep(&state.particles, h)?;
         Ok((substep, Problem::System(system)))
     }
 
     fn after_solve(
         &self,
-        substep: &mut Substep,
-        state: &MpmState,
+        substep: &mut Substep<D>,
+        state: &MpmState<D>,
         sigma: &[f64],
         z: &[f64],
-    ) -> Result<Option<Problem>, MpmError> {
+    ) -> Result<Option<Problem<D>>, MpmError> {
         Ok(substep
             .after_solve(self, &state.particles, sigma, z)?
             .map(Problem::System))
@@ -71,12 +85,12 @@ impl Discretization for Mpm {
 
     fn finish(
         &self,
-        substep: Substep,
-        state: &mut MpmState,
+        substep: Substep<D>,
+        state: &mut MpmState<D>,
         sigma: Vec<f64>,
         _: &[f64],
         h: f64,
-    ) -> Result<SubstepStats, MpmError> {
+    ) -> Result<SubstepStats<D>, MpmError> {
         let stats = substep.finish(self, &mut state.particles, sigma)?;
         state.time += h;
         Ok(stats)
@@ -84,7 +98,7 @@ impl Discretization for Mpm {
 
     /// Large deformations are what the method is for: only the kinetic energy is watched
     /// (`docs/scenes.md`, 'Collapse').
-    fn motion(&self, state: &MpmState) -> Option<Motion> {
+    fn motion(&self, state: &MpmState<D>) -> Option<Motion> {
         Some(Motion {
             kinetic_energy: crate::kinetic_energy(&state.particles),
             prescribed_kinetic_energy: 0.0,

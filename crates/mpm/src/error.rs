@@ -7,8 +7,12 @@ pub enum MpmError {
     #[error("invalid {field}: {reason}")]
     Invalid { field: String, reason: String },
     /// A particle's shape-function support left the grid (with its ghost layers).
-    #[error("particle {particle} at ({:.6}, {:.6}) m left the grid; enlarge the grid or add a wall", .position[0], .position[1])]
-    ParticleLeftGrid { particle: usize, position: [f64; 2] },
+    #[error("particle {particle} at ({}) m left the grid; enlarge the grid or add a wall", coordinates(.position))]
+    ParticleLeftGrid {
+        particle: usize,
+        /// Its coordinates, 2 or 3 (m).
+        position: Vec<f64>,
+    },
     /// A particle's volume would become ≤ 0 (`det(I + h ∇v) ≤ 0`): the step is too large
     /// for the deformation.
     #[error(
@@ -31,4 +35,12 @@ impl MpmError {
             reason: reason.into(),
         }
     }
+}
+
+/// `x, y[, z]` to 6 decimals.
+fn coordinates(x: &[f64]) -> String {
+    x.iter()
+        .map(|v| format!("{v:.6}"))
+        .collect::<Vec<_>>()
+        .join(", ")
 }

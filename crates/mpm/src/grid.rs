@@ -1,46 +1,91 @@
-//! The background grid: square cells of side `dx` over `[x0, x0 + nx dx] × [y0, y0 + ny dx]`,
-//! plus ghost node layers outside it (see [`ShapeFunction`]).
+//! The background grid: cubic cells of side `dx` over `[x0, x0 + nx dx] × [y0, y0 + ny dx]`
+//! (× `[z0, z0 + nz dx]` in 3D), plus ghost node layers outside it (see [`ShapeFunction`]).
+use crate::dimension::{Dimension, Mandel, Vector};
 use crate::error::MpmError;
 use crate::shape::ShapeFunction;
 use crate::side::Side;
 
-/// Up to 9 nodes a particle touches, with `N_i(x_p)` and `∇N_i(x_p)` (1/m).
+type Array<const D: usize, T> = <Mandel<D> as Dimension>::StencilArray<T>;
+
+/// Up to 9 nodes (2D) or 27 (3D) a particle touches, with `N_i(x_p)` and `∇N_i(x_p)` (1/m).
 #[derive(Debug, Clone, Copy)]
-pub struct Stencil {
-    pub nodes: [usize; 9],
-    pub weights: [f64; 9],
-    pub gradients: [[f64; 2]; 9],
+pub struct Stencil<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
+    pub nodes: Array<D, usize>,
+    pub weights: Array<D, f64>,
+    pub gradients: Array<D, Vector<D>>,
     pub len: usize,
 }
 
-impl Stencil {
-    pub fn iter(&self) -> impl Iterator<Item = (usize, f64, [f64; 2])> + '_ {
-        (0..self.len).map(|k| (self.nodes[k], self.weights[k], self.gradients[k]))
+impl<const D: usize> Stencil<D>
+where
+    Mandel<D>: Dimension,
+{
+    pub fn iter(&self) -> impl Iterator<Item = (usize, f64, Vector<D>)> + '_ {
+        let (n, w, g) = (
+            self.nodes.as_ref(),
+            self.weights.as_ref(),
+            self.gradients.as_ref(),
+        );
+        (0..self.len).map(move |k| (n[k], w[k], g[k]))
     }
 }
 
-/// A uniform background grid. Nodes are numbered row by row, ghosts included.
+/// A uniform background grid. Nodes are numbered x fastest, then y, then z, ghosts
+/// included.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Grid {
-    origin: [f64; 2],
+pub struct Grid<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
+    origin: Vector<D>,
     spacing: f64,
-    cells: [usize; 2],
+    cells: <Mandel<D> as Dimension>::Cells,
     shape: ShapeFunction,
     /// Walled sides, `[axis][low, high]`: shape functions conform to them and particles
     /// cannot cross them.
-    walls: [[bool; 2]; 2],
+    walls: [[bool; 2]; 3],
 }
 
-impl Grid {
-    /// `origin` (m) is the lower-left corner, `spacing` the cell side `dx` (m), `cells`
-    /// the number of cells per axis.
+impl Grid<4> {
+    /// A 2D grid: `origin` (m) is the lower-left corner, `spacing` the cell side `dx` (m),
+    /// `cells` the number of cells per axis.
     pub fn try_new(
         origin: [f64; 2],
         spacing: f64,
         cells: [usize; 2],
         shape: ShapeFunction,
     ) -> Result<Self, MpmError> {
-        if !origin.iter().all(|v| v.is_finite()) {
+        Self::build(origin, spacing, cells, shape)
+    }
+}
+
+impl Grid<6> {
+    /// A 3D grid of `cells = [nx, ny, nz]` cubes of side `spacing` (m) from the corner
+    /// `origin` (m) of smallest coordinates; y is vertical.
+    pub fn try_new_3d(
+        origin: [f64; 3],
+        spacing: f64,
+        cells: [usize; 3],
+        shape: ShapeFunction,
+    ) -> Result<Self, MpmError> {
+        Self::build(origin, spacing, cells, shape)
+    }
+}
+
+impl<const D: usize> Grid<D>
+where
+    Mandel<D>: Dimension,
+{
+    fn build(
+        origin: Vector<D>,
+        spacing: f64,
+        cells: <Mandel<D> as Dimension>::Cells,
+        shape: ShapeFunction,
+    ) -> Result<Self, MpmError> {
+        if !origin.as_ref().iter().all(|v| v.is_finite()) {
             return Err(MpmError::invalid(
                 "grid.origin",
                 format!("{origin:?} must be finite"),
@@ -52,7 +97,7 @@ impl Grid {
                 format!("{spacing} m must be finite and > 0"),
             ));
         }
-        if cells.contains(&0) || cells.iter().any(|&c| c > 1 << 20) {
+        if cells.as_ref().contains(&0) || cells.as_ref().iter().any(|&c| c > 1 << 20) {
             return Err(MpmError::invalid(
                 "grid.cells",
                 format!("{cells:?} must be between 1 and 2^20 per axis"),
@@ -63,16 +108,24 @@ impl Grid {
             spacing,
             cells,
             shape,
-            walls: [[false; 2]; 2],
+            walls: [[false; 2]; 3],
         })
     }
 
+    /// Space dimensions: 2 or 3.
+    pub fn axes(&self) -> usize {
+        Mandel::<D>::AXES
+    }
+
     /// The same grid with walls on `sides`: quadratic B-splines take the open knot vector
-    /// there ([`ShapeFunction::weights_1d_walled`]) and particles are kept inside.
+    /// there ([`ShapeFunction::weights_1d_walled`]) and particles are kept inside. A z side
+    /// of a 2D grid is ignored (`Mpm` refuses it).
     pub fn with_walls(mut self, sides: &[Side]) -> Self {
         for side in sides {
             let (axis, end) = side.axis_and_end();
-            self.walls[axis][end] = true;
+            if axis < Mandel::<D>::AXES {
+                self.walls[axis][end] = true;
+            }
         }
         self
     }
@@ -88,14 +141,14 @@ impl Grid {
         if end == 0 {
             -offset
         } else {
-            self.cells[axis] as i64 + offset
+            self.cells.as_ref().get(axis).copied().unwrap_or(0) as i64 + offset
         }
     }
 
     /// `x` moved back inside the walled sides (m).
-    pub fn keep_inside(&self, mut x: [f64; 2]) -> [f64; 2] {
+    pub fn keep_inside(&self, mut x: Vector<D>) -> Vector<D> {
         let end = self.end();
-        for a in 0..2 {
+        for a in 0..Mandel::<D>::AXES {
             if self.walls[a][0] {
                 x[a] = x[a].max(self.origin[a]);
             }
@@ -106,7 +159,7 @@ impl Grid {
         x
     }
 
-    pub fn origin(&self) -> [f64; 2] {
+    pub fn origin(&self) -> Vector<D> {
         self.origin
     }
 
@@ -114,7 +167,7 @@ impl Grid {
         self.spacing
     }
 
-    pub fn cells(&self) -> [usize; 2] {
+    pub fn cells(&self) -> <Mandel<D> as Dimension>::Cells {
         self.cells
     }
 
@@ -122,12 +175,13 @@ impl Grid {
         self.shape
     }
 
-    /// Upper-right corner (m).
-    pub fn end(&self) -> [f64; 2] {
-        [
-            self.origin[0] + self.cells[0] as f64 * self.spacing,
-            self.origin[1] + self.cells[1] as f64 * self.spacing,
-        ]
+    /// The corner of largest coordinates (m).
+    pub fn end(&self) -> Vector<D> {
+        let mut e = self.origin;
+        for a in 0..Mandel::<D>::AXES {
+            e[a] = self.origin[a] + self.cells[a] as f64 * self.spacing;
+        }
+        e
     }
 
     fn nodes_per_axis(&self, axis: usize) -> usize {
@@ -136,29 +190,38 @@ impl Grid {
 
     /// Nodes, ghosts included.
     pub fn n_nodes(&self) -> usize {
-        self.nodes_per_axis(0) * self.nodes_per_axis(1)
+        (0..Mandel::<D>::AXES)
+            .map(|a| self.nodes_per_axis(a))
+            .product()
     }
 
-    /// Integer coordinates `(i, j)` of node `n`: `i = 0` on the left wall, `i = nx` on the
-    /// right one, negative or above `nx` for ghosts.
-    pub fn node_coordinates(&self, n: usize) -> [i64; 2] {
+    /// Integer coordinates `(i, j[, k])` of node `n`: `i = 0` on the left wall, `i = nx` on
+    /// the right one, negative or above `nx` for ghosts.
+    pub fn node_coordinates(&self, n: usize) -> <Mandel<D> as Dimension>::NodeCoordinates {
         let pad = self.shape.padding() as i64;
-        let row = self.nodes_per_axis(0);
-        [(n % row) as i64 - pad, (n / row) as i64 - pad]
+        let mut c = <Mandel<D> as Dimension>::NodeCoordinates::default();
+        let mut rest = n;
+        for a in 0..Mandel::<D>::AXES {
+            let row = self.nodes_per_axis(a);
+            c[a] = (rest % row) as i64 - pad;
+            rest /= row;
+        }
+        c
     }
 
-    pub fn node_position(&self, n: usize) -> [f64; 2] {
-        let [i, j] = self.node_coordinates(n);
-        [
-            self.origin[0] + i as f64 * self.spacing,
-            self.origin[1] + j as f64 * self.spacing,
-        ]
+    pub fn node_position(&self, n: usize) -> Vector<D> {
+        let c = self.node_coordinates(n);
+        let mut x = self.origin;
+        for a in 0..Mandel::<D>::AXES {
+            x[a] = self.origin[a] + c[a] as f64 * self.spacing;
+        }
+        x
     }
 
     /// The stencil of a particle at `x` (m); an error if its support leaves the grid and
     /// its ghost layers (the particle left the domain).
-    pub fn stencil(&self, particle: usize, x: [f64; 2]) -> Result<Stencil, MpmError> {
-        self.stencil_with_kinks(particle, x, [false; 2])
+    pub fn stencil(&self, particle: usize, x: Vector<D>) -> Result<Stencil<D>, MpmError> {
+        self.stencil_with_kinks(particle, x, [false; 3])
     }
 
     /// Linear hats have a kink on each node line: a particle exactly on one takes its
@@ -167,13 +230,14 @@ impl Grid {
     pub(crate) fn stencil_with_kinks(
         &self,
         particle: usize,
-        x: [f64; 2],
-        below: [bool; 2],
-    ) -> Result<Stencil, MpmError> {
+        x: Vector<D>,
+        below: [bool; 3],
+    ) -> Result<Stencil<D>, MpmError> {
+        let n_axes = Mandel::<D>::AXES;
         let pad = self.shape.padding() as i64;
         let width = self.shape.width();
-        let mut axes = [(0i64, [0.0; 3], [0.0; 3]); 2];
-        for a in 0..2 {
+        let mut axes = [(0i64, [0.0; 3], [0.0; 3]); 3];
+        for a in 0..n_axes {
             let xi = (x[a] - self.origin[a]) / self.spacing;
             let lo = self.walls[a][0].then_some(0.0);
             let hi = self.walls[a][1].then_some(self.cells[a] as f64);
@@ -187,30 +251,51 @@ impl Grid {
             if !xi.is_finite() || base < -pad || last > self.cells[a] as i64 + pad {
                 return Err(MpmError::ParticleLeftGrid {
                     particle,
-                    position: x,
+                    position: x.as_ref().to_vec(),
                 });
             }
             axes[a] = (base, w, dw);
         }
-        let row = self.nodes_per_axis(0);
-        let mut s = Stencil {
-            nodes: [0; 9],
-            weights: [0.0; 9],
-            gradients: [[0.0; 2]; 9],
+        let mut s = Stencil::<D> {
+            nodes: Default::default(),
+            weights: Default::default(),
+            gradients: Default::default(),
             len: 0,
         };
         let inv_dx = 1.0 / self.spacing;
-        let ((bx, wx, dwx), (by, wy, dwy)) = (axes[0], axes[1]);
-        for b in 0..width {
-            for a in 0..width {
-                let i = (bx + a as i64 + pad) as usize;
-                let j = (by + b as i64 + pad) as usize;
-                let k = s.len;
-                s.nodes[k] = j * row + i;
-                s.weights[k] = wx[a] * wy[b];
-                s.gradients[k] = [dwx[a] * wy[b] * inv_dx, wx[a] * dwy[b] * inv_dx];
-                s.len += 1;
+        // Tensor products, x fastest; each product is formed axis by axis from 1.0, so a
+        // 2D weight is `wx · wy` to the last bit.
+        for k in 0..width.pow(n_axes as u32) {
+            let mut node = 0;
+            let mut local = [0; 3];
+            let mut rest = k;
+            for l in local.iter_mut().take(n_axes) {
+                *l = rest % width;
+                rest /= width;
             }
+            for a in (0..n_axes).rev() {
+                node = node * self.nodes_per_axis(a) + (axes[a].0 + local[a] as i64 + pad) as usize;
+            }
+            let mut w = 1.0;
+            for a in 0..n_axes {
+                w *= axes[a].1[local[a]];
+            }
+            let mut g = Vector::<D>::default();
+            for c in 0..n_axes {
+                let mut v = 1.0;
+                for a in 0..n_axes {
+                    v *= if a == c {
+                        axes[a].2[local[a]]
+                    } else {
+                        axes[a].1[local[a]]
+                    };
+                }
+                g[c] = v * inv_dx;
+            }
+            s.nodes.as_mut()[k] = node;
+            s.weights.as_mut()[k] = w;
+            s.gradients.as_mut()[k] = g;
+            s.len += 1;
         }
         Ok(s)
     }

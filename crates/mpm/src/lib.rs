@@ -6,7 +6,9 @@
 //! of the particle's material), solves `h z = Wσ + q` with talus-ssn (eqs. 12, 15–16),
 //! then updates the particles with the PIC/FLIP blend of eqs. 13–14.
 //!
-//! Plane strain, SI units, Mandel stresses `(xx, yy, zz, √2 xy)`, tension positive.
+//! Plane strain or 3D (`docs/3d-mpm.md`): every type is generic over the Mandel size `D`,
+//! 4 by default (`(xx, yy, zz, √2 xy)`) or 6 (`(xx, yy, zz, √2 yz, √2 xz, √2 xy)`); SI
+//! units, tension positive, y vertical.
 //!
 //! The crate builds each sub-step's reduced problem and applies its solution; the Newton
 //! solves and the step control (halving, predictor) belong to talus-engine's `Stepper`,
@@ -42,6 +44,7 @@
 //! ```
 mod boundary;
 mod contact;
+mod dimension;
 mod discretization;
 mod error;
 mod grid;
@@ -52,7 +55,6 @@ mod particles;
 mod probe;
 mod programme;
 mod reduced_problem;
-mod rotation;
 mod settings;
 mod shape;
 mod side;
@@ -61,11 +63,12 @@ mod substep;
 pub mod transfer;
 
 pub use boundary::{GridBoundary, PrescribedVelocity, Wall, WallCondition};
+pub use dimension::{Dimension, Mandel, Vector};
 pub use discretization::{GroupForces, MpmState, MpmStepReport};
 pub use error::MpmError;
 pub use grid::{Grid, Stencil};
 pub use loads::SubstepLoads;
-pub use measure::{front, kinetic_energy, RunoutReference};
+pub use measure::{front, kinetic_energy, radial_front, RunoutReference};
 pub use mpm::Mpm;
 pub use particles::Particles;
 pub use probe::grid_value_at;

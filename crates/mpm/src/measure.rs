@@ -1,5 +1,6 @@
 //! What a run reports about the particles besides the solver: the front of a collapsing
 //! column and its runout, and the kinetic energy.
+use crate::dimension::{Dimension, Mandel};
 use crate::Particles;
 
 /// Where runout is measured from: `x_left`, the left wall (or the leftmost body edge when
@@ -35,7 +36,10 @@ impl RunoutReference {
 }
 
 /// The largest particle x (m): the front of a flow spreading to the right.
-pub fn front(particles: &Particles) -> f64 {
+pub fn front<const D: usize>(particles: &Particles<D>) -> f64
+where
+    Mandel<D>: Dimension,
+{
     particles
         .position
         .iter()
@@ -43,12 +47,31 @@ pub fn front(particles: &Particles) -> f64 {
         .fold(f64::NEG_INFINITY, f64::max)
 }
 
-/// `½ Σ m v²` (J per metre of thickness).
-pub fn kinetic_energy(particles: &Particles) -> f64 {
+/// The largest distance of a particle from the vertical axis through `(x_c, z_c)` (m): the
+/// front of a 3D flow spreading radially, `R` of Lube et al. (2004).
+pub fn radial_front(particles: &Particles<6>, axis: [f64; 2]) -> f64 {
+    particles
+        .position
+        .iter()
+        .map(|p| (p[0] - axis[0]).hypot(p[2] - axis[1]))
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// `½ Σ m v²` (J per metre of thickness in 2D, J in 3D).
+pub fn kinetic_energy<const D: usize>(particles: &Particles<D>) -> f64
+where
+    Mandel<D>: Dimension,
+{
     particles
         .mass
         .iter()
         .zip(&particles.velocity)
-        .map(|(m, v)| 0.5 * m * (v[0] * v[0] + v[1] * v[1]))
+        .map(|(m, v)| {
+            let mut v2 = v[0] * v[0];
+            for a in 1..Mandel::<D>::AXES {
+                v2 += v[a] * v[a];
+            }
+            0.5 * m * v2
+        })
         .sum()
 }

@@ -5,6 +5,7 @@ use nalgebra::SMatrix;
 use talus_bipotential::{DruckerPrager, FlowRule, Material};
 
 use crate::boundary::{GridBoundary, NodeCondition};
+use crate::dimension::{Dimension, Mandel, Vector};
 use crate::error::MpmError;
 use crate::grid::Grid;
 use crate::settings::MpmSettings;
@@ -13,24 +14,30 @@ use crate::side::Side;
 /// The implicit MPM: [`Mpm::begin_substep`] starts a sub-step of a [`Particles`] set
 /// (`crate::Particles`); a stepping engine solves its reduced problems.
 #[derive(Debug, Clone)]
-pub struct Mpm {
-    grid: Grid,
-    boundary: GridBoundary,
+pub struct Mpm<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
+    grid: Grid<D>,
+    boundary: GridBoundary<D>,
     conditions: Vec<NodeCondition>,
     materials: Vec<Material>,
     /// Each material's flow rule and compliance `S₀` (1/Pa), built once.
-    rules: Vec<(FlowRule<4>, SMatrix<f64, 4, 4>)>,
-    gravity: [f64; 2],
+    rules: Vec<(FlowRule<D>, SMatrix<f64, D, D>)>,
+    gravity: Vector<D>,
     settings: MpmSettings,
 }
 
-impl Mpm {
+impl<const D: usize> Mpm<D>
+where
+    Mandel<D>: Dimension,
+{
     /// One Drucker-Prager material for every particle; `gravity` in m/s².
     pub fn try_new(
-        grid: Grid,
-        boundary: GridBoundary,
+        grid: Grid<D>,
+        boundary: GridBoundary<D>,
         material: &DruckerPrager,
-        gravity: [f64; 2],
+        gravity: Vector<D>,
         settings: MpmSettings,
     ) -> Result<Self, MpmError> {
         Self::with_materials(
@@ -45,10 +52,10 @@ impl Mpm {
     /// Several materials: particle `p` is of `materials[particles.material[p]]`
     /// ([`Particles::material`](crate::Particles::material)); `gravity` in m/s².
     pub fn with_materials(
-        grid: Grid,
-        boundary: GridBoundary,
+        grid: Grid<D>,
+        boundary: GridBoundary<D>,
         materials: &[Material],
-        gravity: [f64; 2],
+        gravity: Vector<D>,
         settings: MpmSettings,
     ) -> Result<Self, MpmError> {
         if materials.is_empty() {
@@ -58,7 +65,7 @@ impl Mpm {
             ));
         }
         boundary.validate()?;
-        if !gravity.iter().all(|g| g.is_finite()) {
+        if !gravity.as_ref().iter().all(|g| g.is_finite()) {
             return Err(MpmError::invalid(
                 "gravity",
                 format!("{gravity:?} must be finite"),
@@ -87,7 +94,7 @@ impl Mpm {
             boundary,
             rules: materials
                 .iter()
-                .map(|m| (m.flow_rule::<4>(0.0), m.compliance::<4>()))
+                .map(|m| (m.flow_rule::<D>(0.0), m.compliance::<D>()))
                 .collect(),
             materials: materials.to_vec(),
             gravity,
@@ -95,11 +102,11 @@ impl Mpm {
         })
     }
 
-    pub fn grid(&self) -> &Grid {
+    pub fn grid(&self) -> &Grid<D> {
         &self.grid
     }
 
-    pub fn boundary(&self) -> &GridBoundary {
+    pub fn boundary(&self) -> &GridBoundary<D> {
         &self.boundary
     }
 
@@ -107,7 +114,7 @@ impl Mpm {
         &self.settings
     }
 
-    pub fn gravity(&self) -> [f64; 2] {
+    pub fn gravity(&self) -> Vector<D> {
         self.gravity
     }
 
@@ -122,7 +129,7 @@ impl Mpm {
 
     /// Each material's rate-independent flow rule and compliance `S₀`, in the order of
     /// [`Mpm::materials`].
-    pub(crate) fn rules(&self) -> &[(FlowRule<4>, SMatrix<f64, 4, 4>)] {
+    pub(crate) fn rules(&self) -> &[(FlowRule<D>, SMatrix<f64, D, D>)] {
         &self.rules
     }
 
@@ -130,7 +137,7 @@ impl Mpm {
     /// first particle that is out of range and its index.
     pub(crate) fn check_material_indices(
         &self,
-        particles: &crate::Particles,
+        particles: &crate::Particles<D>,
     ) -> Result<(), MpmError> {
         let n = self.materials.len();
         match particles.material.iter().position(|&m| m >= n) {

@@ -3,18 +3,23 @@
 //! `u_i = Σ_p N_i(x_p) m_p u_p / m_i`, then the shape functions at the point,
 //! `u(x) = Σ_i N_i(x) u_i / Σ_i N_i(x)` over the nodes that carry mass (a rigid motion is
 //! reproduced exactly, also next to the material's edge).
+use crate::dimension::{Dimension, Mandel, Vector};
 use crate::error::MpmError;
 use crate::grid::Grid;
 use crate::particles::Particles;
 
 /// `field` (one vector per particle) at `point` (m), or `None` when no node of the point's
 /// stencil carries mass (no material around the point). The point must lie in the grid.
-pub fn grid_value_at(
-    grid: &Grid,
-    particles: &Particles,
-    field: &[[f64; 2]],
-    point: [f64; 2],
-) -> Result<Option<[f64; 2]>, MpmError> {
+pub fn grid_value_at<const D: usize>(
+    grid: &Grid<D>,
+    particles: &Particles<D>,
+    field: &[Vector<D>],
+    point: Vector<D>,
+) -> Result<Option<Vector<D>>, MpmError>
+where
+    Mandel<D>: Dimension,
+{
+    let n = Mandel::<D>::AXES;
     if field.len() != particles.len() {
         return Err(MpmError::invalid(
             "field",
@@ -22,37 +27,44 @@ pub fn grid_value_at(
         ));
     }
     let (lo, hi) = (grid.origin(), grid.end());
-    if !(0..2).all(|a| (lo[a]..=hi[a]).contains(&point[a])) {
+    if !(0..n).all(|a| (lo[a]..=hi[a]).contains(&point[a])) {
         return Err(MpmError::invalid(
             "point",
             format!("{point:?} m is outside the grid [{lo:?}, {hi:?}]"),
         ));
     }
     let at = grid.stencil(0, point)?;
-    let nodes = &at.nodes[..at.len];
+    let nodes = &at.nodes.as_ref()[..at.len];
     let mut mass = vec![0.0; at.len];
-    let mut moment = vec![[0.0; 2]; at.len];
+    let mut moment = vec![Vector::<D>::default(); at.len];
     // Sequential in particle order: the same sums whatever the thread count.
     for (p, x) in particles.position.iter().enumerate() {
         for (i, w, _) in grid.stencil(p, *x)?.iter() {
             if let Some(k) = nodes.iter().position(|&n| n == i) {
                 let m = w * particles.mass[p];
                 mass[k] += m;
-                moment[k][0] += m * field[p][0];
-                moment[k][1] += m * field[p][1];
+                for a in 0..n {
+                    moment[k][a] += m * field[p][a];
+                }
             }
         }
     }
-    let (mut value, mut weight) = ([0.0; 2], 0.0);
+    let (mut value, mut weight) = (Vector::<D>::default(), 0.0);
     for k in 0..at.len {
         if mass[k] > 0.0 {
-            let w = at.weights[k];
-            value[0] += w * moment[k][0] / mass[k];
-            value[1] += w * moment[k][1] / mass[k];
+            let w = at.weights.as_ref()[k];
+            for a in 0..n {
+                value[a] += w * moment[k][a] / mass[k];
+            }
             weight += w;
         }
     }
-    Ok((weight > 0.0).then(|| [value[0] / weight, value[1] / weight]))
+    Ok((weight > 0.0).then(|| {
+        for a in 0..n {
+            value[a] /= weight;
+        }
+        value
+    }))
 }
 
 #[cfg(test)]

@@ -7,31 +7,54 @@ use std::ops::Deref;
 use talus_engine::{Discretization, Loading, Motion, Problem, Ramp};
 use talus_ssn::{ReducedSystem, SolveError};
 
+use crate::dimension::{Dimension, Mandel, Vector};
 use crate::{Mpm, MpmError, MpmState, Particles, Substep, SubstepLoads, SubstepStats};
 
 /// A surface load that follows a ramp: its particles and their forces at multiplier 1
 /// (N/m), kept apart from `Particles::external_force` (the constant loads) so that each
 /// sub-step's force is `ramp(tₙ₊₁) · force`, never a product of past scalings.
 #[derive(Debug, Clone, PartialEq)]
-pub struct RampedSurfaceLoad {
+pub struct RampedSurfaceLoad<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
     pub ramp: Ramp,
     pub particles: Vec<usize>,
-    pub force: Vec<[f64; 2]>,
+    pub force: Vec<Vector<D>>,
 }
 
 /// The ramps of an MPM scene; `None` and an empty list are the constant multiplier 1.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct MpmLoadProgramme {
+#[derive(Debug, Clone, PartialEq)]
+pub struct MpmLoadProgramme<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
     pub gravity: Option<Ramp>,
     /// One per `[[prescribed]]` box, in order.
     pub prescribed: Vec<Option<Ramp>>,
-    pub surface_loads: Vec<RampedSurfaceLoad>,
+    pub surface_loads: Vec<RampedSurfaceLoad<D>>,
 }
 
-impl MpmLoadProgramme {
+impl<const D: usize> Default for MpmLoadProgramme<D>
+where
+    Mandel<D>: Dimension,
+{
+    fn default() -> Self {
+        Self {
+            gravity: None,
+            prescribed: Vec::new(),
+            surface_loads: Vec::new(),
+        }
+    }
+}
+
+impl<const D: usize> MpmLoadProgramme<D>
+where
+    Mandel<D>: Dimension,
+{
     /// The loads of a sub-step ending at `t` (s) from `particles`: without any ramp, the
     /// constant loads exactly ([`SubstepLoads::default`]).
-    pub fn loads_at(&self, t: f64, particles: &Particles) -> SubstepLoads {
+    pub fn loads_at(&self, t: f64, particles: &Particles<D>) -> SubstepLoads<D> {
         let prescribed = if self.prescribed.iter().any(Option::is_some) {
             self.prescribed
                 .iter()
@@ -45,8 +68,9 @@ impl MpmLoadProgramme {
             for load in &self.surface_loads {
                 let f = load.ramp.at(t);
                 for (&p, f1) in load.particles.iter().zip(&load.force) {
-                    force[p][0] += f * f1[0];
-                    force[p][1] += f * f1[1];
+                    for a in 0..Mandel::<D>::AXES {
+                        force[p][a] += f * f1[a];
+                    }
                 }
             }
             force
@@ -62,55 +86,67 @@ impl MpmLoadProgramme {
 /// The MPM of a scene with its load programme: what the engine steps. It reads as the
 /// [`Mpm`] it holds.
 #[derive(Debug, Clone)]
-pub struct ProgrammedMpm {
-    mpm: Mpm,
-    programme: MpmLoadProgramme,
+pub struct ProgrammedMpm<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
+    mpm: Mpm<D>,
+    programme: MpmLoadProgramme<D>,
 }
 
-impl ProgrammedMpm {
-    pub fn new(mpm: Mpm, programme: MpmLoadProgramme) -> Self {
+impl<const D: usize> ProgrammedMpm<D>
+where
+    Mandel<D>: Dimension,
+{
+    pub fn new(mpm: Mpm<D>, programme: MpmLoadProgramme<D>) -> Self {
         Self { mpm, programme }
     }
 
-    pub fn programme(&self) -> &MpmLoadProgramme {
+    pub fn programme(&self) -> &MpmLoadProgramme<D> {
         &self.programme
     }
 }
 
-impl Deref for ProgrammedMpm {
-    type Target = Mpm;
+impl<const D: usize> Deref for ProgrammedMpm<D>
+where
+    Mandel<D>: Dimension,
+{
+    type Target = Mpm<D>;
 
-    fn deref(&self) -> &Mpm {
+    fn deref(&self) -> &Mpm<D> {
         &self.mpm
     }
 }
 
 /// As [`Mpm`]'s, but each sub-step begins under the loads of its end time.
-impl Discretization for ProgrammedMpm {
-    type State = MpmState;
-    type Substep = Substep;
-    type Stats = SubstepStats;
+impl<const D: usize> Discretization<D> for ProgrammedMpm<D>
+where
+    Mandel<D>: Dimension,
+{
+    type State = MpmState<D>;
+    type Substep = Substep<D>;
+    type Stats = SubstepStats<D>;
     type Error = MpmError;
 
-    fn fixed_system(&self, h: f64) -> Option<Result<ReducedSystem<4>, SolveError>> {
+    fn fixed_system(&self, h: f64) -> Option<Result<ReducedSystem<D>, SolveError>> {
         self.mpm.fixed_system(h)
     }
 
-    fn time(&self, state: &MpmState) -> f64 {
+    fn time(&self, state: &MpmState<D>) -> f64 {
         state.time
     }
 
-    fn stress<'s>(&self, state: &'s MpmState) -> &'s [f64] {
+    fn stress<'s>(&self, state: &'s MpmState<D>) -> &'s [f64] {
         self.mpm.stress(state)
     }
 
     /// The MPM predictors (`[mpm] predictor`: the last stresses or an elastic solve) never
     /// extrapolate a stress rate, so they need not know where the ramps bend.
-    fn loading(&self, state: &MpmState, h: f64) -> Loading {
+    fn loading(&self, state: &MpmState<D>, h: f64) -> Loading {
         self.mpm.loading(state, h)
     }
 
-    fn begin(&self, state: &MpmState, h: f64) -> Result<(Substep, Problem), MpmError> {
+    fn begin(&self, state: &MpmState<D>, h: f64) -> Result<(Substep<D>, Problem<D>), MpmError> {
         let loads = self.programme.loads_at(state.time + h, &state.particles);
         let (substep, system) = self.mpm.begin_substep_with(&state.particles, h, &loads)?;
         Ok((substep, Problem::System(system)))
@@ -118,26 +154,26 @@ impl Discretization for ProgrammedMpm {
 
     fn after_solve(
         &self,
-        substep: &mut Substep,
-        state: &MpmState,
+        substep: &mut Substep<D>,
+        state: &MpmState<D>,
         sigma: &[f64],
         z: &[f64],
-    ) -> Result<Option<Problem>, MpmError> {
+    ) -> Result<Option<Problem<D>>, MpmError> {
         self.mpm.after_solve(substep, state, sigma, z)
     }
 
     fn finish(
         &self,
-        substep: Substep,
-        state: &mut MpmState,
+        substep: Substep<D>,
+        state: &mut MpmState<D>,
         sigma: Vec<f64>,
         z: &[f64],
         h: f64,
-    ) -> Result<SubstepStats, MpmError> {
+    ) -> Result<SubstepStats<D>, MpmError> {
         self.mpm.finish(substep, state, sigma, z, h)
     }
 
-    fn motion(&self, state: &MpmState) -> Option<Motion> {
+    fn motion(&self, state: &MpmState<D>) -> Option<Motion> {
         self.mpm.motion(state)
     }
 

@@ -1,6 +1,8 @@
 //! Eqs. 15–16 on the grid: the numbering of the grid velocities, `B` on the free ones, the
 //! reduced problem `h z = Wσ + q` of one solve under given wall contacts, and the grid
-//! velocities and boundary forces that follow from its stress.
+//! velocities and boundary forces that follow from its stress. One implementation for both
+//! dimensions: `D` is the Mandel size (4 in 2D, 6 in 3D), `Mandel::<D>::AXES` the velocity
+//! components per node.
 use faer::sparse::{SparseColMat, Triplet};
 use nalgebra::{SMatrix, SVector};
 use talus_bipotential::{FlowRule, Material};
@@ -10,6 +12,7 @@ use talus_ssn::{
 
 use crate::boundary::NodeCondition;
 use crate::contact::Contact;
+use crate::dimension::{Dimension, Mandel, Vector};
 use crate::error::MpmError;
 use crate::grid::Stencil;
 use crate::loads::SubstepLoads;
@@ -26,15 +29,19 @@ pub(crate) enum Dof {
 
 /// The grid after P2G (eq. 11), with the sub-step's dof numbering and `B`, shared by the
 /// friction passes.
-pub(crate) struct Prepared {
-    pub stencils: Vec<Stencil>,
+pub(crate) struct Prepared<const D: usize>
+where
+    Mandel<D>: Dimension,
+{
+    pub stencils: Vec<Stencil<D>>,
     pub mass: Vec<f64>,
-    pub force: Vec<[f64; 2]>,
-    pub v_old: Vec<[f64; 2]>,
+    pub force: Vec<Vector<D>>,
+    pub v_old: Vec<Vector<D>>,
     pub active: Vec<bool>,
-    /// Every active node's components; a friction node's tangential component is a free
-    /// velocity in every pass, stick or slide, so that all passes share one pattern.
-    pub dofs: Vec<[Dof; 2]>,
+    /// Every active node's components (the last unused in 2D); a friction node's
+    /// tangential components are free velocities in every pass, stick or slide, so that
+    /// all passes share one pattern.
+    pub dofs: Vec<[Dof; 3]>,
     /// Lumped mass of each free velocity.
     pub mass_free: Vec<f64>,
     /// `B` on the free velocities (eq. 16), stuck tangential columns included.
@@ -43,36 +50,48 @@ pub(crate) struct Prepared {
 
 /// One pass's view of the grid components: a stuck friction component is prescribed to 0,
 /// a sliding one carries the friction force as an external load.
-pub(crate) struct PassView {
-    pub dofs: Vec<[Dof; 2]>,
-    pub force: Vec<[f64; 2]>,
+pub(crate) struct PassView<const D: usize>
+where
+    Mandel<D>: Dimension,
+{
+    pub dofs: Vec<[Dof; 3]>,
+    pub force: Vec<Vector<D>>,
 }
 
 /// What a solve gives the grid and the particles.
-pub(crate) struct Solved {
+pub(crate) struct Solved<const D: usize>
+where
+    Mandel<D>: Dimension,
+{
     /// ‖z_p‖ / V_p: the plastic strain increment of each particle.
     pub plastic_increment: Vec<f64>,
-    pub v_new: Vec<[f64; 2]>,
-    /// Force the boundary applies to the body on prescribed components (N/m).
-    pub reaction: Vec<[f64; 2]>,
+    pub v_new: Vec<Vector<D>>,
+    /// Force the boundary applies to the body on prescribed components (N/m in 2D, N in
+    /// 3D).
+    pub reaction: Vec<Vector<D>>,
 }
 
 /// Numbers the active nodes' velocity components: prescribed ones keep their velocity (a
 /// box's scaled by its multiplier in `loads`); the others, a friction node's tangential
 /// component included, are free velocities.
-pub(crate) fn numbering(
+pub(crate) fn numbering<const D: usize>(
     conditions: &[NodeCondition],
     active: &[bool],
     mass: &[f64],
-    loads: &SubstepLoads,
-) -> (Vec<[Dof; 2]>, Vec<f64>) {
-    let mut dofs = vec![[Dof::Inactive; 2]; active.len()];
+    loads: &SubstepLoads<D>,
+) -> (Vec<[Dof; 3]>, Vec<f64>)
+where
+    Mandel<D>: Dimension,
+{
+    let n_axes = Mandel::<D>::AXES;
+    let mut dofs = vec![[Dof::Inactive; 3]; active.len()];
     let mut mass_free = Vec::new();
     for (i, c) in conditions.iter().enumerate() {
         if !active[i] {
             continue;
         }
-        for ((dof, velocity), source) in dofs[i].iter_mut().zip(c.velocity).zip(c.source) {
+        let components = dofs[i].iter_mut().zip(c.velocity).zip(c.source);
+        for ((dof, velocity), source) in components.take(n_axes) {
             *dof = match velocity {
                 Some(v) => Dof::Prescribed(source.map_or(v, |k| loads.prescribed_velocity(k, v))),
                 None => {
@@ -92,51 +111,56 @@ pub(crate) fn numbering(
 /// particle takes the flow rule and `S_p = V_p S₀` of its material (`rules`, indexed by
 /// `Particles::material`, checked when the sub-step began), with the material's Duvaut–Lions
 /// relaxation `N = (τ/h) S_p⁻¹` if it has one (`Material::relaxation`).
-pub(crate) fn pass_system(
+pub(crate) fn pass_system<const D: usize>(
     conditions: &[NodeCondition],
-    rules: &[(FlowRule<4>, SMatrix<f64, 4, 4>)],
+    rules: &[(FlowRule<D>, SMatrix<f64, D, D>)],
     materials: &[Material],
-    particles: &Particles,
-    prep: &Prepared,
+    particles: &Particles<D>,
+    prep: &Prepared<D>,
     contact: &[Contact],
     h: f64,
-) -> Result<(ReducedSystem<4>, PassView), MpmError> {
+) -> Result<(ReducedSystem<D>, PassView<D>), MpmError>
+where
+    Mandel<D>: Dimension,
+{
+    let n_axes = Mandel::<D>::AXES;
     let n_p = particles.len();
     let n_nodes = prep.mass.len();
     let mut dofs = prep.dofs.clone();
     let mut force = prep.force.clone();
     let mut b = prep.b.clone();
     for (i, c) in conditions.iter().enumerate() {
-        let Some((axis, _, _)) = c.friction else {
+        let Some(friction) = c.friction else {
             continue;
         };
         if !prep.active[i] {
             continue;
         }
-        let t = 1 - axis;
-        match contact[i] {
-            Contact::Stick => {
-                if let Dof::Free(j) = dofs[i][t] {
-                    let range = b.symbolic().col_range(j);
-                    b.val_mut()[range].fill(0.0);
+        for t in friction.components() {
+            match contact[i] {
+                Contact::Stick => {
+                    if let Dof::Free(j) = dofs[i][t] {
+                        let range = b.symbolic().col_range(j);
+                        b.val_mut()[range].fill(0.0);
+                    }
+                    dofs[i][t] = Dof::Prescribed(0.0);
                 }
-                dofs[i][t] = Dof::Prescribed(0.0);
+                Contact::Slide(f) => force[i][t] += f[t],
             }
-            Contact::Slide(f) => force[i][t] += f,
         }
     }
 
     // q of eq. 16, with `B_D` on the prescribed components that move (a component at
     // rest adds nothing).
-    let mut s_sigma = vec![0.0; 4 * n_p];
+    let mut s_sigma = vec![0.0; D * n_p];
     let mut compliance_blocks = Vec::with_capacity(n_p);
     let mut flow_rules = Vec::with_capacity(n_p);
     for p in 0..n_p {
         let m = particles.material_of(p);
         let (flow_rule, compliance) = &rules[m];
         let s_p = compliance * particles.volume[p];
-        let s = s_p * SVector::<f64, 4>::from(particles.stress[p]);
-        s_sigma[4 * p..4 * p + 4].copy_from_slice(s.as_slice());
+        let s = s_p * SVector::<f64, D>::from(particles.stress[p]);
+        s_sigma[D * p..D * p + D].copy_from_slice(s.as_slice());
         compliance_blocks.push(s_p);
         let relaxation = materials[m]
             .relaxation(h, particles.volume[p])
@@ -146,9 +170,9 @@ pub(crate) fn pass_system(
     let mut v_free = vec![0.0; prep.mass_free.len()];
     let mut f_free = vec![0.0; prep.mass_free.len()];
     let mut moving = Vec::new();
-    let mut column = vec![[None; 2]; n_nodes];
+    let mut column = vec![[None; 3]; n_nodes];
     for i in 0..n_nodes {
-        for a in 0..2 {
+        for a in 0..n_axes {
             match dofs[i][a] {
                 Dof::Free(j) => {
                     v_free[j] = prep.v_old[i][a];
@@ -162,7 +186,7 @@ pub(crate) fn pass_system(
             }
         }
     }
-    let b_prescribed = strain_operator(
+    let b_prescribed = strain_operator::<D>(
         &prep.stencils,
         &particles.volume,
         |i, a| column[i][a],
@@ -196,18 +220,21 @@ pub(crate) fn pass_system(
 /// The plastic strain increments, grid velocities (eq. 15: v = vₙ + h M⁻¹ (f − Bᵀσ)) and,
 /// on prescribed components, the boundary's force M a + Bᵀσ − f (friction included: it is
 /// part of f there) of a solve's `sigma` and `z = Wσ + q`.
-pub(crate) fn solved(
-    particles: &Particles,
-    prep: &Prepared,
-    view: &PassView,
+pub(crate) fn solved<const D: usize>(
+    particles: &Particles<D>,
+    prep: &Prepared<D>,
+    view: &PassView<D>,
     sigma: &[f64],
     z: &[f64],
     h: f64,
-) -> Solved {
+) -> Solved<D>
+where
+    Mandel<D>: Dimension,
+{
     // z = Wσ + q is h·(−V ε̇ᵖ) per particle (eq. 16).
     let plastic_increment = (0..particles.len())
         .map(|p| {
-            z[4 * p..4 * p + 4]
+            z[D * p..D * p + D]
                 .iter()
                 .map(|v| v * v)
                 .sum::<f64>()
@@ -216,7 +243,7 @@ pub(crate) fn solved(
         })
         .collect();
     let n_nodes = prep.mass.len();
-    let mut internal = vec![[0.0; 2]; n_nodes];
+    let mut internal = vec![Vector::<D>::default(); n_nodes];
     add_internal_force(
         &prep.stencils,
         &particles.volume,
@@ -224,14 +251,14 @@ pub(crate) fn solved(
         &prep.active,
         &mut internal,
     );
-    let mut v_new = vec![[0.0; 2]; n_nodes];
-    let mut reaction = vec![[0.0; 2]; n_nodes];
+    let mut v_new = vec![Vector::<D>::default(); n_nodes];
+    let mut reaction = vec![Vector::<D>::default(); n_nodes];
     for i in 0..n_nodes {
         if !prep.active[i] {
             continue;
         }
         let m = prep.mass[i];
-        for a in 0..2 {
+        for a in 0..Mandel::<D>::AXES {
             match view.dofs[i][a] {
                 Dof::Prescribed(v) => {
                     v_new[i][a] = v;
@@ -254,12 +281,15 @@ pub(crate) fn solved(
 
 /// `B` on the free velocity components: row block `p` is `V_p · ε̇(x_p)` in Mandel form
 /// (as in talus-fem), so that `Bᵀσ` is the internal force and `W` is symmetric.
-pub(crate) fn free_strain_operator(
-    stencils: &[Stencil],
+pub(crate) fn free_strain_operator<const D: usize>(
+    stencils: &[Stencil<D>],
     volume: &[f64],
-    dofs: &[[Dof; 2]],
+    dofs: &[[Dof; 3]],
     n_free: usize,
-) -> Result<SparseColMat<usize, f64>, MpmError> {
+) -> Result<SparseColMat<usize, f64>, MpmError>
+where
+    Mandel<D>: Dimension,
+{
     let free = |i: usize, a: usize| match dofs[i][a] {
         Dof::Free(j) => Some(j),
         _ => None,
@@ -268,32 +298,32 @@ pub(crate) fn free_strain_operator(
 }
 
 /// `B` on the grid velocity components `column` numbers (node, component → column).
-fn strain_operator(
-    stencils: &[Stencil],
+fn strain_operator<const D: usize>(
+    stencils: &[Stencil<D>],
     volume: &[f64],
     column: impl Fn(usize, usize) -> Option<usize>,
     n_columns: usize,
-) -> Result<SparseColMat<usize, f64>, MpmError> {
-    let r2 = std::f64::consts::FRAC_1_SQRT_2;
-    let mut triplets = Vec::with_capacity(stencils.len() * 9 * 4);
+) -> Result<SparseColMat<usize, f64>, MpmError>
+where
+    Mandel<D>: Dimension,
+{
+    let n_axes = Mandel::<D>::AXES;
+    let width = stencils.first().map_or(0, |s| s.len);
+    let mut triplets = Vec::with_capacity(stencils.len() * width * 2 * n_axes);
     for (p, s) in stencils.iter().enumerate() {
-        let (v, r) = (volume[p], 4 * p);
+        let (v, r) = (volume[p], D * p);
         for (i, _, g) in s.iter() {
-            let entries = [
-                (0, [(r, g[0]), (r + 3, r2 * g[1])]),
-                (1, [(r + 1, g[1]), (r + 3, r2 * g[0])]),
-            ];
-            for (a, rows) in entries {
+            for a in 0..n_axes {
                 if let Some(j) = column(i, a) {
-                    for (row, value) in rows {
+                    for (row, value) in Mandel::<D>::strain_rows(&g, a) {
                         if value != 0.0 {
-                            triplets.push(Triplet::new(row, j, v * value));
+                            triplets.push(Triplet::new(r + row, j, v * value));
                         }
                     }
                 }
             }
         }
     }
-    SparseColMat::try_new_from_triplets(4 * stencils.len(), n_columns, &triplets)
+    SparseColMat::try_new_from_triplets(D * stencils.len(), n_columns, &triplets)
         .map_err(|e| MpmError::invalid("B", format!("sparse assembly failed: {e:?}")))
 }

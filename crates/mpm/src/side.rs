@@ -1,4 +1,6 @@
-//! The sides of the grid, where walls stand.
+//! The sides of the grid, where walls stand: x (left, right), y (bottom, top: y is
+//! vertical in both dimensions) and, in 3D, z (back, front; front is the largest z, as in
+//! talus-fem's block meshes).
 
 /// A side of the grid.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -7,6 +9,10 @@ pub enum Side {
     Right,
     Bottom,
     Top,
+    /// z = z₀ (3D only).
+    Back,
+    /// z = z₀ + nz dx (3D only).
+    Front,
 }
 
 impl Side {
@@ -17,16 +23,14 @@ impl Side {
             Side::Right => (0, 1),
             Side::Bottom => (1, 0),
             Side::Top => (1, 1),
+            Side::Back => (2, 0),
+            Side::Front => (2, 1),
         }
     }
 
     /// Axis of the wall normal and the sign of the normal pointing into the domain.
     pub(crate) fn normal(&self) -> (usize, f64) {
-        match self {
-            Side::Left => (0, 1.0),
-            Side::Right => (0, -1.0),
-            Side::Bottom => (1, 1.0),
-            Side::Top => (1, -1.0),
-        }
+        let (axis, end) = self.axis_and_end();
+        (axis, if end == 0 { 1.0 } else { -1.0 })
     }
 }

@@ -2,27 +2,34 @@
 //! tests that step particles without a scene.
 use talus_engine::{StepError, StepSettings, Stepper};
 
+use crate::dimension::{Dimension, Mandel};
 use crate::{Mpm, MpmError, MpmState, MpmStepReport, Particles};
 
-pub struct MpmStepper {
-    stepper: Stepper<Mpm>,
+pub struct MpmStepper<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
+    stepper: Stepper<Mpm<D>, D>,
     time: f64,
 }
 
-impl MpmStepper {
+impl<const D: usize> MpmStepper<D>
+where
+    Mandel<D>: Dimension,
+{
     /// With the MPM defaults ([`StepSettings::mpm`]).
-    pub fn new(mpm: Mpm) -> Self {
+    pub fn new(mpm: Mpm<D>) -> Self {
         Self::with_settings(mpm, StepSettings::mpm())
     }
 
-    pub fn with_settings(mpm: Mpm, settings: StepSettings) -> Self {
+    pub fn with_settings(mpm: Mpm<D>, settings: StepSettings) -> Self {
         Self {
             stepper: Stepper::new(mpm, settings),
             time: 0.0,
         }
     }
 
-    pub fn mpm(&self) -> &Mpm {
+    pub fn mpm(&self) -> &Mpm<D> {
         self.stepper.discretization()
     }
 
@@ -38,9 +45,9 @@ impl MpmStepper {
     /// One step of `h` (s): `particles` are left as they were if it fails.
     pub fn advance(
         &mut self,
-        particles: &mut Particles,
+        particles: &mut Particles<D>,
         h: f64,
-    ) -> Result<MpmStepReport, StepError<MpmError>> {
+    ) -> Result<MpmStepReport<D>, StepError<MpmError>> {
         let mut state = MpmState {
             time: self.time,
             particles: std::mem::take(particles),

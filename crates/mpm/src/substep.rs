@@ -5,13 +5,13 @@
 use talus_ssn::ReducedSystem;
 
 use crate::contact::{self, Contact, MAX_CONTACT_PASSES};
+use crate::dimension::{Dimension, Mandel, Vector};
 use crate::error::MpmError;
 use crate::loads::SubstepLoads;
 use crate::particles::Particles;
 use crate::reduced_problem::{
     free_strain_operator, numbering, pass_system, solved, Dof, PassView, Prepared, Solved,
 };
-use crate::rotation::rotate;
 use crate::transfer::{
     add_internal_force, avoid_empty_nodes, grid_to_particle, particles_to_grid_with, stencils,
     velocity_gradient,
@@ -19,39 +19,48 @@ use crate::transfer::{
 use crate::Mpm;
 
 /// A sub-step between its P2G and its G2P.
-pub struct Substep {
+pub struct Substep<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
     h: f64,
-    prep: Prepared,
+    prep: Prepared<D>,
     friction_nodes: Vec<usize>,
     contact: Vec<Contact>,
-    view: PassView,
+    view: PassView<D>,
     passes: usize,
-    last: Option<Solved>,
+    last: Option<Solved<D>>,
 }
 
 /// What a sub-step measured.
 #[derive(Debug, Clone, PartialEq)]
-pub struct SubstepStats {
+pub struct SubstepStats<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
     /// Grid nodes carrying mass, and free velocity components.
     pub active_nodes: usize,
     pub free_dofs: usize,
     /// Force each wall, then each prescribed-velocity box, applies to the material (N/m):
     /// `M a + Bᵀσ − f` on its nodes, friction included.
-    pub group_forces: Vec<[f64; 2]>,
+    pub group_forces: Vec<Vector<D>>,
     /// Solves taken to settle the friction walls' stick/slide states (1 without them).
     pub contact_passes: usize,
 }
 
-impl Mpm {
+impl<const D: usize> Mpm<D>
+where
+    Mandel<D>: Dimension,
+{
     /// P2G (eq. 11) and the reduced problem of eq. 16 for a sub-step of `h` from
     /// `particles`, under the constant loads, with the friction nodes in the stick/slide
     /// states the particles' stresses predict (`MpmSettings::contact_predictor`; every node
     /// stuck without it).
     pub fn begin_substep(
         &self,
-        particles: &Particles,
+        particles: &Particles<D>,
         h: f64,
-    ) -> Result<(Substep, ReducedSystem<4>), MpmError> {
+    ) -> Result<(Substep<D>, ReducedSystem<D>), MpmError> {
         self.begin_substep_with(particles, h, &SubstepLoads::default())
     }
 
@@ -59,10 +68,10 @@ impl Mpm {
     /// prescribed velocities and particle forces scaled or replaced by `loads`).
     pub fn begin_substep_with(
         &self,
-        particles: &Particles,
+        particles: &Particles<D>,
         h: f64,
-        loads: &SubstepLoads,
-    ) -> Result<(Substep, ReducedSystem<4>), MpmError> {
+        loads: &SubstepLoads<D>,
+    ) -> Result<(Substep<D>, ReducedSystem<D>), MpmError> {
         if !(h.is_finite() && h > 0.0) {
             return Err(MpmError::invalid(
                 "h",
@@ -75,7 +84,10 @@ impl Mpm {
         let grid = self.grid();
         let conditions = self.conditions();
         let mut stencils = stencils(grid, particles)?;
-        let gravity = self.gravity().map(|g| loads.gravity * g);
+        let mut gravity = self.gravity();
+        for a in 0..Mandel::<D>::AXES {
+            gravity[a] *= loads.gravity;
+        }
         let external_force = loads
             .external_force
             .as_deref()
@@ -139,14 +151,17 @@ impl Mpm {
 /// velocity and at rest tangentially under the particles' stresses `σₙ`:
 /// `M (v − vₙ)/h + Bᵀσₙ − f`, the reaction of `reduced_problem::solved` at the start of the
 /// sub-step (zero on other nodes).
-fn stuck_reactions(
-    prep: &Prepared,
-    particles: &Particles,
+fn stuck_reactions<const D: usize>(
+    prep: &Prepared<D>,
+    particles: &Particles<D>,
     friction_nodes: &[usize],
     h: f64,
-) -> Vec<[f64; 2]> {
+) -> Vec<Vector<D>>
+where
+    Mandel<D>: Dimension,
+{
     let n_nodes = prep.mass.len();
-    let mut internal = vec![[0.0; 2]; n_nodes];
+    let mut internal = vec![Vector::<D>::default(); n_nodes];
     add_internal_force(
         &prep.stencils,
         &particles.volume,
@@ -154,9 +169,9 @@ fn stuck_reactions(
         &prep.active,
         &mut internal,
     );
-    let mut reaction = vec![[0.0; 2]; n_nodes];
+    let mut reaction = vec![Vector::<D>::default(); n_nodes];
     for &i in friction_nodes {
-        for a in 0..2 {
+        for a in 0..Mandel::<D>::AXES {
             let v = match prep.dofs[i][a] {
                 Dof::Prescribed(v) => v,
                 _ => 0.0,
@@ -168,18 +183,21 @@ fn stuck_reactions(
     reaction
 }
 
-impl Substep {
+impl<const D: usize> Substep<D>
+where
+    Mandel<D>: Dimension,
+{
     /// After a converged solve of the current problem (`sigma`, `z = Wσ + q`): updates the
     /// friction walls' stick/slide states; `Some` is the next problem to solve (from
     /// `sigma`) while they change, `None` once they settle (or after
     /// `MAX_CONTACT_PASSES`, keeping the last pass).
     pub fn after_solve(
         &mut self,
-        mpm: &Mpm,
-        particles: &Particles,
+        mpm: &Mpm<D>,
+        particles: &Particles<D>,
         sigma: &[f64],
         z: &[f64],
-    ) -> Result<Option<ReducedSystem<4>>, MpmError> {
+    ) -> Result<Option<ReducedSystem<D>>, MpmError> {
         self.passes += 1;
         let s = solved(particles, &self.prep, &self.view, sigma, z, self.h);
         let changes = contact::update(
@@ -219,10 +237,10 @@ impl Substep {
     /// updated: the caller passes a copy.
     pub fn finish(
         self,
-        mpm: &Mpm,
-        particles: &mut Particles,
+        mpm: &Mpm<D>,
+        particles: &mut Particles<D>,
         sigma: Vec<f64>,
-    ) -> Result<SubstepStats, MpmError> {
+    ) -> Result<SubstepStats<D>, MpmError> {
         let h = self.h;
         let Some(solved) = self.last else {
             return Err(MpmError::invalid(
@@ -234,11 +252,11 @@ impl Substep {
         for (p, dp) in solved.plastic_increment.iter().enumerate() {
             particles.plastic_strain[p] += dp;
         }
-        let mut group_forces = vec![[0.0; 2]; mpm.boundary().n_groups()];
+        let mut group_forces = vec![Vector::<D>::default(); mpm.boundary().n_groups()];
         // Each component's force goes to the condition that prescribes it
         // (`NodeCondition::owner`, `docs/scenes.md`, 'Reactions').
         for (i, c) in mpm.conditions().iter().enumerate() {
-            for (a, owner) in c.owner.iter().enumerate() {
+            for (a, owner) in c.owner.iter().enumerate().take(Mandel::<D>::AXES) {
                 if let (true, Some(k)) = (prep.active[i], *owner) {
                     group_forces[k][a] += solved.reaction[i][a];
                 }
@@ -248,7 +266,7 @@ impl Substep {
         let flip = settings.flip_weight(h);
         for (p, s) in prep.stencils.iter().enumerate() {
             let l = velocity_gradient(s, &solved.v_new);
-            let jacobian = (1.0 + h * l[0][0]) * (1.0 + h * l[1][1]) - h * h * l[0][1] * l[1][0];
+            let jacobian = Mandel::<D>::jacobian(&l, h);
             if !(jacobian > 0.0 && jacobian.is_finite()) {
                 return Err(MpmError::Inverted {
                     particle: p,
@@ -257,10 +275,10 @@ impl Substep {
                 });
             }
             particles.volume[p] *= jacobian;
-            let mut t = [0.0; 4];
-            t.copy_from_slice(&sigma[4 * p..4 * p + 4]);
+            let mut t = [0.0; D];
+            t.copy_from_slice(&sigma[D * p..D * p + D]);
             if settings.rotate_stress {
-                t = rotate(t, 0.5 * h * (l[1][0] - l[0][1]));
+                Mandel::<D>::rotate(&mut t, &l, h);
             }
             particles.stress[p] = t;
             grid_to_particle(
