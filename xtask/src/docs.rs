@@ -81,7 +81,7 @@ pub(crate) fn run(root: &Path) -> Result<bool, String> {
         "cargo",
         &["build", "--release", "--quiet", "-p", "talus"],
     )?;
-    let talus = root.join("target/release/talus");
+    let talus = crate::release_talus(root);
     let talus = talus.to_str().ok_or("non-UTF-8 path")?;
     let img = root.join("docs/img");
     let tmp = TempDir::new()?;

@@ -62,6 +62,16 @@ fn workspace_root() -> PathBuf {
         .to_path_buf()
 }
 
+/// The release `talus` binary that `cargo build --release -p talus` leaves: under
+/// `CARGO_TARGET_DIR` when it is set (cargo's own rule), else the workspace's `target/`.
+fn release_talus(root: &Path) -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .map(|t| if t.is_absolute() { t } else { root.join(t) })
+        .unwrap_or_else(|| root.join("target"))
+        .join("release/talus")
+}
+
 /// Runs a command in the workspace and returns its captured output whatever its exit
 /// status; fails, naming the command, only if it cannot start.
 pub(crate) fn run_output(

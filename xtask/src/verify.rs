@@ -221,7 +221,7 @@ pub fn run(root: &Path, quick: bool) -> Result<bool, String> {
             String::from_utf8_lossy(&build.stderr)
         ));
     }
-    let talus = root.join("target/release/talus");
+    let talus = crate::release_talus(root);
     let talus = talus.to_str().ok_or("non-UTF-8 path")?;
     let mut rows = siconos_rows(root, talus)?;
     rows.push(clarabel_row(root)?);
