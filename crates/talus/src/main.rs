@@ -262,13 +262,24 @@ fn run_fem(
     Ok(ExitCode::SUCCESS)
 }
 
-/// `talus run` of a 3D scene (`docs/3d.md`): no factor-of-safety search or stages there.
+/// `talus run` of a 3D scene (`docs/3d.md`): a factor-of-safety search, or the run loop;
+/// no stages there.
 fn run_fem3(
     scene: &talus::scene::Scene3,
     options: &RunOptions,
     resumed: Option<Checkpoint<serde_json::Value>>,
 ) -> Result<ExitCode, Box<dyn std::error::Error>> {
     let out = options.out_dir.clone();
+    if scene.spec.stability.is_some() {
+        if options.checkpoint_every > 0 || resumed.is_some() {
+            eprintln!(
+                "error: a [stability] scene's trials are not checkpointed: run it without \
+                 --checkpoint-every"
+            );
+            return Ok(Exit::InvalidInput.into());
+        }
+        return run_stability(scene, out);
+    }
     let summary = talus::run::fem::run_scene_3d(scene, options, resumed);
     let summary = match ended(summary, &out) {
         Ok(summary) => summary,
@@ -333,7 +344,13 @@ fn report_fem_run<const D: usize>(
 }
 
 /// A `[stability]` scene: the factor of safety (`docs/stability.md`).
-fn run_stability(scene: &Scene, out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
+fn run_stability<const D: usize, const N: usize>(
+    scene: &impl talus::analysis::stability::StabilityScene<D>,
+    out: PathBuf,
+) -> Result<ExitCode, Box<dyn std::error::Error>>
+where
+    talus_fem::Mandel<D>: talus_fem::Dimension<Point = [f64; N]>,
+{
     // Not by the run loop, which clears them for the other scenes: the files an earlier
     // run left (its VTUs, its checkpoint) would be mixed with the trials'.
     if let Err(e) = folder::clear_owned(&out) {

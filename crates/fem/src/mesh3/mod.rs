@@ -1,7 +1,7 @@
 //! Tetrahedral meshes for 3D analyses (P1 `Tet4`, P2 `Tet10`, Gmsh node order; y is the
 //! vertical axis, as in 2D): nodes, tetrahedra, named node, face and element sets.
-//! [`TetrahedralMesh::block`] builds structured ones, [`TetrahedralMesh::from_msh`] reads
-//! Gmsh's.
+//! [`TetrahedralMesh::block`] builds structured ones, [`TetrahedralMesh::extrude`]
+//! extrudes a triangle mesh along z, [`TetrahedralMesh::from_msh`] reads Gmsh's.
 use std::collections::{BTreeMap, HashMap};
 
 use crate::element::tetrahedron::tetrahedron_jacobian_determinant;
@@ -9,6 +9,7 @@ use crate::element::ElementOrder;
 use crate::error::MeshError;
 
 mod block;
+mod extrude;
 mod msh;
 mod sets;
 

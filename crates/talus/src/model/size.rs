@@ -89,7 +89,7 @@ impl SizeEstimate {
                     "a box of tetrahedra",
                 ))
             }
-            MeshSpec::Gmsh { path, order } => {
+            MeshSpec::Gmsh { path, order, .. } => {
                 let mesh = Mesh::from_msh(&scene.resolve(path))
                     .map_err(|e| scene.error("mesh.gmsh.path", e.to_string()))?;
                 let order = match order {

@@ -5,7 +5,8 @@ use talus_bipotential::{DruckerPrager, DruckerPragerParameters, Elastic, Materia
 use super::material::Flow;
 use super::source::Locate;
 use super::{
-    MaterialModel, MaterialSpec, MpmSceneSpec, Ramp, SceneError, SceneSpec, SolverSpec, TimeSpec,
+    MaterialModel, MaterialSpec, MpmSceneSpec, Ramp, SceneError, SceneSpec, SceneVector,
+    SolverSpec, TimeSpec,
 };
 
 /// The material at `field` (`material` or `material[k]`): Drucker-Prager with its
@@ -177,7 +178,7 @@ pub type RampField<'s> = (String, &'s Option<Vec<[f64; 2]>>);
 
 /// Every load programme of a FEM scene: `gravity_ramp`, `boundary[k].ramp`,
 /// `traction[k].ramp`, `pressure[k].ramp`, `point_load[k].ramp`.
-pub fn ramps(spec: &SceneSpec) -> Vec<RampField<'_>> {
+pub fn ramps<V: SceneVector>(spec: &SceneSpec<V>) -> Vec<RampField<'_>> {
     let mut ramps = vec![("gravity_ramp".to_string(), &spec.gravity_ramp)];
     let each = |name: &str, k: usize| format!("{name}[{k}].ramp");
     ramps.extend(

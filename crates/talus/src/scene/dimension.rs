@@ -56,6 +56,23 @@ pub fn check<V: SceneVector>(
     if let super::MeshSpec::Box { .. } = spec.mesh {
         return Err(three_d_key(scene, "mesh.box", "a box of tetrahedra"));
     }
+    if let super::MeshSpec::Gmsh {
+        extrude, layers, ..
+    } = &spec.mesh
+    {
+        if extrude.is_some() || layers.is_some() {
+            let key = if extrude.is_some() {
+                "extrude"
+            } else {
+                "layers"
+            };
+            return Err(three_d_key(
+                scene,
+                &format!("mesh.gmsh.{key}"),
+                "an extrusion of the 2D mesh along z into tetrahedra",
+            ));
+        }
+    }
     if let Some((k, b)) = spec
         .boundary
         .iter()

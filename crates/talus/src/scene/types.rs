@@ -124,6 +124,14 @@ pub enum MeshSpec {
         path: String,
         #[serde(default, skip_serializing_if = "Option::is_none")]
         order: Option<Order>,
+        /// 3D only: `[z0, z1]` (m), the file's 2D triangle mesh extruded along z from z0
+        /// to z1 into tetrahedra (`TetrahedralMesh::extrude`), its sets extruded with it
+        /// plus `back` (z0) and `front` (z1).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        extrude: Option<[f64; 2]>,
+        /// 3D only, with `extrude`: equal layers of prisms over `[z0, z1]` (default 1).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        layers: Option<usize>,
     },
 }
 

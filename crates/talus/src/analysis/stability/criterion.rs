@@ -84,14 +84,14 @@ impl Criterion {
     }
 
     /// `U`: the largest nodal displacement of the equilibrium state (m).
-    pub fn set_scale(&mut self, displacement: &[[f64; 2]]) {
+    pub fn set_scale<P: AsRef<[f64]>>(&mut self, displacement: &[P]) {
         self.scale = largest(displacement);
     }
 
-    /// The measure of one step's displacement increment (m).
-    pub fn measure(&self, increment: &[[f64; 2]]) -> f64 {
+    /// The measure of one step's displacement increment (m), nodes of 2 or 3 components.
+    pub fn measure<P: AsRef<[f64]>>(&self, increment: &[P]) -> f64 {
         match self.node {
-            Some(n) => increment[n][0].hypot(increment[n][1]),
+            Some(n) => length(&increment[n]),
             None => largest(increment),
         }
     }
@@ -139,8 +139,14 @@ impl Criterion {
     }
 }
 
-fn largest(u: &[[f64; 2]]) -> f64 {
-    u.iter().fold(0.0f64, |m, d| m.max(d[0].hypot(d[1])))
+/// A nodal vector's length by `hypot`, component after component: a 2D node's is
+/// `x.hypot(y)` to the bit (`0.hypot(x) = |x|`), as before 3D.
+fn length<P: AsRef<[f64]>>(p: &P) -> f64 {
+    p.as_ref().iter().fold(0.0f64, |l, c| l.hypot(*c))
+}
+
+fn largest<P: AsRef<[f64]>>(u: &[P]) -> f64 {
+    u.iter().fold(0.0f64, |m, d| m.max(length(d)))
 }
 
 #[cfg(test)]

@@ -11,6 +11,7 @@ pub mod bracket;
 pub mod continuation;
 pub mod criterion;
 mod outputs;
+mod scene;
 pub mod settings;
 pub mod strength;
 pub mod trial;
@@ -18,11 +19,11 @@ pub mod trial;
 use std::time::Instant;
 
 use talus_bipotential::Material;
+use talus_fem::{Dimension, Mandel};
 
-use crate::model::fem::FromScene;
 use crate::model::fem::{Model, State};
 use crate::run::RunError;
-use crate::scene::{Scene, SceneError, StabilityMethod};
+use crate::scene::{SceneError, StabilityMethod};
 use talus_engine::{Failed, PredictorRule, Run, StepSettings, Stepper};
 
 pub use bracket::{Bracket, Guide, Next, Outcome};
@@ -31,17 +32,22 @@ pub use criterion::{Criterion, Verdict};
 pub use outputs::{
     run, run_blind, search, write_mechanism, SearchStatus, StabilityRun, TRIAL_COLUMNS,
 };
+pub use scene::StabilityScene;
 pub use settings::StabilitySettings;
 pub use strength::{plane_strain_match, Strength};
 pub use trial::Trial;
 
 /// The loading phase: the scene's own steps from its initial state ([`Analysis::equilibrium`]),
-/// or a caller's (a construction stage's end, given to [`search`]).
+/// or a caller's (a construction stage's end, given to [`search`]); 2D (`D = 4`) or 3D
+/// (`D = 6`).
 #[derive(Debug, Clone)]
-pub struct Equilibrium {
+pub struct Equilibrium<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
     /// The state the trials restart from. Its largest nodal displacement is the
     /// criterion's scale `U` ([`Criterion::set_scale`], which [`search`] calls).
-    pub state: State,
+    pub state: State<D>,
     /// Steps, Newton iterations and seconds of the loading: `history.csv`'s row 0 only.
     pub steps: usize,
     pub newton_iterations: usize,
@@ -52,9 +58,13 @@ pub struct Equilibrium {
 }
 
 /// A scene set up for trials: the model (its material or gravity changed per trial), the
-/// scene's material and gravity at factor 1, the stepping settings and the criterion.
-pub struct Analysis {
-    pub model: Model,
+/// scene's material and gravity at factor 1, the stepping settings and the criterion; in 2D
+/// (`D = 4`) or 3D (`D = 6`).
+pub struct Analysis<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
+    pub model: Model<D>,
     pub settings: StabilitySettings,
     pub criterion: Criterion,
     step_settings: StepSettings,
@@ -72,13 +82,16 @@ pub struct Analysis {
     located: SceneError,
 }
 
-impl Analysis {
+impl<const D: usize> Analysis<D>
+where
+    Mandel<D>: Dimension,
+{
     /// `None` for a scene without `[stability]`: [`Analysis::from_model`] with the
     /// scene's model and the end of its `[time]`, `h · steps`.
-    pub fn new(scene: &Scene) -> Result<Option<Self>, RunError> {
-        let model = Model::from_scene(scene)?;
-        let end = scene.spec.time.step * scene.spec.time.steps as f64;
-        Self::from_model(scene, model, end)
+    pub fn new(scene: &impl StabilityScene<D>) -> Result<Option<Self>, RunError> {
+        let model = scene.build_model()?;
+        let time = scene.spec().time;
+        Self::from_model(scene, model, time.step * time.steps as f64)
     }
 
     /// The analysis of `scene`'s `[stability]` on `model` (built from `scene`, possibly
@@ -88,18 +101,18 @@ impl Analysis {
     /// `end_time`'s gravity multiplier. `None` for a scene without `[stability]`. The
     /// model is set to F = 1.
     pub fn from_model(
-        scene: &Scene,
-        model: Model,
+        scene: &impl StabilityScene<D>,
+        model: Model<D>,
         end_time: f64,
     ) -> Result<Option<Self>, RunError> {
         let Some(settings) = StabilitySettings::at(scene, &model, end_time)? else {
             return Ok(None);
         };
-        let spec = &scene.spec;
+        let spec = scene.spec();
         let (h, steps) = (spec.time.step, spec.time.steps);
         let weight = match (settings.method, spec.gravity) {
             (StabilityMethod::GravityIncrease, Some(g)) => {
-                let (free, prescribed) = crate::model::fem::weight(scene, &model, g)?;
+                let (free, prescribed) = scene.weight(&model, g)?;
                 let ramp = crate::scene::check::ramp(scene, "gravity_ramp", &spec.gravity_ramp)?;
                 let f = ramp.map_or(1.0, |r| r.at(end_time));
                 Some((
@@ -181,11 +194,14 @@ impl Analysis {
     /// the material of F = 1, watched for collapse as a plain run is (`docs/scenes.md`,
     /// 'Collapse'): a body that accelerates away under its loading has no equilibrium to
     /// start trials from, `RunError::Collapsed`.
-    pub fn equilibrium(&mut self, scene: &Scene) -> Result<Equilibrium, RunError> {
+    pub fn equilibrium(
+        &mut self,
+        scene: &impl StabilityScene<D>,
+    ) -> Result<Equilibrium<D>, RunError> {
         let start = Instant::now();
         self.set_factor(1.0)
             .map_err(|e| scene.error("material", e))?;
-        let mut state = self.model.initial_state(scene)?;
+        let mut state = scene.initial_state(&self.model)?;
         let mut stepper = Stepper::new(&self.model, self.step_settings);
         let mut run = Run::start(&mut stepper, &state);
         let mut newton_iterations = 0;
@@ -208,12 +224,8 @@ impl Analysis {
                 return Err(RunError::Collapsed(c));
             }
             newton_iterations += report.total_newton_iterations();
-            let du: Vec<[f64; 2]> = state
-                .displacement
-                .iter()
-                .zip(&before)
-                .map(|(a, b)| [a[0] - b[0], a[1] - b[1]])
-                .collect();
+            let mut du = before.clone();
+            trial::difference(&mut du, &state.displacement, &before);
             last_increment = self.criterion.measure(&du);
         }
         self.criterion.set_scale(&state.displacement);
@@ -227,7 +239,7 @@ impl Analysis {
     }
 
     /// One trial at factor `f` from `equilibrium`, with the scene's predictor.
-    pub fn trial(&mut self, f: f64, equilibrium: &State) -> Result<Trial, String> {
+    pub fn trial(&mut self, f: f64, equilibrium: &State<D>) -> Result<Trial<D>, String> {
         self.set_factor(f)?;
         let (trial, _) = trial::run_trial_from(
             &self.model,
@@ -254,9 +266,9 @@ impl Analysis {
     pub fn trial_from(
         &mut self,
         f: f64,
-        start: (&State, Option<f64>),
-        equilibrium: &State,
-    ) -> Result<(Trial, Option<State>), String> {
+        start: (&State<D>, Option<f64>),
+        equilibrium: &State<D>,
+    ) -> Result<(Trial<D>, Option<State<D>>), String> {
         self.set_factor(f)?;
         let predictor = if self.settings.continuation {
             PredictorRule::ElasticIfAssociative

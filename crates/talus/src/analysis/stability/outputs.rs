@@ -6,14 +6,16 @@ use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
+use talus_fem::{Dimension, ElementMesh, Mandel};
+
 use crate::model::fem::{element_means, Model};
 use crate::output::{
     self, CollapseTime, FactorOfSafety, FieldSnapshot, MeshView, RunStatus, Summary,
 };
 use crate::run::{io_err, RunError, RunOptions, StepProgress};
-use crate::scene::{Scene, StabilityMethod};
+use crate::scene::StabilityMethod;
 
-use super::{Analysis, Bracket, Equilibrium, Next, Planner, Trial, Verdict};
+use super::{Analysis, Bracket, Equilibrium, Next, Planner, StabilityScene, Trial, Verdict};
 use crate::model::fem::State;
 
 /// `history.csv`'s columns: one row per trial, row 0 the loading (`docs/stability.md`).
@@ -50,15 +52,18 @@ impl SearchStatus {
     }
 }
 
-/// What a stability run found.
+/// What a stability run found (2D, `D = 4`, or 3D, `D = 6`).
 #[derive(Debug, Clone)]
-pub struct StabilityRun {
+pub struct StabilityRun<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
     pub factor_of_safety: FactorOfSafety,
     pub status: SearchStatus,
     /// The observer stopped the search (the factor may still have been found).
     pub interrupted: bool,
-    pub equilibrium: Equilibrium,
-    pub trials: Vec<Trial>,
+    pub equilibrium: Equilibrium<D>,
+    pub trials: Vec<Trial<D>>,
     pub seconds: f64,
 }
 
@@ -66,22 +71,37 @@ pub struct StabilityRun {
 /// by [`search`]; `summary.json` and the mechanism's files. A loading that collapses or
 /// does not converge ends the run with its error, `summary.json` saying so
 /// (`collapsed`, `not_converged`), and no trials.
-pub fn run(scene: &Scene, options: &RunOptions) -> Result<StabilityRun, RunError> {
+pub fn run<const D: usize, const N: usize>(
+    scene: &impl StabilityScene<D>,
+    options: &RunOptions,
+) -> Result<StabilityRun<D>, RunError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+{
     run_with(scene, options, true)
 }
 
 /// [`run`] with the search before issue 24: every trial from the loading's equilibrium,
 /// doubling, then bisection (`StabilitySettings::continuation = false`). For comparisons,
 /// and for a check pinned to that search's factors.
-pub fn run_blind(scene: &Scene, options: &RunOptions) -> Result<StabilityRun, RunError> {
+pub fn run_blind<const D: usize, const N: usize>(
+    scene: &impl StabilityScene<D>,
+    options: &RunOptions,
+) -> Result<StabilityRun<D>, RunError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+{
     run_with(scene, options, false)
 }
 
-fn run_with(
-    scene: &Scene,
+fn run_with<const D: usize, const N: usize>(
+    scene: &impl StabilityScene<D>,
     options: &RunOptions,
     continuation: bool,
-) -> Result<StabilityRun, RunError> {
+) -> Result<StabilityRun<D>, RunError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+{
     let start = Instant::now();
     let mut analysis = Analysis::new(scene)?
         .ok_or_else(|| scene.error("stability", "the scene has no [stability] section"))?;
@@ -91,7 +111,9 @@ fn run_with(
     let summary_path = out.join("summary.json");
     let _ = std::fs::remove_file(&summary_path);
     let history_path = out.join("history.csv");
-    let steps_requested = scene.spec.time.steps;
+    let spec = scene.spec();
+    let steps_requested = spec.time.steps;
+    let unit = spec.analysis.geometry.force_unit();
     let warnings = warnings(scene, &analysis.model);
     for w in &warnings {
         tracing::warn!("{w}");
@@ -105,7 +127,7 @@ fn run_with(
                 RunError::Collapsed(c) => {
                     history += &format!("0,1,collapsed,,,,,{},,\n", c.step);
                     let mut s =
-                        empty_summary(RunStatus::Collapsed, c.step, steps_requested, c.time);
+                        empty_summary(RunStatus::Collapsed, c.step, steps_requested, c.time, unit);
                     s.collapse = Some(CollapseTime {
                         step: c.step,
                         time: c.time,
@@ -114,7 +136,8 @@ fn run_with(
                     s
                 }
                 _ => {
-                    let mut s = empty_summary(RunStatus::NotConverged, 0, steps_requested, 0.0);
+                    let mut s =
+                        empty_summary(RunStatus::NotConverged, 0, steps_requested, 0.0, unit);
                     s.error = Some(format!("the loading did not reach equilibrium: {e}"));
                     s
                 }
@@ -142,6 +165,7 @@ fn run_with(
         equilibrium.steps,
         steps_requested,
         equilibrium.state.time,
+        unit,
     );
     let fos = &found.factor_of_safety;
     let [lo, hi] = fos.bracket;
@@ -187,9 +211,12 @@ fn run_with(
 }
 
 /// The warnings of a `[stability]` run: the model's, and the ramps faster than its step.
-fn warnings(scene: &Scene, model: &Model) -> Vec<String> {
-    let spec = &scene.spec;
-    let mut warnings = crate::model::fem::warnings(scene, model);
+fn warnings<const D: usize>(scene: &impl StabilityScene<D>, model: &Model<D>) -> Vec<String>
+where
+    Mandel<D>: Dimension,
+{
+    let spec = scene.spec();
+    let mut warnings = scene.model_warnings(model);
     warnings.extend(crate::scene::check::fast_ramps(
         &crate::scene::check::ramps(spec),
         spec.time.step,
@@ -209,12 +236,15 @@ fn warnings(scene: &Scene, model: &Model) -> Vec<String> {
 /// rest level is `10⁻³ U` of what the state holds. `equilibrium.last_increment`, `steps`,
 /// `newton_iterations` and `seconds` are only written in row 0 (0 is fine). Leaves the
 /// model at F = 1. Writes neither `summary.json` nor the mechanism ([`write_mechanism`]).
-pub fn search(
-    analysis: &mut Analysis,
-    equilibrium: Equilibrium,
+pub fn search<const D: usize>(
+    analysis: &mut Analysis<D>,
+    equilibrium: Equilibrium<D>,
     trials_csv: &Path,
     options: &RunOptions,
-) -> Result<StabilityRun, RunError> {
+) -> Result<StabilityRun<D>, RunError>
+where
+    Mandel<D>: Dimension,
+{
     let start = Instant::now();
     analysis
         .criterion
@@ -245,8 +275,8 @@ pub fn search(
         StabilityMethod::StrengthReduction => None,
     });
     // The end state of the largest stable trial, the next trials' start (continuation).
-    let mut stable_state: Option<(State, f64)> = None;
-    let mut trials: Vec<Trial> = Vec::new();
+    let mut stable_state: Option<(State<D>, f64)> = None;
+    let mut trials: Vec<Trial<D>> = Vec::new();
     let mut end = None;
     let mut interrupted = false;
     while trials.len() < max_trials {
@@ -348,7 +378,13 @@ pub fn search(
     })
 }
 
-fn empty_summary(status: RunStatus, steps: usize, requested: usize, time: f64) -> Summary {
+fn empty_summary(
+    status: RunStatus,
+    steps: usize,
+    requested: usize,
+    time: f64,
+    force_unit: &str,
+) -> Summary {
     Summary {
         status,
         error: None,
@@ -359,7 +395,7 @@ fn empty_summary(status: RunStatus, steps: usize, requested: usize, time: f64) -
         monitors: Default::default(),
         reaction: None,
         limit: None,
-        force_unit: "N/m".to_string(),
+        force_unit: force_unit.to_string(),
         factor_of_safety: None,
         collapse: None,
         warnings: Vec::new(),
@@ -367,7 +403,10 @@ fn empty_summary(status: RunStatus, steps: usize, requested: usize, time: f64) -
     }
 }
 
-fn trial_row(k: usize, t: &Trial, analysis: &Analysis) -> String {
+fn trial_row<const D: usize>(k: usize, t: &Trial<D>, analysis: &Analysis<D>) -> String
+where
+    Mandel<D>: Dimension,
+{
     let opt = |v: Option<f64>| v.map(|v| format!("{v:.6e}")).unwrap_or_default();
     format!(
         "{k},{:.16e},{},{},{},{},{:.6e},{},{},{:.6e},{},{:.6e}",
@@ -386,23 +425,28 @@ fn trial_row(k: usize, t: &Trial, analysis: &Analysis) -> String {
 }
 
 /// Per-element mean of a per-node vector's magnitude.
-fn element_magnitude(model: &Model, u: &[[f64; 2]]) -> Vec<f64> {
-    model
-        .mesh
-        .triangles
-        .iter()
-        .map(|t| t.iter().map(|&n| u[n][0].hypot(u[n][1])).sum::<f64>() / t.len() as f64)
+fn element_magnitude<const D: usize, const N: usize>(model: &Model<D>, u: &[[f64; N]]) -> Vec<f64>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+{
+    let length = |v: &[f64; N]| v.iter().fold(0.0f64, |l, c| l.hypot(*c));
+    (model.mesh.elements().iter())
+        .map(|t| t.iter().map(|&n| length(&u[n])).sum::<f64>() / t.len() as f64)
         .collect()
 }
 
-/// `mechanism.vtu` and (with `[output] plots`) `mechanism.png` in `out`: the trial with
-/// the smallest failing factor, the bracket's upper end (nothing when no trial failed).
-pub fn write_mechanism(
-    scene: &Scene,
-    analysis: &Analysis,
-    found: &StabilityRun,
+/// `mechanism.vtu` and (with `[output] plots`, in 2D) `mechanism.png` in `out`: the trial
+/// with the smallest failing factor, the bracket's upper end (nothing when no trial
+/// failed). In 3D the VTU holds tetrahedra.
+pub fn write_mechanism<const D: usize, const N: usize>(
+    scene: &impl StabilityScene<D>,
+    analysis: &Analysis<D>,
+    found: &StabilityRun<D>,
     out: &Path,
-) -> Result<(), RunError> {
+) -> Result<(), RunError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+{
     let Some(t) = found
         .trials
         .iter()
@@ -414,17 +458,16 @@ pub fn write_mechanism(
     let model = &analysis.model;
     let time = found.equilibrium.state.time;
     let mesh = MeshView {
-        nodes: &model.mesh.nodes,
-        elements: &model.mesh.triangles,
+        nodes: model.mesh.node_positions(),
+        elements: model.mesh.elements(),
     };
-    let h = scene.spec.time.step;
-    let velocity: Vec<[f64; 2]> = t
-        .last_increment
-        .iter()
-        .map(|d| [d[0] / h, d[1] / h])
+    let spec = scene.spec();
+    let h = spec.time.step;
+    let velocity: Vec<[f64; N]> = (t.last_increment.iter())
+        .map(|d| d.map(|c| c / h))
         .collect();
-    let stress = element_means::<4, 4>(model, &t.stress);
-    let plastic: Vec<f64> = element_means::<1, 4>(model, &t.plastic_increment)
+    let stress = element_means::<D, D>(model, &t.stress);
+    let plastic: Vec<f64> = element_means::<1, D>(model, &t.plastic_increment)
         .into_iter()
         .map(|[s]| s)
         .collect();
@@ -441,7 +484,7 @@ pub fn write_mechanism(
             pore_pressure: None,
         },
     )?;
-    if scene.spec.output.plots {
+    if spec.output.plots {
         let method = match analysis.settings.method {
             StabilityMethod::GravityIncrease => "gravity ×",
             StabilityMethod::StrengthReduction => "strength ÷",
@@ -452,8 +495,7 @@ pub fn write_mechanism(
             Some(v) => format!(" (reported F = {v:.4})"),
             None => String::new(),
         };
-        let title = scene
-            .spec
+        let title = spec
             .title
             .clone()
             .unwrap_or_else(|| "factor of safety".into());
@@ -461,20 +503,12 @@ pub fn write_mechanism(
             "mechanism: {method} {:.4}, the bracket's upper end{reported}",
             t.factor
         );
-        output::plot_field_map(
+        scene.plot_mechanism(
+            model,
             &out.join("mechanism.png"),
-            &mesh,
-            None,
             &element_magnitude(model, &t.last_increment),
-            &output::FieldMap {
-                title: &title,
-                subtitle: Some(&subtitle),
-                label: "|Δu| over the trial's last step (m)",
-                clip_percentile: None,
-                resolution: 0.0,
-            },
-        )
-        .map_err(RunError::Output)?;
+            [&title, &subtitle, "|Δu| over the trial's last step (m)"],
+        )?;
     }
     Ok(())
 }

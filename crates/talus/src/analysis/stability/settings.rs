@@ -1,6 +1,9 @@
 //! `[stability]` checked against the scene: every error names the field and its value.
-use crate::model::fem::{Model, NodeMonitors};
-use crate::scene::{AnalysisKind, DilatancyRule, Scene, SceneError, StabilityMethod};
+use talus_fem::{Dimension, Mandel};
+
+use super::StabilityScene;
+use crate::model::fem::Model;
+use crate::scene::{AnalysisKind, DilatancyRule, SceneError, StabilityMethod};
 
 /// `tolerance` when the scene gives none: the bracket's relative width.
 pub const DEFAULT_TOLERANCE: f64 = 0.005;
@@ -35,15 +38,28 @@ use super::bracket::{MAX_FACTOR, MIN_FACTOR};
 impl StabilitySettings {
     /// `None` for a scene without `[stability]`; the loading ends with the scene's
     /// `[time]`, at `h · steps`.
-    pub fn of(scene: &Scene, model: &Model) -> Result<Option<Self>, SceneError> {
-        let end = scene.spec.time.step * scene.spec.time.steps as f64;
-        Self::at(scene, model, end)
+    pub fn of<const D: usize>(
+        scene: &impl StabilityScene<D>,
+        model: &Model<D>,
+    ) -> Result<Option<Self>, SceneError>
+    where
+        Mandel<D>: Dimension,
+    {
+        let time = scene.spec().time;
+        Self::at(scene, model, time.step * time.steps as f64)
     }
 
     /// The same for a loading that ends at `end` (s): its ramps must have ended and its
     /// boundaries stopped by then.
-    pub fn at(scene: &Scene, model: &Model, end: f64) -> Result<Option<Self>, SceneError> {
-        let Some(spec) = &scene.spec.stability else {
+    pub fn at<const D: usize>(
+        scene: &impl StabilityScene<D>,
+        model: &Model<D>,
+        end: f64,
+    ) -> Result<Option<Self>, SceneError>
+    where
+        Mandel<D>: Dimension,
+    {
+        let Some(spec) = &scene.spec().stability else {
             return Ok(None);
         };
         let tolerance = spec.tolerance.unwrap_or(DEFAULT_TOLERANCE);
@@ -65,20 +81,20 @@ impl StabilitySettings {
             }
             (_, d) => d.unwrap_or(DilatancyRule::Scaled),
         };
-        if spec.method == StabilityMethod::GravityIncrease && scene.spec.gravity.is_none() {
+        if spec.method == StabilityMethod::GravityIncrease && scene.spec().gravity.is_none() {
             return Err(scene.error(
                 "stability.method",
                 "\"gravity_increase\" multiplies `gravity`, which is not given",
             ));
         }
-        if let (StabilityMethod::GravityIncrease, Some([gx, gy])) =
-            (spec.method, scene.spec.gravity)
-        {
+        if let (StabilityMethod::GravityIncrease, Some(g)) = (spec.method, scene.spec().gravity) {
             // Zero weight times any factor is zero: the search would never end.
-            if gx == 0.0 && gy == 0.0 {
+            let g = g.as_ref();
+            if g.iter().all(|c| *c == 0.0) {
+                let zeros = vec!["0"; g.len()].join(", ");
                 return Err(scene.error(
                     "gravity",
-                    "[0, 0] m/s²: \"gravity_increase\" has no weight to increase",
+                    format!("[{zeros}] m/s²: \"gravity_increase\" has no weight to increase"),
                 ));
             }
         }
@@ -133,29 +149,9 @@ impl StabilitySettings {
         let monitor = match &spec.monitor {
             None => None,
             Some(name) => {
-                let monitors = NodeMonitors::new(scene, model)?;
-                let k = monitors
-                    .names
-                    .iter()
-                    .position(|(_, n)| n == name)
-                    .ok_or_else(|| {
-                        let known: Vec<&str> =
-                            monitors.names.iter().map(|(_, n)| n.as_str()).collect();
-                        scene.error(
-                            "stability.monitor",
-                            format!(
-                                "\"{name}\" names no [[monitor]] (the scene has: {})",
-                                if known.is_empty() {
-                                    "none".into()
-                                } else {
-                                    known.join(", ")
-                                }
-                            ),
-                        )
-                    })?;
-                let node = monitors.nodes[k];
+                let node = scene.monitor_node(model, name)?;
                 let dofs = model.assembly.dofs();
-                if dofs.free(node, 0).is_none() && dofs.free(node, 1).is_none() {
+                if (0..<Mandel<D> as Dimension>::COMPONENTS).all(|c| dofs.free(node, c).is_none()) {
                     return Err(scene.error(
                         "stability.monitor",
                         format!(
@@ -186,8 +182,15 @@ impl StabilitySettings {
 /// The trials start from the state the scene's loading reached and hold that loading: it
 /// must be quasi-static, every ramp must have ended by the loading's end `end` (s), and no
 /// boundary may still move then.
-fn check_loading_settles(scene: &Scene, model: &Model, end: f64) -> Result<(), SceneError> {
-    let spec = &scene.spec;
+fn check_loading_settles<const D: usize>(
+    scene: &impl StabilityScene<D>,
+    model: &Model<D>,
+    end: f64,
+) -> Result<(), SceneError>
+where
+    Mandel<D>: Dimension,
+{
+    let spec = scene.spec();
     if spec.analysis.kind != AnalysisKind::QuasiStatic {
         return Err(scene.error(
             "analysis.kind",
@@ -217,7 +220,7 @@ fn check_loading_settles(scene: &Scene, model: &Model, end: f64) -> Result<(), S
             format!(
                 "{:?} m/s still moves at the end of the loading (t = {end} s): [stability] \
                  needs the body at rest under a held load",
-                scene.spec.boundary[k].velocity
+                spec.boundary[k].velocity
             ),
         ));
     }

@@ -6,12 +6,19 @@ use std::time::Instant;
 
 use crate::model::fem::{Model, State};
 use talus_engine::{StepSettings, Stepper};
+use talus_fem::{Dimension, Mandel};
 
 use super::criterion::{Criterion, Verdict};
 
-/// What one trial did.
+/// A node's vector in a model of Mandel size `D`: `[f64; 2]` or `[f64; 3]`.
+pub type Point<const D: usize> = <Mandel<D> as Dimension>::Point;
+
+/// What one trial did (in 2D, `D = 4`, or 3D, `D = 6`).
 #[derive(Debug, Clone)]
-pub struct Trial {
+pub struct Trial<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
     pub factor: f64,
     /// The factor of the state the trial started from: the largest stable trial's, or
     /// the loading's equilibrium (`None`).
@@ -25,7 +32,7 @@ pub struct Trial {
     /// The step that did not converge even after its halvings, and why.
     pub error: Option<String>,
     /// The displacement increment of the last completed step at every node (m).
-    pub last_increment: Vec<[f64; 2]>,
+    pub last_increment: Vec<Point<D>>,
     /// Accumulated plastic strain increment of the trial (from its start state) per Gauss
     /// point.
     pub plastic_increment: Vec<f64>,
@@ -37,7 +44,10 @@ pub struct Trial {
     pub moved: f64,
 }
 
-impl Trial {
+impl<const D: usize> Trial<D>
+where
+    Mandel<D>: Dimension,
+{
     pub fn steps(&self) -> usize {
         self.increments.len()
     }
@@ -58,21 +68,24 @@ impl Trial {
 /// the trial, and its end state when it is stable (only such a state starts later
 /// trials). `equilibrium` is the search's: the displacement [`Trial::moved`] is measured
 /// from it (the plastic strain of the trial from `start`).
-pub fn run_trial_from(
-    model: &Model,
+pub fn run_trial_from<const D: usize>(
+    model: &Model<D>,
     settings: StepSettings,
-    start: (&State, Option<f64>),
-    equilibrium: &State,
+    start: (&State<D>, Option<f64>),
+    equilibrium: &State<D>,
     factor: f64,
     h: f64,
     criterion: &Criterion,
-) -> (Trial, Option<State>) {
+) -> (Trial<D>, Option<State<D>>)
+where
+    Mandel<D>: Dimension,
+{
     let (start_state, start_factor) = start;
     let start = Instant::now();
     let mut stepper = Stepper::new(model, settings);
     let mut state = start_state.clone();
     let mut increments = Vec::new();
-    let mut last_increment = vec![[0.0; 2]; state.displacement.len()];
+    let mut last_increment = vec![Point::<D>::default(); state.displacement.len()];
     let mut newton_iterations = 0;
     let mut error = None;
     let verdict = loop {
@@ -84,13 +97,7 @@ pub fn run_trial_from(
                 break criterion.after_failed_step(&increments);
             }
         }
-        for ((d, a), b) in last_increment
-            .iter_mut()
-            .zip(&state.displacement)
-            .zip(&before)
-        {
-            *d = [a[0] - b[0], a[1] - b[1]];
-        }
+        difference(&mut last_increment, &state.displacement, &before);
         increments.push(criterion.measure(&last_increment));
         if let Some(v) = criterion.judge(&increments) {
             break v;
@@ -102,12 +109,8 @@ pub fn run_trial_from(
         .zip(&start_state.plastic_strain)
         .map(|(a, b)| a - b)
         .collect();
-    let total: Vec<[f64; 2]> = state
-        .displacement
-        .iter()
-        .zip(&equilibrium.displacement)
-        .map(|(a, b)| [a[0] - b[0], a[1] - b[1]])
-        .collect();
+    let mut total = vec![Point::<D>::default(); state.displacement.len()];
+    difference(&mut total, &state.displacement, &equilibrium.displacement);
     let moved = criterion.measure(&total);
     // The stress is copied only when the end state is kept.
     let (stress, state) = if verdict == Verdict::Stable {
@@ -129,4 +132,13 @@ pub fn run_trial_from(
         moved,
     };
     (trial, state)
+}
+
+/// `out = a − b`, node by node, component by component.
+pub fn difference<P: AsRef<[f64]> + AsMut<[f64]>>(out: &mut [P], a: &[P], b: &[P]) {
+    for ((d, a), b) in out.iter_mut().zip(a).zip(b) {
+        for ((d, a), b) in d.as_mut().iter_mut().zip(a.as_ref()).zip(b.as_ref()) {
+            *d = a - b;
+        }
+    }
 }

@@ -556,7 +556,7 @@ pub(super) fn build_mesh(scene: &Scene) -> Result<Mesh, SceneError> {
                 .map_err(|e| scene.error("mesh.rectangle", e.to_string()))
         }
         MeshSpec::Box { .. } => Err(three_d_key(scene, "mesh.box", "a box of tetrahedra")),
-        MeshSpec::Gmsh { path, order } => {
+        MeshSpec::Gmsh { path, order, .. } => {
             // The .msh file named as well as the scene's line: the error is in it.
             let file = scene.resolve(path);
             let mesh = Mesh::from_msh(&file)

@@ -2,10 +2,11 @@
 //! `docs/3d.md`): a `[mesh.box]` of tetrahedra or a Gmsh file of them, the materials and
 //! `[[region]]` boxes, the `[[boundary]]` conditions with their reaction, gravity, face
 //! tractions and pressures, point loads, the quasi-static masses and the K₀ initial
-//! stress; what 3D does not run yet (water, stages, a uniform initial stress, strength
-//! reduction, monitors) is refused naming its field. The parts shared with 2D are the
-//! same functions: materials (`super::materials`), prescribed motion (`super::motion`),
-//! quasi-static masses (`super::quasi_static`), the checks of `scene::check`.
+//! stress; what 3D does not run yet (water, stages, a uniform initial stress, monitors)
+//! is refused naming its field; `[stability]` runs by `analysis::stability`. The parts
+//! shared with 2D are the same functions: materials (`super::materials`), prescribed
+//! motion (`super::motion`), quasi-static masses (`super::quasi_static`), the checks of
+//! `scene::check`.
 use talus_fem::{
     Assembly, BoundaryFace, Constraint, DofMap, ElementMesh, ElementOrder, Model, State,
     TetrahedralMesh,
@@ -43,13 +44,6 @@ fn refuse_unsupported(scene: &Scene3) -> Result<(), SceneError> {
             scene,
             "stage",
             "a staged construction ([[stage]])",
-        ));
-    }
-    if spec.stability.is_some() {
-        return Err(not_in_3d(
-            scene,
-            "stability",
-            "a factor-of-safety search ([stability])",
         ));
     }
     if spec.initial_stress.is_some_and(|i| i.stress.is_some()) {
@@ -217,6 +211,23 @@ pub fn model_3d(scene: &Scene3) -> Result<Model3, SceneError> {
     Ok(model)
 }
 
+/// The weight of gravity `g` (m/s²) on `model` built from `scene` (N, free and prescribed
+/// dofs), as `model_3d` adds it: what `[stability] method = "gravity_increase"` multiplies.
+pub fn weight_3d(
+    scene: &Scene3,
+    model: &Model3,
+    g: [f64; 3],
+) -> Result<(Vec<f64>, Vec<f64>), SceneError> {
+    let dry = densities(scene)?;
+    if dry.iter().all(|d| *d == dry[0]) {
+        model.assembly.body_force(dry[0], g)
+    } else {
+        let at: Vec<f64> = model.point_material.iter().map(|&m| dry[m]).collect();
+        model.assembly.body_force_at_points(&at, g)
+    }
+    .map_err(|e| scene.error("gravity", e.to_string()))
+}
+
 /// The state a run of `model` starts from: at rest, stress free or with the K₀
 /// procedure's stress (`σ_yy` the weight above, `σ_xx = σ_zz = K₀ σ_yy`, no shear:
 /// `crate::model::initial_stress_at`, the 2D procedure's, whose hoop σ_zz is 3D's).
@@ -318,7 +329,19 @@ fn build_mesh(scene: &Scene3) -> Result<TetrahedralMesh, SceneError> {
             TetrahedralMesh::block(&axes[0], &axes[1], &axes[2], order)
                 .map_err(|e| scene.error("mesh.box", e.to_string()))
         }
-        MeshSpec::Gmsh { path, order } => {
+        MeshSpec::Gmsh {
+            path,
+            order,
+            extrude: Some(z),
+            layers,
+        } => extruded_mesh(scene, path, *order, *z, *layers),
+        MeshSpec::Gmsh {
+            layers: Some(_), ..
+        } => Err(scene.error(
+            "mesh.gmsh.layers",
+            "divides an extrusion: give `extrude = [z0, z1]` with it, or leave it out",
+        )),
+        MeshSpec::Gmsh { path, order, .. } => {
             let file = scene.resolve(path);
             let mesh = TetrahedralMesh::from_msh(&file)
                 .map_err(|e| scene.error("mesh.gmsh.path", format!("{}: {e}", file.display())))?;
@@ -372,6 +395,79 @@ fn refuse_too_large(scene: &Scene3, field: &str, nodes: f64) -> Result<(), Scene
             machine / 1024.0
         ),
     ))
+}
+
+/// Layers of an extrusion at most: a cap before anything is allocated.
+const MAX_LAYERS: usize = 10_000;
+
+/// `[mesh.gmsh]` with `extrude = [z0, z1]`: the file's 2D triangle mesh (raised to P2 by
+/// `order = "P2"`, as in 2D) extruded along z in `layers` equal layers (default 1).
+fn extruded_mesh(
+    scene: &Scene3,
+    path: &str,
+    order: Option<Order>,
+    [z0, z1]: [f64; 2],
+    layers: Option<usize>,
+) -> Result<TetrahedralMesh, SceneError> {
+    if !(z0.is_finite() && z1.is_finite() && z1 > z0) {
+        return Err(scene.error(
+            "mesh.gmsh.extrude",
+            format!("[{z0}, {z1}] m must be finite with z0 < z1"),
+        ));
+    }
+    let layers = layers.unwrap_or(1);
+    if !(1..=MAX_LAYERS).contains(&layers) {
+        return Err(scene.error(
+            "mesh.gmsh.layers",
+            format!("{layers} must be between 1 and {MAX_LAYERS}"),
+        ));
+    }
+    let file = scene.resolve(path);
+    let mesh = talus_fem::Mesh::from_msh(&file).map_err(|e| {
+        scene.error(
+            "mesh.gmsh.path",
+            format!(
+                "{}: {e} (`extrude` reads a 2D triangle mesh)",
+                file.display()
+            ),
+        )
+    })?;
+    let mesh = match (order, mesh.order) {
+        (Some(Order::P2), ElementOrder::P1) => mesh
+            .to_p2()
+            .map_err(|e| scene.error("mesh.gmsh.order", e.to_string()))?,
+        (Some(Order::P1), ElementOrder::P2) => {
+            return Err(scene.error(
+                "mesh.gmsh.order",
+                format!(
+                    "\"P1\": {} holds P2 (6-node) triangles; a P2 mesh is not lowered \
+                     (mesh it with order 1, or leave `order` out)",
+                    file.display()
+                ),
+            ))
+        }
+        _ => mesh,
+    };
+    // Nodes per layer boundary: the vertices (P1), or every node and the mid-layer ones
+    // (P2), before the extrusion allocates them.
+    let planes = match mesh.order {
+        ElementOrder::P1 => layers as f64 + 1.0,
+        ElementOrder::P2 => 2.0 * layers as f64 + 1.0,
+    };
+    refuse_too_large(scene, "mesh.gmsh.layers", mesh.nodes.len() as f64 * planes)?;
+    let zs: Vec<f64> = (0..=layers)
+        .map(|k| match k {
+            0 => z0,
+            k if k == layers => z1,
+            k => z0 + (z1 - z0) * k as f64 / layers as f64,
+        })
+        .collect();
+    TetrahedralMesh::extrude(&mesh, &zs).map_err(|e| {
+        scene.error(
+            "mesh.gmsh.extrude",
+            format!("{} extruded over [{z0}, {z1}] m: {e}", file.display()),
+        )
+    })
 }
 
 /// Each material's density (kg/m³), required with gravity or by a dynamic analysis, as

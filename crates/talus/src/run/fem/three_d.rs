@@ -26,6 +26,14 @@ pub fn run_scene_3d(
     options: &RunOptions,
     resumed: Option<Checkpoint<serde_json::Value>>,
 ) -> Result<RunSummary<6>, RunError> {
+    if scene.spec.stability.is_some() {
+        return Err(scene
+            .error(
+                "stability",
+                "a factor-of-safety scene runs by talus::analysis::stability::run",
+            )
+            .into());
+    }
     let start = Instant::now();
     let model = model_3d(scene)?;
     let state = initial_state_3d(scene, &model)?;
