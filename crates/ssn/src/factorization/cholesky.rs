@@ -3,13 +3,11 @@
 //! associative flow rule is refactorized every iteration on the same pattern, and faer's
 //! `Llt` would allocate (and zero) the whole factor each time.
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
-    SymmetricOrdering,
-};
+use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
+use super::ordering::{symbolic_cholesky, Ordering};
 use super::SymbolicError;
 
 /// The matrix is not (numerically) positive definite.
@@ -20,7 +18,7 @@ pub struct NotPositiveDefinite {
     pub column: usize,
 }
 
-/// Symbolic analysis (AMD ordering, supernodes) once per pattern; numeric factorizations
+/// Symbolic analysis (fill-reducing [`Ordering`], supernodes) once per pattern; numeric factorizations
 /// into reused storage. Sequential: the factors do not depend on the thread count.
 pub struct SupernodalCholesky {
     symbolic: SymbolicCholesky<usize>,
@@ -41,15 +39,17 @@ impl std::fmt::Debug for SupernodalCholesky {
 }
 
 impl SupernodalCholesky {
-    /// Analyses the lower triangle `lower` of a symmetric pattern.
+    /// Analyses the lower triangle `lower` of a symmetric pattern (AMD ordering).
     pub fn try_new(lower: SymbolicSparseColMatRef<'_, usize>) -> Result<Self, SymbolicError> {
-        let symbolic = factorize_symbolic_cholesky(
-            lower,
-            Side::Lower,
-            SymmetricOrdering::Amd,
-            CholeskySymbolicParams::default(),
-        )
-        .map_err(|e| SymbolicError::new(format!("{e:?}")))?;
+        Self::try_new_with(lower, Ordering::Amd)
+    }
+
+    /// Analyses the lower triangle `lower` of a symmetric pattern under `ordering`.
+    pub fn try_new_with(
+        lower: SymbolicSparseColMatRef<'_, usize>,
+        ordering: Ordering,
+    ) -> Result<Self, SymbolicError> {
+        let symbolic = symbolic_cholesky(lower, ordering, Default::default())?;
         let factor_scratch = MemBuffer::try_new(
             symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
         )

@@ -1,17 +1,25 @@
 //! The Newton direction `J_F d = −F`: through the velocity-sized Schur complement, the
 //! stress-sized system, or dense; checked for accuracy (`docs/solver.md`, "The
 //! factorization").
-use crate::newton::schur::SchurFailure;
+use crate::newton::schur::{KrylovRequest, SchurFailure};
 use crate::newton::{Factorized, LuChoice};
 use crate::operator::{apply, block};
-use crate::{LinearSolver, Operator, Report, Status};
+use crate::{Forcing, Krylov, LinearSolver, NewtonSolve, Operator, Report, Status};
 
 use super::{inf_norm, Solver, LINEAR_FORCING};
 
 impl<const D: usize> Solver<D> {
     /// Solves `J_F d = −F` into `self.direction`. A no-pivot LU direction that fails the
-    /// accuracy check is recomputed once with the pivoting LU (`Report::pivoting_fallbacks`).
-    pub(super) fn newton_direction(&mut self, report: &mut Report) -> Result<(), Status> {
+    /// accuracy check is recomputed once with the pivoting LU (`Report::pivoting_fallbacks`);
+    /// one from GMRES on a reused factorization, with a new factorization. `needed` is the
+    /// relative decrease of the stopping test's residual that would end the solve
+    /// (`tolerance · scale / residual`; 0 when unknown): the forcing term of a Krylov solve
+    /// need not go below it.
+    pub(super) fn newton_direction(
+        &mut self,
+        report: &mut Report,
+        needed: f64,
+    ) -> Result<(), Status> {
         for (i, l) in self.lin.iter().enumerate() {
             for a in 0..D {
                 self.f[D * i + a] = -l.residual[a];
@@ -19,12 +27,35 @@ impl<const D: usize> Solver<D> {
         }
         let forced = self.settings.linear_solver == LinearSolver::SchurPivoting;
         let mut pivoting = forced;
+        let mut krylov = match self.settings.newton_solve {
+            NewtonSolve::Direct => None,
+            NewtonSolve::Krylov(settings) => {
+                let forcing = forcing_term(&settings, &report.merit_history, self.forcing, needed);
+                self.forcing = Some(forcing);
+                Some(KrylovRequest { settings, forcing })
+            }
+        };
         loop {
-            let used = self.direction_by_schur(pivoting);
+            let used = self.direction_by_schur(pivoting, krylov);
+            if let Some(schur) = self.schur.as_mut() {
+                let counts = schur.take_counts();
+                report.factorizations += counts.factorizations;
+                report.krylov_iterations += counts.krylov_iterations;
+                report.krylov_failures += counts.krylov_failures;
+            }
             if used.is_none() {
                 self.direction_stress_sized()?;
             }
             let accurate = self.direction_is_accurate();
+            if !accurate && matches!(used, Some(Factorized::Reused { .. })) {
+                tracing::debug!("inaccurate direction from a reused factorization: refactorized");
+                if let Some(schur) = self.schur.as_mut() {
+                    schur.mark_degraded();
+                }
+                report.krylov_failures += 1;
+                krylov = None;
+                continue;
+            }
             if !accurate && matches!(used, Some(Factorized::NoPivotLu(_))) {
                 tracing::warn!("inaccurate no-pivot LU direction: retried with pivoting");
                 pivoting = true;
@@ -33,8 +64,10 @@ impl<const D: usize> Solver<D> {
             match used {
                 Some(f) => {
                     report.schur_steps += 1;
-                    if let Factorized::NoPivotLu(negative) = f {
-                        report.negative_pivots.push(negative);
+                    match f {
+                        Factorized::NoPivotLu(negative) => report.negative_pivots.push(negative),
+                        Factorized::Reused { .. } => report.krylov_solves += 1,
+                        Factorized::Cholesky | Factorized::PivotingLu => {}
                     }
                     if f == Factorized::PivotingLu && !forced {
                         report.pivoting_fallbacks += 1;
@@ -52,7 +85,11 @@ impl<const D: usize> Solver<D> {
 
     /// The direction through the velocity-sized Schur system, if the operator is structured
     /// and every local block is regular; `None` sends the step to the stress-sized system.
-    pub(super) fn direction_by_schur(&mut self, pivoting: bool) -> Option<Factorized> {
+    pub(super) fn direction_by_schur(
+        &mut self,
+        pivoting: bool,
+        krylov: Option<KrylovRequest>,
+    ) -> Option<Factorized> {
         let (Some(schur), Operator::Structured(s)) = (self.schur.as_mut(), &self.problem.operator)
         else {
             return None;
@@ -75,6 +112,7 @@ impl<const D: usize> Solver<D> {
                     pivot_tolerance: self.settings.pivot_tolerance,
                 }
             },
+            krylov,
             self.settings.parallel,
         ) {
             Ok(used) => Some(used),
@@ -139,5 +177,33 @@ impl<const D: usize> Solver<D> {
             );
         }
         accurate
+    }
+}
+
+/// The forcing term `η` of this iteration's Krylov solve (`Forcing`, `docs/krylov.md`):
+/// `merits` are `‖F_ρ‖₂` so far (the current one last), `previous` the last `η` of this
+/// solve.
+fn forcing_term(settings: &Krylov, merits: &[f64], previous: Option<f64>, needed: f64) -> f64 {
+    match settings.forcing {
+        Forcing::Fixed(eta) => eta,
+        Forcing::EisenstatWalker { gamma, alpha, max } => {
+            let eta = match merits {
+                [.., before, now] if *before > 0.0 => {
+                    let mut eta = gamma * (now / before).powf(alpha);
+                    // Safeguard (Eisenstat & Walker 1996, §2): do not tighten η faster than
+                    // the merit has been falling.
+                    if let Some(previous) = previous {
+                        let floor = gamma * previous.powf(alpha);
+                        if floor > 0.1 {
+                            eta = eta.max(floor);
+                        }
+                    }
+                    eta
+                }
+                _ => max,
+            };
+            // No tighter than a hundredth of what would end the solve.
+            eta.max(0.01 * needed).min(max)
+        }
     }
 }

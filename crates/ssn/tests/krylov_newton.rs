@@ -1,0 +1,84 @@
+//! GMRES (`talus_ssn::krylov`) and the Krylov-reuse Newton solve (`NewtonSolve::Krylov`,
+//! `docs/krylov.md`): the same solutions as the direct path, fewer factorizations, and a
+//! refactorization when the reused factorization is a bad preconditioner.
+#[path = "common/footing_like.rs"]
+mod footing_like;
+
+use footing_like::{FootingLike, D};
+use talus_ssn::{Krylov, NewtonSolve, Report, Settings, SolveError, Solver};
+
+fn krylov() -> Settings {
+    Settings {
+        newton_solve: NewtonSolve::Krylov(Krylov::DEFAULT),
+        ..Settings::fem()
+    }
+}
+
+fn solve(solver: &mut Solver<D>, sigma: &mut [f64]) -> Report {
+    match solver.solve(sigma) {
+        Ok(r) => r,
+        Err(SolveError::NotConverged(r)) => panic!("not converged: {r:?}"),
+        Err(e) => panic!("{e}"),
+    }
+}
+
+fn inf(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+}
+
+/// Steps of the footing with one solver per path; returns the largest relative difference
+/// of σ and the summed reports (factorizations, Krylov solves, iterations).
+fn footing_steps(dilatancy: f64, steps: usize) -> (f64, [usize; 4], [usize; 2]) {
+    let footing = FootingLike::new(16, 12, dilatancy, 1e-2);
+    let mut direct = Solver::new(footing.problem.clone(), Settings::fem()).unwrap();
+    let mut reuse = Solver::new(footing.problem.clone(), krylov()).unwrap();
+    let n = footing.problem.operator().size();
+    let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
+    let mut worst: f64 = 0.0;
+    let (mut counts, mut its) = ([0usize; 4], [0usize; 2]);
+    for step in 0..steps {
+        direct.set_q(footing.q(&a, 0.05)).unwrap();
+        reuse.set_q(footing.q(&b, 0.05)).unwrap();
+        let ra = solve(&mut direct, &mut a);
+        let rb = solve(&mut reuse, &mut b);
+        assert!(ra.is_converged() && rb.is_converged(), "step {step}");
+        let diff = a
+            .iter()
+            .zip(&b)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+        worst = worst.max(diff / inf(&a).max(1.0));
+        counts[0] += ra.factorizations;
+        counts[1] += rb.factorizations;
+        counts[2] += rb.krylov_solves;
+        counts[3] += rb.krylov_iterations;
+        its[0] += ra.iterations;
+        its[1] += rb.iterations;
+        assert_eq!(
+            ra.krylov_solves + ra.krylov_iterations,
+            0,
+            "direct path untouched"
+        );
+    }
+    (worst, counts, its)
+}
+
+#[test]
+fn footing_krylov_reuse_matches_direct() {
+    for dilatancy in [30.0, 10.0] {
+        let (worst, counts, its) = footing_steps(dilatancy, 6);
+        eprintln!(
+            "θ = {dilatancy}: max |Δσ| / ‖σ‖ = {worst:.1e}; factorizations direct {} reuse {}, \
+             GMRES solves {} in {} iterations; Newton iterations {} / {}",
+            counts[0], counts[1], counts[2], counts[3], its[0], its[1]
+        );
+        assert!(
+            worst <= 1e-9,
+            "θ = {dilatancy}: solutions differ by {worst:e}"
+        );
+        assert!(counts[2] > 0, "θ = {dilatancy}: GMRES never used");
+        assert!(
+            counts[1] < counts[0],
+            "θ = {dilatancy}: no factorization saved"
+        );
+    }
+}
