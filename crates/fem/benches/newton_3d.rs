@@ -1148,6 +1148,7 @@ fn krylov_child(cells: [usize; 3], associative: bool) {
         let gmres = Gmres {
             restart,
             max_iterations: 200,
+            project_after: 0,
         };
         let mut ws = GmresWorkspace::new(n_free, restart);
         // f64 factor.

@@ -87,11 +87,11 @@ pub struct Report {
     /// step has none; a step past its fold shows them (`docs/solver.md`, 'Early signs of
     /// a fold').
     pub negative_pivots: Vec<usize>,
-    /// Numeric factorizations of the velocity-sized Newton matrix (Cholesky, no-pivot or
-    /// pivoting LU), refused ones included.
+    /// Numeric factorizations of a Newton matrix (the velocity-sized one by Cholesky,
+    /// no-pivot or pivoting LU, refused ones included; or the stress-sized `J_F`).
     pub factorizations: usize,
-    /// Schur steps whose direction came from GMRES preconditioned by an earlier
-    /// factorization ([`NewtonSolve::Krylov`](crate::NewtonSolve)): the reuses.
+    /// Steps whose direction came from GMRES preconditioned by an earlier factorization
+    /// ([`NewtonSolve::Krylov`](crate::NewtonSolve)): the reuses.
     pub krylov_solves: usize,
     /// GMRES iterations (solves with reused factors), failed attempts included.
     pub krylov_iterations: usize,

@@ -82,3 +82,94 @@ fn footing_krylov_reuse_matches_direct() {
         );
     }
 }
+
+/// A reused factorization of a much softer material's `K` is a bad preconditioner for the
+/// stiff one's: GMRES misses its tolerance within the cap, the solver refactorizes, and the
+/// answer is still the direct one.
+#[test]
+fn a_stale_bad_preconditioner_forces_a_refactorization() {
+    let soft = FootingLike::with_young_modulus(16, 12, 10.0, 1e-2, 1e5);
+    let stiff = FootingLike::with_young_modulus(16, 12, 10.0, 1e-2, 1e7);
+    let n = soft.problem.operator().size();
+    let mut reuse = Solver::new(soft.problem.clone(), krylov()).unwrap();
+    let mut sigma = vec![0.0; n];
+    reuse.set_q(soft.q(&sigma, 0.05)).unwrap();
+    let first = solve(&mut reuse, &mut sigma);
+    assert!(first.factorizations >= 1);
+    // Same pattern: the analysis and the last (soft) factorization are kept.
+    let mut problem = stiff.problem.clone();
+    let zero = vec![0.0; n];
+    problem.set_q(stiff.q(&zero, 0.05)).unwrap();
+    assert!(reuse.replace_problem(problem.clone()).unwrap());
+    let mut b = zero.clone();
+    let r = solve(&mut reuse, &mut b);
+    let mut direct = Solver::new(problem, Settings::fem()).unwrap();
+    let mut a = zero.clone();
+    let rd = solve(&mut direct, &mut a);
+    eprintln!(
+        "stiff after soft: {} Newton its, {} factorizations, {} GMRES solves in {} its, {} failures (direct: {} its)",
+        r.iterations, r.factorizations, r.krylov_solves, r.krylov_iterations, r.krylov_failures,
+        rd.iterations
+    );
+    assert!(
+        r.krylov_failures >= 1,
+        "the stale factorization was accepted: {r:?}"
+    );
+    assert!(r.factorizations >= 1, "no refactorization: {r:?}");
+    // Every failure cost at most the cap of iterations, and was followed by a factorization.
+    assert!(
+        r.krylov_iterations
+            <= r.krylov_solves * Krylov::DEFAULT.max_iterations
+                + r.krylov_failures * Krylov::DEFAULT.max_iterations
+    );
+    let diff = a
+        .iter()
+        .zip(&b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    assert!(diff <= 1e-9 * inf(&a).max(1.0), "differ by {diff:e}");
+}
+
+/// The direct path reports one factorization per Newton iteration and no GMRES.
+#[test]
+fn direct_counts_one_factorization_per_iteration() {
+    let footing = FootingLike::new(8, 6, 10.0, 1e-2);
+    let n = footing.problem.operator().size();
+    let mut direct = Solver::new(footing.problem.clone(), Settings::fem()).unwrap();
+    let mut sigma = vec![0.0; n];
+    direct.set_q(footing.q(&sigma, 0.05)).unwrap();
+    let r = solve(&mut direct, &mut sigma);
+    assert_eq!(r.factorizations, r.iterations + r.pivoting_fallbacks);
+    assert_eq!(
+        (r.krylov_solves, r.krylov_iterations, r.krylov_failures),
+        (0, 0, 0)
+    );
+}
+
+/// Out-of-range Krylov settings are refused by `Solver::new`.
+#[test]
+fn invalid_krylov_settings_are_refused() {
+    let footing = FootingLike::new(4, 4, 10.0, 1e-2);
+    for k in [
+        Krylov {
+            restart: 0,
+            ..Krylov::DEFAULT
+        },
+        Krylov {
+            max_iterations: 0,
+            ..Krylov::DEFAULT
+        },
+        Krylov {
+            forcing: talus_ssn::Forcing::Fixed(0.5),
+            ..Krylov::DEFAULT
+        },
+    ] {
+        let settings = Settings {
+            newton_solve: NewtonSolve::Krylov(k),
+            ..Settings::fem()
+        };
+        assert!(
+            Solver::new(footing.problem.clone(), settings).is_err(),
+            "{k:?} accepted"
+        );
+    }
+}

@@ -6,7 +6,7 @@ use talus_bipotential::NaturalMapLinearization;
 use super::schur_factor::{Factorized, LuChoice, SchurFactor};
 use super::schur_pattern::{block_len, point_groups, schur_pattern, SchurPattern};
 use crate::factorization::Ordering;
-use crate::krylov::{Gmres, GmresError, GmresWorkspace, Verdict};
+use crate::krylov::{Gmres, GmresError, GmresWorkspace, Verdict, PROJECT_AFTER};
 use crate::local_lu::LocalLu;
 use crate::operator::{block, PointBlocks, Structured};
 use crate::Krylov;
@@ -426,6 +426,7 @@ impl<const D: usize> SchurSystem<D> {
         let gmres = Gmres {
             restart: settings.restart,
             max_iterations: settings.max_iterations,
+            project_after: PROJECT_AFTER,
         };
         let mut checks = 0;
         let result = gmres.solve(

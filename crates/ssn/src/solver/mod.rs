@@ -50,6 +50,18 @@ pub struct Solver<const D: usize> {
     scratch: Vec<f64>,
     /// The last Krylov forcing term of the current solve (Eisenstat–Walker's safeguard).
     forcing: Option<f64>,
+    /// GMRES on the stress-sized system (`NewtonSolve::Krylov` without a Schur system).
+    stress_krylov: StressKrylov,
+}
+
+/// The stress-sized Krylov path's state.
+#[derive(Default)]
+struct StressKrylov {
+    workspace: Option<crate::krylov::GmresWorkspace>,
+    /// The last GMRES solve needed more than `degraded_iterations`: refactorize next time.
+    degraded: bool,
+    /// `W x` inside the product with `J_F`.
+    wx: Vec<f64>,
 }
 
 /// Accepted `‖J_F d + F‖∞ / ‖F‖∞` of a Newton direction (inexact Newton forcing term).
@@ -164,6 +176,7 @@ impl<const D: usize> Solver<D> {
             check: vec![0.0; n],
             scratch: Vec::new(),
             forcing: None,
+            stress_krylov: StressKrylov::default(),
             problem,
         };
         let symmetric = solver.problem.is_associative();

@@ -35,8 +35,13 @@ enum Dof {
 impl FootingLike {
     /// `nx × ny` cells of two triangles; `dilatancy` in degrees (30 = associative).
     pub fn new(nx: usize, ny: usize, dilatancy: f64, h: f64) -> Self {
+        Self::with_young_modulus(nx, ny, dilatancy, h, 1e7)
+    }
+
+    /// As [`new`](Self::new) with Young's modulus `young` (Pa).
+    pub fn with_young_modulus(nx: usize, ny: usize, dilatancy: f64, h: f64, young: f64) -> Self {
         let soil = DruckerPrager::try_new(DruckerPragerParameters {
-            young_modulus: 1e7,
+            young_modulus: young,
             poisson_ratio: 0.3,
             friction_angle: 30.0,
             cohesion: 1e3,
