@@ -28,10 +28,18 @@ fn inf(v: &[f64]) -> f64 {
 
 /// Steps of the footing with one solver per path; returns the largest relative difference
 /// of σ and the summed reports (factorizations, Krylov solves, iterations).
-fn footing_steps(dilatancy: f64, steps: usize) -> (f64, [usize; 4], [usize; 2]) {
+fn footing_steps(dilatancy: f64, steps: usize, tolerance: f64) -> (f64, [usize; 4], [usize; 2]) {
     let footing = FootingLike::new(16, 12, dilatancy, 1e-2);
-    let mut direct = Solver::new(footing.problem.clone(), Settings::fem()).unwrap();
-    let mut reuse = Solver::new(footing.problem.clone(), krylov()).unwrap();
+    let direct_settings = Settings {
+        tolerance,
+        ..Settings::fem()
+    };
+    let krylov_settings = Settings {
+        tolerance,
+        ..krylov()
+    };
+    let mut direct = Solver::new(footing.problem.clone(), direct_settings).unwrap();
+    let mut reuse = Solver::new(footing.problem.clone(), krylov_settings).unwrap();
     let n = footing.problem.operator().size();
     let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
     let mut worst: f64 = 0.0;
@@ -41,7 +49,7 @@ fn footing_steps(dilatancy: f64, steps: usize) -> (f64, [usize; 4], [usize; 2]) 
         reuse.set_q(footing.q(&b, 0.05)).unwrap();
         let ra = solve(&mut direct, &mut a);
         let rb = solve(&mut reuse, &mut b);
-        assert!(ra.is_converged() && rb.is_converged(), "step {step}");
+        assert!(ra.is_accepted() && rb.is_accepted(), "step {step}");
         let diff = a
             .iter()
             .zip(&b)
@@ -62,24 +70,28 @@ fn footing_steps(dilatancy: f64, steps: usize) -> (f64, [usize; 4], [usize; 2]) 
     (worst, counts, its)
 }
 
+/// At the FEM tolerance 1e-12 two solutions may differ by the tolerance times the inverse
+/// Jacobian's norm (1.5e-11 measured here, as between two orderings of the direct solve,
+/// `tests/ordering.rs`); solved to 1e-14 they agree to 1e-12.
 #[test]
 fn footing_krylov_reuse_matches_direct() {
-    for dilatancy in [30.0, 10.0] {
-        let (worst, counts, its) = footing_steps(dilatancy, 6);
-        eprintln!(
-            "θ = {dilatancy}: max |Δσ| / ‖σ‖ = {worst:.1e}; factorizations direct {} reuse {}, \
-             GMRES solves {} in {} iterations; Newton iterations {} / {}",
-            counts[0], counts[1], counts[2], counts[3], its[0], its[1]
-        );
-        assert!(
-            worst <= 1e-9,
-            "θ = {dilatancy}: solutions differ by {worst:e}"
-        );
-        assert!(counts[2] > 0, "θ = {dilatancy}: GMRES never used");
-        assert!(
-            counts[1] < counts[0],
-            "θ = {dilatancy}: no factorization saved"
-        );
+    for (tolerance, agree) in [(1e-12, 1e-10), (1e-14, 1e-12)] {
+        for dilatancy in [30.0, 10.0] {
+            let (worst, counts, its) = footing_steps(dilatancy, 6, tolerance);
+            eprintln!(
+                "tol {tolerance:e}, θ = {dilatancy}: max |Δσ| / ‖σ‖ = {worst:.1e}; factorizations direct {} reuse {}, GMRES solves {} in {} iterations; Newton iterations {} / {}",
+                counts[0], counts[1], counts[2], counts[3], its[0], its[1]
+            );
+            assert!(
+                worst <= agree,
+                "θ = {dilatancy}: solutions differ by {worst:e}"
+            );
+            assert!(counts[2] > 0, "θ = {dilatancy}: GMRES never used");
+            assert!(
+                counts[1] < counts[0],
+                "θ = {dilatancy}: no factorization saved"
+            );
+        }
     }
 }
 
