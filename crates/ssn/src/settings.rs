@@ -158,6 +158,19 @@ pub struct Krylov {
     /// has aged: the next Newton iteration refactorizes without trying GMRES.
     pub degraded_iterations: usize,
     pub forcing: Forcing,
+    /// The precision the factorization is stored in. `Single` (associative flow only: the
+    /// Cholesky factor) halves its memory; every direction then comes from GMRES, and a
+    /// fresh f32 factor that does not bring GMRES to its tolerance is replaced by an f64
+    /// one for that iteration (`docs/krylov.md`, 'A single-precision factor').
+    pub precision: Precision,
+}
+
+/// Storage precision of the factorization used by [`NewtonSolve::Krylov`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Precision {
+    #[default]
+    Double,
+    Single,
 }
 
 impl Krylov {
@@ -168,6 +181,7 @@ impl Krylov {
         max_iterations: 20,
         degraded_iterations: 10,
         forcing: Forcing::DEFAULT,
+        precision: Precision::Double,
     };
 }
 

@@ -232,3 +232,47 @@ fn footing_2d_timing() {
         );
     }
 }
+
+/// `Precision::Single`: the associative footing's Cholesky factor stored in f32 (half the
+/// bytes), every direction from GMRES, the same solutions; refused for non-associative
+/// flow (its LU has no f32 version).
+#[test]
+fn single_precision_factor_matches_direct() {
+    let single = Settings {
+        newton_solve: NewtonSolve::Krylov(Krylov {
+            precision: talus_ssn::Precision::Single,
+            ..Krylov::DEFAULT
+        }),
+        ..Settings::fem()
+    };
+    let footing = FootingLike::new(16, 12, 30.0, 1e-2);
+    let n = footing.problem.operator().size();
+    let mut direct = Solver::new(footing.problem.clone(), Settings::fem()).unwrap();
+    let mut reuse = Solver::new(footing.problem.clone(), single).unwrap();
+    let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
+    let (mut its, mut gmres, mut solves) = (0, 0, 0);
+    for step in 0..6 {
+        direct.set_q(footing.q(&a, 0.05)).unwrap();
+        reuse.set_q(footing.q(&b, 0.05)).unwrap();
+        let ra = solve(&mut direct, &mut a);
+        let rb = solve(&mut reuse, &mut b);
+        assert!(ra.is_converged() && rb.is_converged(), "step {step}");
+        let diff = a
+            .iter()
+            .zip(&b)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+        assert!(diff <= 1e-10 * inf(&a).max(1.0), "step {step}: {diff:e}");
+        its += rb.iterations;
+        gmres += rb.krylov_iterations;
+        solves += rb.krylov_solves;
+    }
+    let (f64_bytes, _) = direct.factor_memory().unwrap();
+    let (f32_bytes, _) = reuse.factor_memory().unwrap();
+    eprintln!(
+        "f32 factor: {f32_bytes} bytes against {f64_bytes}; {its} Newton its, {solves} GMRES directions in {gmres} its"
+    );
+    assert_eq!(2 * f32_bytes, f64_bytes, "an f64 fallback was needed");
+    assert_eq!(solves, its, "every direction from GMRES");
+    let lu = FootingLike::new(8, 6, 10.0, 1e-2);
+    assert!(Solver::new(lu.problem.clone(), single).is_err());
+}

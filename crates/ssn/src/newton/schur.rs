@@ -82,6 +82,7 @@ impl<const D: usize> SchurSystem<D> {
         blocks: &PointBlocks<D>,
         symmetric: bool,
         ordering: Ordering,
+        single: bool,
     ) -> Result<Self, String> {
         let n_v = structured.lumped_mass.len();
         let n_points = structured.compliance.len();
@@ -115,7 +116,7 @@ impl<const D: usize> SchurSystem<D> {
             group_entries.push(group_entries[g] + block_len(m, symmetric));
         }
         let nnz = row_idx.len();
-        let factorization = SchurFactor::analyse(symbolic.as_ref(), symmetric, ordering)?;
+        let factorization = SchurFactor::analyse(symbolic.as_ref(), symmetric, ordering, single)?;
         Ok(Self {
             symmetric,
             symbolic,
@@ -141,6 +142,14 @@ impl<const D: usize> SchurSystem<D> {
     /// Stored entries of the factors.
     pub(crate) fn factor_nnz(&self) -> usize {
         self.factorization.factor_nnz()
+    }
+
+    /// Bytes of the stored factors and of the GMRES workspace.
+    pub(crate) fn memory(&self) -> (usize, usize) {
+        (
+            self.factorization.factor_bytes(),
+            self.krylov.workspace.as_ref().map_or(0, |w| w.bytes()),
+        )
     }
 
     /// A reused factorization's direction failed the accuracy check: the next request
@@ -213,6 +222,35 @@ impl<const D: usize> SchurSystem<D> {
         };
         let used = match reused {
             Some(used) => used,
+            None if self.factorization.single() => {
+                // A fresh f32 factor, then GMRES with it; the f64 factorization only if
+                // that misses the tolerance.
+                self.assemble(structured, blocks, parallel);
+                let k = SparseColMatRef::new(self.symbolic.as_ref(), &self.csc_values);
+                self.krylov.counts.factorizations += 1;
+                self.krylov.degraded = false;
+                let fresh = match (krylov, self.factorization.factorize_single(k)) {
+                    (Some(request), Ok(())) => {
+                        self.gmres(structured, blocks, lin, rho, r, request, parallel)
+                    }
+                    (_, Err(e)) => {
+                        tracing::debug!(error = %e, "f32 Cholesky failed");
+                        None
+                    }
+                    (None, Ok(())) => None,
+                };
+                match fresh {
+                    Some(used) => used,
+                    None => {
+                        tracing::debug!("f32 factor insufficient: f64 Cholesky this iteration");
+                        let k = SparseColMatRef::new(self.symbolic.as_ref(), &self.csc_values);
+                        self.krylov.counts.factorizations += 1;
+                        self.factorization
+                            .solve(k, &mut self.rhs, choice)
+                            .map_err(SchurFailure::Factorization)?
+                    }
+                }
+            }
             None => {
                 self.assemble(structured, blocks, parallel);
                 let k = SparseColMatRef::new(self.symbolic.as_ref(), &self.csc_values);

@@ -92,6 +92,9 @@ pub(crate) enum SchurFactor {
         cholesky: SupernodalCholesky,
         /// The last factorization succeeded: it can precondition a later `K`.
         ready: bool,
+        /// Factorizations stored in f32 (`Precision::Single`); `ready` is then the f32
+        /// factor's.
+        single: bool,
     },
     Lu {
         no_pivot: SymmetricPatternLu,
@@ -107,12 +110,18 @@ impl SchurFactor {
         pattern: SymbolicSparseColMatRef<'_, usize>,
         symmetric: bool,
         ordering: Ordering,
+        single: bool,
     ) -> Result<Self, String> {
         Ok(if symmetric {
+            let cholesky = if single {
+                SupernodalCholesky::try_new_single(pattern, ordering)
+            } else {
+                SupernodalCholesky::try_new_with(pattern, ordering)
+            };
             SchurFactor::Cholesky {
-                cholesky: SupernodalCholesky::try_new_with(pattern, ordering)
-                    .map_err(|e| e.to_string())?,
+                cholesky: cholesky.map_err(|e| e.to_string())?,
                 ready: false,
+                single,
             }
         } else {
             let symbolic = SymbolicSymmetricPatternLu::try_new_with(pattern, ordering)
@@ -133,6 +142,14 @@ impl SchurFactor {
         }
     }
 
+    /// Bytes of the stored factors (f64 and f32 storage as allocated).
+    pub(crate) fn factor_bytes(&self) -> usize {
+        match self {
+            SchurFactor::Cholesky { cholesky, .. } => cholesky.factor_bytes(),
+            SchurFactor::Lu { no_pivot, .. } => 8 * no_pivot.symbolic().factor_nnz(),
+        }
+    }
+
     /// Whether a factorization is held that [`precondition`](Self::precondition) can use.
     pub(crate) fn ready(&self) -> bool {
         match self {
@@ -140,9 +157,41 @@ impl SchurFactor {
         }
     }
 
+    /// Whether factorizations are stored in f32 (then only [`factorize_single`]
+    /// (Self::factorize_single) and GMRES give directions, [`solve`](Self::solve) being
+    /// the f64 fallback).
+    pub(crate) fn single(&self) -> bool {
+        matches!(self, SchurFactor::Cholesky { single: true, .. })
+    }
+
+    /// The f32 factorization of `k` (see [`single`](Self::single)).
+    pub(crate) fn factorize_single(
+        &mut self,
+        k: SparseColMatRef<'_, usize, f64>,
+    ) -> Result<(), String> {
+        match self {
+            SchurFactor::Cholesky {
+                cholesky,
+                ready,
+                single: true,
+            } => {
+                *ready = false;
+                cholesky.factorize_single(k).map_err(|e| e.to_string())?;
+                *ready = true;
+                Ok(())
+            }
+            _ => Err("single-precision factorizations need the Cholesky".into()),
+        }
+    }
+
     /// `x ← K_old⁻¹ x` with the last factorization (see [`ready`](Self::ready)).
     pub(crate) fn precondition(&mut self, x: &mut [f64]) {
         match self {
+            SchurFactor::Cholesky {
+                cholesky,
+                single: true,
+                ..
+            } => cholesky.solve_in_place_single(x),
             SchurFactor::Cholesky { cholesky, .. } => cholesky.solve_in_place(x),
             SchurFactor::Lu { no_pivot, .. } => no_pivot.solve_in_place(x),
         }
@@ -156,10 +205,20 @@ impl SchurFactor {
         choice: LuChoice,
     ) -> Result<Factorized, String> {
         match self {
-            SchurFactor::Cholesky { cholesky, ready } => {
-                *ready = false;
+            SchurFactor::Cholesky {
+                cholesky,
+                ready,
+                single,
+            } => {
+                // The f64 fallback of a single-precision solver leaves its f32 factor
+                // as the preconditioner.
+                if !*single {
+                    *ready = false;
+                }
                 cholesky.factorize(k).map_err(|e| e.to_string())?;
-                *ready = true;
+                if !*single {
+                    *ready = true;
+                }
                 cholesky.solve_in_place(rhs);
                 Ok(Factorized::Cholesky)
             }

@@ -13,7 +13,8 @@ use crate::error::invalid;
 use crate::newton::{DenseSystem, SchurSystem, StressSizedSystem};
 use crate::operator::{block, PointBlocks};
 use crate::{
-    Forcing, LinearSolver, NewtonSolve, Operator, ReducedSystem, Rho, Settings, SolveError, Stall,
+    Forcing, LinearSolver, NewtonSolve, Operator, Precision, ReducedSystem, Rho, Settings,
+    SolveError, Stall,
 };
 
 /// A linearization that is never read (placeholder before the first evaluation).
@@ -187,8 +188,18 @@ impl<const D: usize> Solver<D> {
                     .blocks
                     .as_ref()
                     .expect("structured operators carry point blocks");
+                let single = matches!(
+                    settings.newton_solve,
+                    NewtonSolve::Krylov(k) if k.precision == Precision::Single
+                );
+                if single && !symmetric {
+                    return Err(invalid(
+                        "settings.newton_solve",
+                        "a single-precision factor needs an associative flow rule (Cholesky)",
+                    ));
+                }
                 solver.schur = Some(
-                    SchurSystem::new(s, blocks, symmetric, settings.ordering)
+                    SchurSystem::new(s, blocks, symmetric, settings.ordering, single)
                         .map_err(|e| invalid("B", e))?,
                 );
             }
@@ -269,5 +280,11 @@ impl<const D: usize> Solver<D> {
     /// `None` without a Schur system.
     pub fn factor_nnz(&self) -> Option<usize> {
         self.schur.as_ref().map(|s| s.factor_nnz())
+    }
+
+    /// Bytes of the velocity-sized Newton matrix's stored factors (f64 and, with
+    /// `Precision::Single`, f32) and of its GMRES workspace; `None` without a Schur system.
+    pub fn factor_memory(&self) -> Option<(usize, usize)> {
+        self.schur.as_ref().map(|s| s.memory())
     }
 }
