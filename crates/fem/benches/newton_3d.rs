@@ -75,7 +75,7 @@ use talus_ssn::factorization::{
     SupernodalCholesky, SymbolicSymmetricPatternLu, SymmetricPatternLu, DEFAULT_PIVOT_TOLERANCE,
 };
 use talus_ssn::krylov::{Gmres, GmresWorkspace};
-use talus_ssn::{Krylov, NewtonSolve, Ordering, Settings, SolveError, Solver};
+use talus_ssn::{Krylov, NewtonSolve, Ordering, Precision, Settings, SolveError, Solver};
 
 const D: usize = 6;
 /// The paper's step (s), footing velocity (m/s, downward), soil density (kg/m³).
@@ -249,8 +249,8 @@ fn main() {
     }
     if !krylov_rows.is_empty() {
         println!("\nWhole Newton solves of the last steps, direct against GMRES on a reused factorization (NewtonSolve::Krylov), same q and start, alternating order");
-        println!("| cells | flow | free dofs | factor MiB | steps | direct s | krylov s | krylov / direct | Newton its direct / krylov | factorizations direct / krylov | GMRES solves | GMRES its per Newton it | GMRES MiB | max Δσ/‖σ‖ | peak MiB | elastic K: GMRES its, f64 / f32 factor | factor MiB f64 / f32 |");
-        println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+        println!("| cells | flow | free dofs | factor MiB | steps | direct s | krylov s | krylov / direct | Newton its direct / krylov | factorizations direct / krylov | GMRES solves | GMRES its per Newton it | GMRES MiB | max Δσ/‖σ‖ | peak MiB | elastic K: GMRES its, f64 / f32 factor | factor MiB f64 / f32 | f32 solver: factor MiB | f32 s | f32 / direct | f32 Newton its | f32 factorizations | GMRES its per Newton it |");
+        println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
         for r in &krylov_rows {
             println!("{r}");
         }
@@ -1053,7 +1053,20 @@ fn krylov_child(cells: [usize; 3], associative: bool) {
     };
     let system = model.reduced_system(H).expect("W");
     let mut direct = Solver::new(system.clone(), direct_settings).expect("solver");
-    let mut krylov = Solver::new(system, krylov_settings).expect("solver");
+    let mut krylov = Solver::new(system.clone(), krylov_settings).expect("solver");
+    // Associative flow: a third solver whose Cholesky factor is stored in f32.
+    let mut single = associative.then(|| {
+        let settings = Settings {
+            newton_solve: NewtonSolve::Krylov(Krylov {
+                precision: Precision::Single,
+                ..Krylov::DEFAULT
+            }),
+            ..direct_settings
+        };
+        Solver::new(system, settings).expect("solver")
+    });
+    let (mut t_single, mut single_totals, mut single_diff) = (Vec::new(), [0usize; 4], 0.0f64);
+    let mut single_bytes = 0;
     let factor_nnz = direct.factor_nnz().unwrap_or(0);
     let mut stepper = Stepper::new(&model, StepSettings::fem());
     let mut previous: Option<Vec<f64>> = None;
@@ -1074,6 +1087,7 @@ fn krylov_child(cells: [usize; 3], associative: bool) {
                     .collect(),
                 None => state.sigma.clone(),
             };
+            let mut single_runs = Vec::new();
             let run = |solver: &mut Solver<D>| {
                 let mut sigma = start.clone();
                 let t = Instant::now();
@@ -1084,6 +1098,13 @@ fn krylov_child(cells: [usize; 3], associative: bool) {
                 };
                 (sigma, r, t.elapsed().as_secs_f64())
             };
+            if let Some(single) = single.as_mut() {
+                single.set_q(model.reduced_rhs(&state, H)).expect("q");
+                if step % 3 == 0 {
+                    let (sc, rc, tc) = run(single);
+                    single_runs.push((sc, rc, tc));
+                }
+            }
             let ((sa, ra, ta), (sb, rb, tb)) = if step % 2 == 0 {
                 let a = run(&mut direct);
                 (a, run(&mut krylov))
@@ -1091,6 +1112,36 @@ fn krylov_child(cells: [usize; 3], associative: bool) {
                 let b = run(&mut krylov);
                 (run(&mut direct), b)
             };
+            if let Some(single) = single.as_mut() {
+                if step % 3 != 0 {
+                    let (sc, rc, tc) = run(single);
+                    single_runs.push((sc, rc, tc));
+                }
+            }
+            for (sc, rc, tc) in single_runs.drain(..) {
+                let scale = sa.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+                let d = sa
+                    .iter()
+                    .zip(&sc)
+                    .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+                single_diff = single_diff.max(d / scale);
+                eprintln!(
+                    "step {step}: f32 factor {} its {tc:.2} s ({} factorizations, {} GMRES solves in {} its, {} failures, {})",
+                    rc.iterations, rc.factorizations, rc.krylov_solves, rc.krylov_iterations, rc.krylov_failures, rc.status
+                );
+                t_single.push(tc);
+                for (k, v) in [
+                    rc.iterations,
+                    rc.factorizations,
+                    rc.krylov_iterations,
+                    rc.krylov_failures,
+                ]
+                .into_iter()
+                .enumerate()
+                {
+                    single_totals[k] += v;
+                }
+            }
             let scale = sa.iter().fold(1.0f64, |m, v| m.max(v.abs()));
             let diff = sa
                 .iter()
@@ -1124,7 +1175,11 @@ fn krylov_child(cells: [usize; 3], associative: bool) {
             .advance(&mut state, H)
             .unwrap_or_else(|e| panic!("step {step} failed: {e}"));
     }
-    drop((stepper, direct, krylov));
+    let direct_bytes = direct.factor_memory().map_or(0, |m| m.0);
+    if let Some(s) = &single {
+        single_bytes = s.factor_memory().map_or(0, |m| m.0);
+    }
+    drop((stepper, direct, krylov, single));
     let peak_solvers = peak_mib();
     let (sd, sk) = (t_direct.iter().sum::<f64>(), t_krylov.iter().sum::<f64>());
     let restart = Krylov::DEFAULT.restart;
@@ -1250,12 +1305,21 @@ fn krylov_child(cells: [usize; 3], associative: bool) {
         }
     }
     println!(
-        "RESULT free_dofs={n_free} factor_nnz={factor_nnz} factor_mib={:.0} replayed={} direct_s={sd:.3} krylov_s={sk:.3} ratio={:.3} its_direct={} its_krylov={} factorizations_direct={} factorizations_krylov={} gmres_solves={} gmres_its={} gmres_failures={} gmres_per_newton={:.2} gmres_mib={gmres_mib:.1} max_rel_diff={max_diff:.1e} peak_solvers_mib={peak_solvers:.0} elastic_f64_its={f64_its} elastic_f32_its={f32_its} factor_f64_mib={f64_factor_mib:.0} factor_f32_mib={f32_factor_mib:.0} peak_mib={:.0}",
+        "RESULT free_dofs={n_free} factor_nnz={factor_nnz} factor_mib={:.0} replayed={} direct_s={sd:.3} krylov_s={sk:.3} ratio={:.3} its_direct={} its_krylov={} factorizations_direct={} factorizations_krylov={} gmres_solves={} gmres_its={} gmres_failures={} gmres_per_newton={:.2} gmres_mib={gmres_mib:.1} max_rel_diff={max_diff:.1e} direct_factor_mib={:.0} single_factor_mib={:.0} single_s={:.3} single_ratio={:.3} single_its={} single_factorizations={} single_gmres_its={} single_failures={} single_gmres_per_newton={:.2} single_max_rel_diff={single_diff:.1e} peak_solvers_mib={peak_solvers:.0} elastic_f64_its={f64_its} elastic_f32_its={f32_its} factor_f64_mib={f64_factor_mib:.0} factor_f32_mib={f32_factor_mib:.0} peak_mib={:.0}",
         (8 * factor_nnz) as f64 / 1048576.0,
         t_direct.len(),
         sk / sd,
         totals[0], totals[1], totals[2], totals[3], totals[4], totals[5], totals[6],
         totals[5] as f64 / totals[1].max(1) as f64,
+        direct_bytes as f64 / 1048576.0,
+        single_bytes as f64 / 1048576.0,
+        t_single.iter().sum::<f64>(),
+        t_single.iter().sum::<f64>() / sd,
+        single_totals[0],
+        single_totals[1],
+        single_totals[2],
+        single_totals[3],
+        single_totals[2] as f64 / single_totals[0].max(1) as f64,
         peak_mib()
     );
 }
@@ -1284,7 +1348,7 @@ fn symmetric_product(lower: SparseColMatRef<'_, usize, f64>, x: &[f64], y: &mut 
 fn krylov_row(cells: &str, flow: &str, r: &BTreeMap<String, String>) -> String {
     let g = |k: &str| r.get(k).map(String::as_str).unwrap_or("?");
     format!(
-        "| {cells} | {flow} | {} | {} | {} | {} | {} | {} | {} / {} | {} / {} | {} ({} failed) | {} | {} | {} | {} | {} / {} | {} / {} |",
+        "| {cells} | {flow} | {} | {} | {} | {} | {} | {} | {} / {} | {} / {} | {} ({} failed) | {} | {} | {} | {} | {} / {} | {} / {} | {} | {} | {} | {} | {} ({} failed) | {} |",
         g("free_dofs"),
         g("factor_mib"),
         g("replayed"),
@@ -1305,6 +1369,13 @@ fn krylov_row(cells: &str, flow: &str, r: &BTreeMap<String, String>) -> String {
         g("elastic_f32_its"),
         g("factor_f64_mib"),
         g("factor_f32_mib"),
+        g("single_factor_mib"),
+        g("single_s"),
+        g("single_ratio"),
+        g("single_its"),
+        g("single_factorizations"),
+        g("single_failures"),
+        g("single_gmres_per_newton"),
     )
 }
 
