@@ -48,7 +48,10 @@
 //!
 //! Sizes: `TALUS_3D_BENCH_SIZES`, comma-separated `NXxNYxNZ` (default `4x4x4,8x8x8`, under
 //! a minute; `12x14x12` has about 50k free dofs, `20x21x20` 200k, `24x28x24` 330k).
-//! `TALUS_3D_BENCH_PARTS`: `newton`, `ordering` or both (default `newton,ordering`).
+//! `TALUS_3D_BENCH_PARTS`: any of `newton`, `ordering`, `krylov` (default
+//! `newton,ordering`); `krylov` compares whole Newton solves, direct against GMRES on a
+//! reused factorization (`krylov_child`, `docs/krylov.md`), under AMD or, with
+//! `TALUS_3D_BENCH_ND=1` and `--features metis`, nested dissection.
 //!
 //! Run with `cargo bench -p talus-fem --bench newton_3d` (AMD only), or with
 //! `--features metis` for nested dissection (METIS is built from source by `metis-sys`).
@@ -71,7 +74,8 @@ use talus_fem::{Assembly, Constraint, DofMap, ElementOrder, Model, State, Tetrah
 use talus_ssn::factorization::{
     SupernodalCholesky, SymbolicSymmetricPatternLu, SymmetricPatternLu, DEFAULT_PIVOT_TOLERANCE,
 };
-use talus_ssn::{SolveError, Solver};
+use talus_ssn::krylov::{Gmres, GmresWorkspace};
+use talus_ssn::{Krylov, NewtonSolve, Ordering, Precision, Settings, SolveError, Solver};
 
 const D: usize = 6;
 /// The paper's step (s), footing velocity (m/s, downward), soil density (kg/m³).
@@ -94,8 +98,9 @@ fn main() {
         match (args.get(1).map(String::as_str), cells, args.get(3)) {
             (Some("newton"), Some(cells), Some(flow)) => newton_child(cells, flow == "llt"),
             (Some("ordering"), Some(cells), Some(ordering)) => ordering_child(cells, ordering),
+            (Some("krylov"), Some(cells), Some(flow)) => krylov_child(cells, flow == "llt"),
             _ => {
-                eprintln!("usage: --child newton|ordering NXxNYxNZ lu|llt|amd|nd");
+                eprintln!("usage: --child newton|ordering|krylov NXxNYxNZ lu|llt|amd|nd");
                 std::process::exit(2);
             }
         }
@@ -107,6 +112,7 @@ fn main() {
     let mut failed = false;
     let mut newton_rows = Vec::new();
     let mut ordering_rows = Vec::new();
+    let mut krylov_rows = Vec::new();
     let mut ratios = Vec::new();
     let mut projections = Vec::new();
     println!("load before: {}", load());
@@ -165,6 +171,14 @@ fn main() {
                         ));
                         newton.insert(flow, r);
                     }
+                    None => failed = true,
+                }
+            }
+        }
+        if parts.contains("krylov") {
+            for flow in ["lu", "llt"] {
+                match run("krylov", flow) {
+                    Some(r) => krylov_rows.push(krylov_row(cells, flow, &r)),
                     None => failed = true,
                 }
             }
@@ -231,6 +245,14 @@ fn main() {
         }
         for p in &projections {
             println!("{p}");
+        }
+    }
+    if !krylov_rows.is_empty() {
+        println!("\nWhole Newton solves of the last steps, direct against GMRES on a reused factorization (NewtonSolve::Krylov), same q and start, alternating order");
+        println!("| cells | flow | free dofs | factor MiB | steps | direct s | krylov s | krylov / direct | Newton its direct / krylov | factorizations direct / krylov | GMRES solves | GMRES its per Newton it | GMRES MiB | max Δσ/‖σ‖ | peak MiB | elastic K: GMRES its, f64 / f32 factor | factor MiB f64 / f32 | f32 solver: factor MiB | f32 s | f32 / direct | f32 Newton its | f32 factorizations | GMRES its per Newton it |");
+        println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+        for r in &krylov_rows {
+            println!("{r}");
         }
     }
     if failed {
@@ -961,73 +983,19 @@ fn relative_residual(lower: SparseColMatRef<'_, usize, f64>, x: &[f64], b: &[f64
     norm(&r) / norm(b)
 }
 
-/// METIS' nested dissection of the graph of `K` (given by its lower triangle), handed to
-/// faer's symbolic Cholesky as a custom ordering: the symbolic factor, the ordering's and
-/// the symbolic analysis' seconds.
+/// METIS' nested dissection of the graph of `K` (talus-ssn's
+/// `factorization::nested_dissection`, the one implementation), handed to faer's symbolic
+/// Cholesky as a custom ordering: the symbolic factor, the ordering's and the symbolic
+/// analysis' seconds.
 #[cfg(feature = "metis")]
 fn nested_dissection(
     lower: &SparseColMat<usize, f64>,
     params: CholeskySymbolicParams<'_>,
 ) -> (SymbolicCholesky<usize>, f64, f64) {
-    use metis_sys::{idx_t, METIS_NodeND, METIS_SetDefaultOptions, METIS_NOPTIONS};
     let t = Instant::now();
     let n = lower.nrows();
-    let (cp, ri) = (lower.symbolic().col_ptr(), lower.symbolic().row_idx());
-    // The adjacency of both triangles, no diagonal.
-    let mut degree = vec![0usize; n + 1];
-    for j in 0..n {
-        for &i in &ri[cp[j]..cp[j + 1]] {
-            if i != j {
-                degree[i + 1] += 1;
-                degree[j + 1] += 1;
-            }
-        }
-    }
-    for j in 0..n {
-        degree[j + 1] += degree[j];
-    }
-    let mut next = degree.clone();
-    let mut adjncy: Vec<idx_t> = vec![0; degree[n]];
-    for j in 0..n {
-        for &i in &ri[cp[j]..cp[j + 1]] {
-            if i != j {
-                adjncy[next[i]] = j as idx_t;
-                next[i] += 1;
-                adjncy[next[j]] = i as idx_t;
-                next[j] += 1;
-            }
-        }
-    }
-    let mut xadj: Vec<idx_t> = degree
-        .iter()
-        .map(|&d| idx_t::try_from(d).expect("the graph fits METIS' 32-bit indices"))
-        .collect();
-    drop((degree, next));
-    let mut options = [0 as idx_t; METIS_NOPTIONS as usize];
-    let mut nvtxs = n as idx_t;
-    let (mut perm, mut iperm) = (vec![0 as idx_t; n], vec![0 as idx_t; n]);
-    // SAFETY: xadj (n + 1) and adjncy (xadj[n]) describe a symmetric graph without self
-    // loops; perm and iperm have n entries; no vertex weights.
-    let status = unsafe {
-        METIS_SetDefaultOptions(options.as_mut_ptr());
-        METIS_NodeND(
-            &mut nvtxs,
-            xadj.as_mut_ptr(),
-            adjncy.as_mut_ptr(),
-            std::ptr::null_mut(),
-            options.as_mut_ptr(),
-            perm.as_mut_ptr(),
-            iperm.as_mut_ptr(),
-        )
-    };
-    assert_eq!(
-        status,
-        metis_sys::rstatus_et_METIS_OK,
-        "METIS_NodeND failed"
-    );
-    // METIS: row i of the permuted matrix is row perm[i] of K, faer's forward array.
-    let fwd: Vec<usize> = perm.iter().map(|&p| p as usize).collect();
-    let inv: Vec<usize> = iperm.iter().map(|&p| p as usize).collect();
+    let (fwd, inv) =
+        talus_ssn::factorization::nested_dissection(lower.symbolic()).expect("METIS_NodeND");
     let ordering_s = t.elapsed().as_secs_f64();
     let t = Instant::now();
     let symbolic = factorize_symbolic_cholesky(
@@ -1046,5 +1014,378 @@ fn nested_dissection(
     _: CholeskySymbolicParams<'_>,
 ) -> (SymbolicCholesky<usize>, f64, f64) {
     eprintln!("nested dissection needs `--features metis`");
+    std::process::exit(2);
+}
+
+/// Direct against Krylov-reuse Newton solves (`docs/krylov.md`): the model is stepped
+/// `TALUS_3D_BENCH_STEPS` steps by the engine (direct); before each of the last
+/// `TALUS_3D_BENCH_REPLAY` (default 3) steps, that step's whole Newton solve (its `q`, from
+/// σₙ + (σₙ − σₙ₋₁), to the FEM tolerance) is solved by two more solvers kept across the
+/// steps, one `NewtonSolve::Direct`, one `NewtonSolve::Krylov` (its factorization carried
+/// from step to step), in alternating order. Then (associative flow only) the elastic `K`
+/// preconditioned by its own Cholesky factor stored in f32 or f64: GMRES iterations to a
+/// relative residual of 1e-12, and the factor's bytes.
+fn krylov_child(cells: [usize; 3], associative: bool) {
+    let theta = if associative { PHI } else { THETA_PAPER };
+    let (model, mut state) = footing(cells, theta);
+    let n_free = model.assembly.lumped_mass_free.len();
+    let steps = std::env::var("TALUS_3D_BENCH_STEPS")
+        .ok()
+        .and_then(|s| s.parse::<usize>().ok())
+        .unwrap_or(4);
+    let replay = std::env::var("TALUS_3D_BENCH_REPLAY")
+        .ok()
+        .and_then(|s| s.parse::<usize>().ok())
+        .unwrap_or(3)
+        .min(steps);
+    let ordering = if std::env::var("TALUS_3D_BENCH_ND").as_deref() == Ok("1") {
+        nd_ordering()
+    } else {
+        Ordering::Amd
+    };
+    let direct_settings = Settings {
+        ordering,
+        ..StepSettings::fem().solver
+    };
+    let krylov_settings = Settings {
+        newton_solve: NewtonSolve::Krylov(Krylov::DEFAULT),
+        ..direct_settings
+    };
+    let system = model.reduced_system(H).expect("W");
+    let mut direct = Solver::new(system.clone(), direct_settings).expect("solver");
+    let mut krylov = Solver::new(system.clone(), krylov_settings).expect("solver");
+    // Associative flow: a third solver whose Cholesky factor is stored in f32.
+    let mut single = associative.then(|| {
+        let settings = Settings {
+            newton_solve: NewtonSolve::Krylov(Krylov {
+                precision: Precision::Single,
+                ..Krylov::DEFAULT
+            }),
+            ..direct_settings
+        };
+        Solver::new(system, settings).expect("solver")
+    });
+    let (mut t_single, mut single_totals, mut single_diff) = (Vec::new(), [0usize; 4], 0.0f64);
+    let mut single_bytes = 0;
+    let factor_nnz = direct.factor_nnz().unwrap_or(0);
+    let mut stepper = Stepper::new(&model, StepSettings::fem());
+    let mut previous: Option<Vec<f64>> = None;
+    let (mut t_direct, mut t_krylov) = (Vec::new(), Vec::new());
+    let mut totals = [0usize; 7]; // its direct, its krylov, fact direct, fact krylov, solves, gmres its, failures
+    let mut max_diff: f64 = 0.0;
+    for step in 1..=steps {
+        if step > steps - replay {
+            let q = model.reduced_rhs(&state, H);
+            direct.set_q(q.clone()).expect("q");
+            krylov.set_q(q).expect("q");
+            let start: Vec<f64> = match &previous {
+                Some(p) => state
+                    .sigma
+                    .iter()
+                    .zip(p)
+                    .map(|(s, p)| s + (s - p))
+                    .collect(),
+                None => state.sigma.clone(),
+            };
+            let mut single_runs = Vec::new();
+            let run = |solver: &mut Solver<D>| {
+                let mut sigma = start.clone();
+                let t = Instant::now();
+                let r = match solver.solve(&mut sigma) {
+                    Ok(r) => r,
+                    Err(SolveError::NotConverged(r)) => *r,
+                    Err(e) => panic!("step {step}: {e}"),
+                };
+                (sigma, r, t.elapsed().as_secs_f64())
+            };
+            if let Some(single) = single.as_mut() {
+                single.set_q(model.reduced_rhs(&state, H)).expect("q");
+                if step % 3 == 0 {
+                    let (sc, rc, tc) = run(single);
+                    single_runs.push((sc, rc, tc));
+                }
+            }
+            let ((sa, ra, ta), (sb, rb, tb)) = if step % 2 == 0 {
+                let a = run(&mut direct);
+                (a, run(&mut krylov))
+            } else {
+                let b = run(&mut krylov);
+                (run(&mut direct), b)
+            };
+            if let Some(single) = single.as_mut() {
+                if step % 3 != 0 {
+                    let (sc, rc, tc) = run(single);
+                    single_runs.push((sc, rc, tc));
+                }
+            }
+            for (sc, rc, tc) in single_runs.drain(..) {
+                let scale = sa.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+                let d = sa
+                    .iter()
+                    .zip(&sc)
+                    .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+                single_diff = single_diff.max(d / scale);
+                eprintln!(
+                    "step {step}: f32 factor {} its {tc:.2} s ({} factorizations, {} GMRES solves in {} its, {} failures, {})",
+                    rc.iterations, rc.factorizations, rc.krylov_solves, rc.krylov_iterations, rc.krylov_failures, rc.status
+                );
+                t_single.push(tc);
+                for (k, v) in [
+                    rc.iterations,
+                    rc.factorizations,
+                    rc.krylov_iterations,
+                    rc.krylov_failures,
+                ]
+                .into_iter()
+                .enumerate()
+                {
+                    single_totals[k] += v;
+                }
+            }
+            let scale = sa.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            let diff = sa
+                .iter()
+                .zip(&sb)
+                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            max_diff = max_diff.max(diff / scale);
+            eprintln!(
+                "step {step}: direct {} its {:.2} s ({} factorizations, {}), krylov {} its {:.2} s ({} factorizations, {} GMRES solves in {} its, {} failures, {}); |Δσ|/‖σ‖ {:.1e} (load {})",
+                ra.iterations, ta, ra.factorizations, ra.status, rb.iterations, tb, rb.factorizations,
+                rb.krylov_solves, rb.krylov_iterations, rb.krylov_failures, rb.status, diff / scale, load()
+            );
+            t_direct.push(ta);
+            t_krylov.push(tb);
+            for (k, v) in [
+                ra.iterations,
+                rb.iterations,
+                ra.factorizations,
+                rb.factorizations,
+                rb.krylov_solves,
+                rb.krylov_iterations,
+                rb.krylov_failures,
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                totals[k] += v;
+            }
+        }
+        previous = Some(state.sigma.clone());
+        stepper
+            .advance(&mut state, H)
+            .unwrap_or_else(|e| panic!("step {step} failed: {e}"));
+    }
+    let direct_bytes = direct.factor_memory().map_or(0, |m| m.0);
+    if let Some(s) = &single {
+        single_bytes = s.factor_memory().map_or(0, |m| m.0);
+    }
+    drop((stepper, direct, krylov, single));
+    let peak_solvers = peak_mib();
+    let (sd, sk) = (t_direct.iter().sum::<f64>(), t_krylov.iter().sum::<f64>());
+    let restart = Krylov::DEFAULT.restart;
+    let gmres_mib = (8 * n_free * (2 * restart + 2)) as f64 / 1048576.0;
+    // The single-precision preconditioner, on the elastic K.
+    let (mut f64_its, mut f32_its, mut f32_factor_mib, mut f64_factor_mib) =
+        (String::from("-"), String::from("-"), f64::NAN, f64::NAN);
+    if associative {
+        let el = elements(&model);
+        let lower = elastic_matrix(&model, &el, H, true);
+        drop(el);
+        let symbolic = factorize_symbolic_cholesky(
+            lower.symbolic(),
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            CholeskySymbolicParams::default(),
+        )
+        .expect("symbolic");
+        let rhs: Vec<f64> = (0..n_free).map(|i| 1.0 + (i % 7) as f64).collect();
+        let apply = |x: &[f64], y: &mut [f64]| symmetric_product(lower.as_ref(), x, y);
+        let gmres = Gmres {
+            restart,
+            max_iterations: 200,
+            project_after: 0,
+        };
+        let mut ws = GmresWorkspace::new(n_free, restart);
+        // f64 factor.
+        {
+            let mut values = vec![0.0f64; symbolic.len_val()];
+            let mut mem = MemBuffer::new(
+                symbolic
+                    .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
+                    .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq)),
+            );
+            symbolic
+                .factorize_numeric_llt::<f64>(
+                    &mut values,
+                    lower.as_ref(),
+                    Side::Lower,
+                    Default::default(),
+                    Par::Seq,
+                    MemStack::new(&mut mem),
+                    Default::default(),
+                )
+                .expect("SPD");
+            f64_factor_mib = (8 * values.len()) as f64 / 1048576.0;
+            let mut x = vec![0.0; n_free];
+            let r = gmres.solve_relative(
+                &mut ws,
+                apply,
+                |v: &mut [f64]| {
+                    LltRef::new(&symbolic, &values).solve_in_place_with_conj(
+                        Conj::No,
+                        MatMut::from_column_major_slice_mut(v, n_free, 1),
+                        Par::Seq,
+                        MemStack::new(&mut mem),
+                    )
+                },
+                &rhs,
+                &mut x,
+                1e-12,
+            );
+            f64_its = match r {
+                Ok(s) => s.iterations.to_string(),
+                Err(e) => format!("failed:{}", e.to_string().replace(' ', "_")),
+            };
+        }
+        // f32 factor of the same K.
+        {
+            let lower32 = SparseColMat::<usize, f32>::new(
+                lower.symbolic().to_owned().expect("pattern"),
+                lower.val().iter().map(|&v| v as f32).collect(),
+            );
+            let mut values = vec![0.0f32; symbolic.len_val()];
+            let mut mem = MemBuffer::new(
+                symbolic
+                    .factorize_numeric_llt_scratch::<f32>(Par::Seq, Default::default())
+                    .or(symbolic.solve_in_place_scratch::<f32>(1, Par::Seq)),
+            );
+            let ok = symbolic
+                .factorize_numeric_llt::<f32>(
+                    &mut values,
+                    lower32.as_ref(),
+                    Side::Lower,
+                    Default::default(),
+                    Par::Seq,
+                    MemStack::new(&mut mem),
+                    Default::default(),
+                )
+                .is_ok();
+            f32_factor_mib = (4 * values.len()) as f64 / 1048576.0;
+            if ok {
+                let mut single = vec![0.0f32; n_free];
+                let mut x = vec![0.0; n_free];
+                let r = gmres.solve_relative(
+                    &mut ws,
+                    apply,
+                    |v: &mut [f64]| {
+                        for (s, v) in single.iter_mut().zip(v.iter()) {
+                            *s = *v as f32;
+                        }
+                        LltRef::new(&symbolic, &values).solve_in_place_with_conj(
+                            Conj::No,
+                            MatMut::from_column_major_slice_mut(&mut single, n_free, 1),
+                            Par::Seq,
+                            MemStack::new(&mut mem),
+                        );
+                        for (v, s) in v.iter_mut().zip(&single) {
+                            *v = *s as f64;
+                        }
+                    },
+                    &rhs,
+                    &mut x,
+                    1e-12,
+                );
+                f32_its = match r {
+                    Ok(s) => s.iterations.to_string(),
+                    Err(e) => format!("failed:{}", e.to_string().replace(' ', "_")),
+                };
+            } else {
+                f32_its = "not_positive_definite".into();
+            }
+        }
+    }
+    println!(
+        "RESULT free_dofs={n_free} factor_nnz={factor_nnz} factor_mib={:.0} replayed={} direct_s={sd:.3} krylov_s={sk:.3} ratio={:.3} its_direct={} its_krylov={} factorizations_direct={} factorizations_krylov={} gmres_solves={} gmres_its={} gmres_failures={} gmres_per_newton={:.2} gmres_mib={gmres_mib:.1} max_rel_diff={max_diff:.1e} direct_factor_mib={:.0} single_factor_mib={:.0} single_s={:.3} single_ratio={:.3} single_its={} single_factorizations={} single_gmres_its={} single_failures={} single_gmres_per_newton={:.2} single_max_rel_diff={single_diff:.1e} peak_solvers_mib={peak_solvers:.0} elastic_f64_its={f64_its} elastic_f32_its={f32_its} factor_f64_mib={f64_factor_mib:.0} factor_f32_mib={f32_factor_mib:.0} peak_mib={:.0}",
+        (8 * factor_nnz) as f64 / 1048576.0,
+        t_direct.len(),
+        sk / sd,
+        totals[0], totals[1], totals[2], totals[3], totals[4], totals[5], totals[6],
+        totals[5] as f64 / totals[1].max(1) as f64,
+        direct_bytes as f64 / 1048576.0,
+        single_bytes as f64 / 1048576.0,
+        t_single.iter().sum::<f64>(),
+        t_single.iter().sum::<f64>() / sd,
+        single_totals[0],
+        single_totals[1],
+        single_totals[2],
+        single_totals[3],
+        single_totals[2] as f64 / single_totals[0].max(1) as f64,
+        peak_mib()
+    );
+}
+
+/// `y = K x` for `K` given by its lower triangle.
+fn symmetric_product(lower: SparseColMatRef<'_, usize, f64>, x: &[f64], y: &mut [f64]) {
+    let (cp, ri, v) = (
+        lower.symbolic().col_ptr(),
+        lower.symbolic().row_idx(),
+        lower.val(),
+    );
+    y.fill(0.0);
+    for j in 0..lower.ncols() {
+        let mut acc = 0.0;
+        for k in cp[j]..cp[j + 1] {
+            let i = ri[k];
+            y[i] += v[k] * x[j];
+            if i != j {
+                acc += v[k] * x[i];
+            }
+        }
+        y[j] += acc;
+    }
+}
+
+fn krylov_row(cells: &str, flow: &str, r: &BTreeMap<String, String>) -> String {
+    let g = |k: &str| r.get(k).map(String::as_str).unwrap_or("?");
+    format!(
+        "| {cells} | {flow} | {} | {} | {} | {} | {} | {} | {} / {} | {} / {} | {} ({} failed) | {} | {} | {} | {} | {} / {} | {} / {} | {} | {} | {} | {} | {} ({} failed) | {} |",
+        g("free_dofs"),
+        g("factor_mib"),
+        g("replayed"),
+        g("direct_s"),
+        g("krylov_s"),
+        g("ratio"),
+        g("its_direct"),
+        g("its_krylov"),
+        g("factorizations_direct"),
+        g("factorizations_krylov"),
+        g("gmres_solves"),
+        g("gmres_failures"),
+        g("gmres_per_newton"),
+        g("gmres_mib"),
+        g("max_rel_diff"),
+        g("peak_solvers_mib"),
+        g("elastic_f64_its"),
+        g("elastic_f32_its"),
+        g("factor_f64_mib"),
+        g("factor_f32_mib"),
+        g("single_factor_mib"),
+        g("single_s"),
+        g("single_ratio"),
+        g("single_its"),
+        g("single_factorizations"),
+        g("single_failures"),
+        g("single_gmres_per_newton"),
+    )
+}
+
+#[cfg(feature = "metis")]
+fn nd_ordering() -> Ordering {
+    Ordering::NestedDissection
+}
+
+#[cfg(not(feature = "metis"))]
+fn nd_ordering() -> Ordering {
+    eprintln!("TALUS_3D_BENCH_ND=1 needs `--features metis`");
     std::process::exit(2);
 }

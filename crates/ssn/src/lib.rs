@@ -18,6 +18,7 @@
 
 mod error;
 pub mod factorization;
+pub mod krylov;
 mod local_lu;
 mod newton;
 mod operator;
@@ -31,11 +32,14 @@ mod solver;
 mod stopping;
 
 pub use error::SolveError;
+pub use factorization::Ordering;
 pub use operator::{Operator, Structured};
 pub use problem::ReducedSystem;
 pub use reduced_rhs::{reduced_rhs, FreeVelocities, PrescribedVelocities};
 pub use report::{Report, RoundOffFloor, Status};
-pub use settings::{Fold, LineSearch, LinearSolver, Rho, Settings, Stall};
+pub use settings::{
+    Fold, Forcing, Krylov, LineSearch, LinearSolver, NewtonSolve, Precision, Rho, Settings, Stall,
+};
 pub use siconos_system::reduced_system_from_siconos;
 pub use solver::Solver;
 

@@ -87,6 +87,17 @@ pub struct Report {
     /// step has none; a step past its fold shows them (`docs/solver.md`, 'Early signs of
     /// a fold').
     pub negative_pivots: Vec<usize>,
+    /// Numeric factorizations of a Newton matrix (the velocity-sized one by Cholesky,
+    /// no-pivot or pivoting LU, refused ones included; or the stress-sized `J_F`).
+    pub factorizations: usize,
+    /// Steps whose direction came from GMRES preconditioned by an earlier factorization
+    /// ([`NewtonSolve::Krylov`](crate::NewtonSolve)): the reuses.
+    pub krylov_solves: usize,
+    /// GMRES iterations (solves with reused factors), failed attempts included.
+    pub krylov_iterations: usize,
+    /// GMRES attempts that missed their tolerance within the cap (or whose direction
+    /// failed the accuracy check), after which `K` was refactorized.
+    pub krylov_failures: usize,
     /// Smallest and largest ρ over the points.
     pub rho_range: (f64, f64),
     /// `Some` exactly when the status is `RoundOffFloor`.
@@ -109,6 +120,10 @@ impl Report {
             stress_sized_steps: 0,
             pivoting_fallbacks: 0,
             negative_pivots: Vec::new(),
+            factorizations: 0,
+            krylov_solves: 0,
+            krylov_iterations: 0,
+            krylov_failures: 0,
             rho_range,
             round_off_floor: None,
         }

@@ -1,3 +1,5 @@
+use crate::factorization::Ordering;
+
 /// How ρ of the natural map `σ = P_K(σ − ρ y)` is chosen. ρ has units of stress per
 /// strain; any ρ > 0 (per point) keeps the same solution but changes the iteration count.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -119,6 +121,87 @@ pub enum LinearSolver {
     SchurPivoting,
 }
 
+/// The inexact-Newton forcing term `η` of a Krylov solve: the direction must satisfy
+/// `‖J_F d + F‖∞ ≤ η ‖F‖∞` (`docs/krylov.md`, 'The forcing term').
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Forcing {
+    /// `η` fixed, in `(0, 1e-3]` (1e-3: the accuracy every direction is checked to).
+    Fixed(f64),
+    /// Eisenstat & Walker (1996, SIAM J. Sci. Comput. 17, 16–32), choice 2:
+    /// `η_k = gamma (‖F_k‖ / ‖F_{k−1}‖)^alpha`, safeguarded by `gamma η_{k−1}^alpha` when
+    /// that exceeds 0.1, capped at `max` (≤ 1e-3), and never below what the stopping test
+    /// needs (a hundredth of `tolerance · scale / ‖F‖`): tight near the solution, where
+    /// Newton converges fast, loose far from it.
+    EisenstatWalker { gamma: f64, alpha: f64, max: f64 },
+}
+
+impl Forcing {
+    pub const DEFAULT: Self = Forcing::EisenstatWalker {
+        gamma: 0.9,
+        alpha: 2.0,
+        max: 1e-3,
+    };
+}
+
+/// Newton directions from restarted GMRES on the velocity-sized Newton system,
+/// preconditioned by the factorization of an earlier Newton matrix (this solve's or an
+/// earlier one's); a new factorization only when GMRES misses its tolerance within
+/// `max_iterations`, or needed more than `degraded_iterations` the last time
+/// (`docs/krylov.md`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Krylov {
+    /// Krylov vectors per GMRES cycle (memory: `2 · restart` velocity-sized vectors).
+    pub restart: usize,
+    /// GMRES iterations (solves with the old factors) before refactorizing.
+    pub max_iterations: usize,
+    /// A GMRES solve that took more iterations than this converged, but the preconditioner
+    /// has aged: the next Newton iteration refactorizes without trying GMRES.
+    pub degraded_iterations: usize,
+    pub forcing: Forcing,
+    /// The precision the factorization is stored in. `Single` (associative flow only: the
+    /// Cholesky factor) halves its memory; every direction then comes from GMRES, and a
+    /// fresh f32 factor that does not bring GMRES to its tolerance is replaced by an f64
+    /// one for that iteration (`docs/krylov.md`, 'A single-precision factor').
+    pub precision: Precision,
+}
+
+/// Storage precision of the factorization used by [`NewtonSolve::Krylov`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Precision {
+    #[default]
+    Double,
+    Single,
+}
+
+impl Krylov {
+    /// Restart 20, at most 20 iterations, refactorize after a solve that needed more
+    /// than 10, Eisenstat–Walker forcing capped at 1e-3.
+    pub const DEFAULT: Self = Self {
+        restart: 20,
+        max_iterations: 20,
+        degraded_iterations: 10,
+        forcing: Forcing::DEFAULT,
+        precision: Precision::Double,
+    };
+}
+
+impl Default for Krylov {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// How the velocity-sized (Schur) Newton system is solved.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum NewtonSolve {
+    /// A factorization at every Newton iteration (the behaviour before this setting,
+    /// bit for bit).
+    #[default]
+    Direct,
+    /// GMRES preconditioned by a reused factorization ([`Krylov`]).
+    Krylov(Krylov),
+}
+
 /// Solver settings; the presets [`Settings::reduced`] (the default), [`Settings::fem`] and
 /// [`Settings::mpm`] hold the defaults.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -144,6 +227,11 @@ pub struct Settings {
     pub pivot_tolerance: f64,
     /// Spread per-point work over rayon's pool; results do not depend on it.
     pub parallel: bool,
+    /// Fill-reducing ordering of the Schur factorizations. Default AMD; METIS' nested
+    /// dissection with the cargo feature `metis` (`docs/krylov.md`, 'Ordering').
+    pub ordering: Ordering,
+    /// Default [`NewtonSolve::Direct`].
+    pub newton_solve: NewtonSolve,
 }
 
 /// The one place of the solver's defaults (`docs/solver.md`): every caller (the scenes, the
@@ -163,6 +251,8 @@ impl Settings {
             linear_solver: LinearSolver::Auto,
             pivot_tolerance: crate::factorization::DEFAULT_PIVOT_TOLERANCE,
             parallel: true,
+            ordering: Ordering::Amd,
+            newton_solve: NewtonSolve::Direct,
         }
     }
 

@@ -3,6 +3,9 @@
 //! [`SupernodalCholesky`] for associative flow rules (symmetric `K`): faer's supernodal
 //! Cholesky with its storage reused across factorizations.
 //!
+//! Both take their fill-reducing [`Ordering`]: AMD by default, METIS' nested dissection
+//! with the cargo feature `metis`.
+//!
 //! [`SymmetricPatternLu`] is the LU without pivoting on the Cholesky structure of its
 //! symmetric pattern: the default for non-associative flow rules, guarded by a pivot test
 //! with a pivoting LU as fallback (`docs/solver.md`, "The factorization").
@@ -25,7 +28,12 @@
 //! ```
 mod cholesky;
 mod dense_lu;
+mod ordering;
 mod symmetric_pattern_lu;
+
+#[cfg(feature = "metis")]
+pub use ordering::nested_dissection;
+pub use ordering::Ordering;
 
 pub use cholesky::{NotPositiveDefinite, SupernodalCholesky};
 pub use symmetric_pattern_lu::{

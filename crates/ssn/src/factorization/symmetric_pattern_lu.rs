@@ -20,14 +20,13 @@ use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_unit_lower_triangular_in_place,
 };
 use faer::reborrow::{Reborrow, ReborrowMut};
-use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholeskyRaw, SymmetricOrdering,
-};
+use faer::sparse::linalg::cholesky::{CholeskySymbolicParams, SymbolicCholeskyRaw};
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{Pair, SymbolicSparseColMat, SymbolicSparseColMatRef};
-use faer::{Accum, MatMut, MatRef, Par, Side};
+use faer::{Accum, MatMut, MatRef, Par};
 
 use super::dense_lu::lu_in_place;
+use super::ordering::{symbolic_cholesky, Ordering};
 
 /// Default pivot guard: `|u_jj| ≤ 1e-10 |a_jj|` is refused. The Newton matrices seen never
 /// come within 1e-4 of it (`docs/performance.md`); a matrix that needs row exchanges does.
@@ -100,9 +99,17 @@ pub struct SymbolicSymmetricPatternLu {
 }
 
 impl SymbolicSymmetricPatternLu {
-    /// Analyses a square pattern (CSC, sorted rows). An unsymmetric pattern is analysed as
-    /// its symmetric closure `A + Aᵀ`.
+    /// Analyses a square pattern (CSC, sorted rows) under AMD. An unsymmetric pattern is
+    /// analysed as its symmetric closure `A + Aᵀ`.
     pub fn try_new(pattern: SymbolicSparseColMatRef<'_, usize>) -> Result<Self, SymbolicError> {
+        Self::try_new_with(pattern, Ordering::Amd)
+    }
+
+    /// As [`try_new`](Self::try_new), under `ordering`.
+    pub fn try_new_with(
+        pattern: SymbolicSparseColMatRef<'_, usize>,
+        ordering: Ordering,
+    ) -> Result<Self, SymbolicError> {
         let n = pattern.nrows();
         if pattern.ncols() != n {
             return Err(SymbolicError(format!(
@@ -124,16 +131,14 @@ impl SymbolicSymmetricPatternLu {
         }
         let (lower, _) = SymbolicSparseColMat::try_new_from_indices(n, n, &pairs)
             .map_err(|e| SymbolicError(format!("{e:?}")))?;
-        let cholesky = factorize_symbolic_cholesky(
+        let cholesky = symbolic_cholesky(
             lower.as_ref(),
-            Side::Lower,
-            SymmetricOrdering::Amd,
+            ordering,
             CholeskySymbolicParams {
                 supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
                 ..Default::default()
             },
-        )
-        .map_err(|e| SymbolicError(format!("{e:?}")))?;
+        )?;
         let (perm_fwd, perm_inv) = match cholesky.perm() {
             Some(p) => {
                 let (fwd, inv) = p.arrays();

@@ -1,11 +1,13 @@
-use faer::linalg::solvers::Solve;
-use faer::Mat;
+use faer::linalg::solvers::{PartialPivLu, Solve};
+use faer::{Mat, MatMut};
 use talus_bipotential::NaturalMapLinearization;
 
 /// `J_F` assembled dense and factored by partial-pivoting LU: for small problems.
 pub(crate) struct DenseSystem {
     jacobian: Mat<f64>,
     rhs: Mat<f64>,
+    /// The last factorization: a preconditioner for `NewtonSolve::Krylov`.
+    lu: Option<PartialPivLu<f64>>,
 }
 
 impl DenseSystem {
@@ -13,6 +15,7 @@ impl DenseSystem {
         Self {
             jacobian: Mat::zeros(n, n),
             rhs: Mat::zeros(n, 1),
+            lu: None,
         }
     }
 
@@ -50,5 +53,20 @@ impl DenseSystem {
         for (k, out) in d.iter_mut().enumerate() {
             *out = self.rhs[(k, 0)];
         }
+        self.lu = Some(lu);
+    }
+
+    /// `x ← J_old⁻¹ x` with the last factorization; false before one.
+    pub(crate) fn precondition(&self, x: &mut [f64]) -> bool {
+        let Some(lu) = &self.lu else {
+            return false;
+        };
+        let n = x.len();
+        lu.solve_in_place(MatMut::from_column_major_slice_mut(x, n, 1));
+        true
+    }
+
+    pub(crate) fn has_factorization(&self) -> bool {
+        self.lu.is_some()
     }
 }

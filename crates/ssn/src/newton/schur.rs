@@ -5,8 +5,11 @@ use talus_bipotential::NaturalMapLinearization;
 
 use super::schur_factor::{Factorized, LuChoice, SchurFactor};
 use super::schur_pattern::{block_len, point_groups, schur_pattern, SchurPattern};
+use crate::factorization::Ordering;
+use crate::krylov::{Gmres, GmresError, GmresWorkspace, Verdict, PROJECT_AFTER};
 use crate::local_lu::LocalLu;
 use crate::operator::{block, PointBlocks, Structured};
+use crate::Krylov;
 
 /// The velocity-sized Newton system (`docs/derivations.md`, 'The Schur step'):
 /// `(M + h² Bᵀ C B) u = Bᵀ A⁻¹ r`, `d = A⁻¹ r − h² C B u`,
@@ -32,6 +35,38 @@ pub(crate) struct SchurSystem<const D: usize> {
     local_c: Vec<SMatrix<f64, D, D>>,
     rhs: Vec<f64>,
     a_inv_r: Vec<f64>,
+    /// The Krylov path's state (`NewtonSolve::Krylov`); untouched by the direct path.
+    krylov: KrylovState,
+}
+
+/// GMRES on `K` preconditioned by the last factorization (`docs/krylov.md`).
+#[derive(Default)]
+struct KrylovState {
+    /// The last GMRES solve needed more than `degraded_iterations`: refactorize next time.
+    degraded: bool,
+    workspace: Option<GmresWorkspace>,
+    /// `u` of GMRES, then copied into `rhs`.
+    u: Vec<f64>,
+    /// Per point `h² Cᵢ Bᵢ x` (the product with `K`).
+    points: Vec<f64>,
+    /// `M⁻¹ e` (the stress residual of a velocity residual `e`).
+    velocity: Vec<f64>,
+    counts: SchurCounts,
+}
+
+/// What the Schur system did since the counts were last taken.
+#[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct SchurCounts {
+    pub(crate) factorizations: usize,
+    pub(crate) krylov_iterations: usize,
+    pub(crate) krylov_failures: usize,
+}
+
+/// Ask for a GMRES direction on the last factorization, to `‖J_F d − r‖∞ ≤ η ‖r‖∞`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct KrylovRequest {
+    pub(crate) settings: Krylov,
+    pub(crate) forcing: f64,
 }
 
 /// Why the Schur path could not give a direction this step.
@@ -46,6 +81,8 @@ impl<const D: usize> SchurSystem<D> {
         structured: &Structured<D>,
         blocks: &PointBlocks<D>,
         symmetric: bool,
+        ordering: Ordering,
+        single: bool,
     ) -> Result<Self, String> {
         let n_v = structured.lumped_mass.len();
         let n_points = structured.compliance.len();
@@ -79,7 +116,7 @@ impl<const D: usize> SchurSystem<D> {
             group_entries.push(group_entries[g] + block_len(m, symmetric));
         }
         let nnz = row_idx.len();
-        let factorization = SchurFactor::analyse(symbolic.as_ref(), symmetric)?;
+        let factorization = SchurFactor::analyse(symbolic.as_ref(), symmetric, ordering, single)?;
         Ok(Self {
             symmetric,
             symbolic,
@@ -93,10 +130,38 @@ impl<const D: usize> SchurSystem<D> {
             local_c: vec![SMatrix::zeros(); n_points],
             rhs: vec![0.0; n_v],
             a_inv_r: vec![0.0; D * n_points],
+            krylov: KrylovState::default(),
         })
     }
 
-    /// Writes the direction into `d`, factorizing K with `choice` (Cholesky if symmetric).
+    /// The counts since the last call, reset.
+    pub(crate) fn take_counts(&mut self) -> SchurCounts {
+        std::mem::take(&mut self.krylov.counts)
+    }
+
+    /// Stored entries of the factors.
+    pub(crate) fn factor_nnz(&self) -> usize {
+        self.factorization.factor_nnz()
+    }
+
+    /// Bytes of the stored factors and of the GMRES workspace.
+    pub(crate) fn memory(&self) -> (usize, usize) {
+        (
+            self.factorization.factor_bytes(),
+            self.krylov.workspace.as_ref().map_or(0, |w| w.bytes()),
+        )
+    }
+
+    /// A reused factorization's direction failed the accuracy check: the next request
+    /// refactorizes.
+    pub(crate) fn mark_degraded(&mut self) {
+        self.krylov.degraded = true;
+        self.krylov.counts.krylov_failures += 1;
+    }
+
+    /// Writes the direction into `d`: by GMRES on the last factorization when `krylov`
+    /// asks for it and a fresh one is held, otherwise (or when GMRES misses its
+    /// tolerance) factorizing K with `choice` (Cholesky if symmetric).
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn solve(
         &mut self,
@@ -107,6 +172,7 @@ impl<const D: usize> SchurSystem<D> {
         r: &[f64],
         d: &mut [f64],
         choice: LuChoice,
+        krylov: Option<KrylovRequest>,
         parallel: bool,
     ) -> Result<Factorized, SchurFailure> {
         let h2 = structured.h * structured.h;
@@ -146,6 +212,80 @@ impl<const D: usize> SchurSystem<D> {
         if let Some(i) = regular.iter().position(|ok| !ok) {
             return Err(SchurFailure::SingularBlock(i));
         }
+        self.rhs.fill(0.0);
+        blocks.add_transpose(&self.a_inv_r, &mut self.rhs, parallel);
+        let reused = match krylov {
+            Some(request) if self.factorization.ready() && !self.krylov.degraded => {
+                self.gmres(structured, blocks, lin, rho, r, request, parallel)
+            }
+            _ => None,
+        };
+        let used = match reused {
+            Some(used) => used,
+            None if self.factorization.single() => {
+                // A fresh f32 factor, then GMRES with it; the f64 factorization only if
+                // that misses the tolerance.
+                self.assemble(structured, blocks, parallel);
+                let k = SparseColMatRef::new(self.symbolic.as_ref(), &self.csc_values);
+                self.krylov.counts.factorizations += 1;
+                self.krylov.degraded = false;
+                let fresh = match (krylov, self.factorization.factorize_single(k)) {
+                    (Some(request), Ok(())) => {
+                        self.gmres(structured, blocks, lin, rho, r, request, parallel)
+                    }
+                    (_, Err(e)) => {
+                        tracing::debug!(error = %e, "f32 Cholesky failed");
+                        None
+                    }
+                    (None, Ok(())) => None,
+                };
+                match fresh {
+                    Some(used) => used,
+                    None => {
+                        tracing::debug!("f32 factor insufficient: f64 Cholesky this iteration");
+                        let k = SparseColMatRef::new(self.symbolic.as_ref(), &self.csc_values);
+                        self.krylov.counts.factorizations += 1;
+                        self.factorization
+                            .solve(k, &mut self.rhs, choice)
+                            .map_err(SchurFailure::Factorization)?
+                    }
+                }
+            }
+            None => {
+                self.assemble(structured, blocks, parallel);
+                let k = SparseColMatRef::new(self.symbolic.as_ref(), &self.csc_values);
+                let result = self.factorization.solve(k, &mut self.rhs, choice);
+                // A refused no-pivot LU is followed by the pivoting one: two.
+                self.krylov.counts.factorizations += match (&result, choice) {
+                    (Ok(Factorized::PivotingLu), LuChoice::NoPivot { .. }) => 2,
+                    _ => 1,
+                };
+                self.krylov.degraded = false;
+                result.map_err(SchurFailure::Factorization)?
+            }
+        };
+        let u = &self.rhs;
+        let (local_c, a_inv_r) = (&self.local_c, &self.a_inv_r);
+        let back = |(i, di): (usize, &mut [f64])| {
+            let v = block::<D>(a_inv_r, i) - local_c[i] * blocks.apply_point(i, u) * h2;
+            di.copy_from_slice(v.as_slice());
+        };
+        if parallel {
+            d.par_chunks_mut(D)
+                .enumerate()
+                .with_min_len(64)
+                .for_each(back);
+        } else {
+            d.chunks_mut(D).enumerate().for_each(back);
+        }
+        Ok(used)
+    }
+
+    /// `K`'s values (CSC) from this iteration's local `Cᵢ`: the contributions summed in a
+    /// fixed order.
+    fn assemble(&mut self, structured: &Structured<D>, blocks: &PointBlocks<D>, parallel: bool) {
+        let h2 = structured.h * structured.h;
+        let symmetric = self.symmetric;
         // The contributions in the order of `new` (masses, then h² Σᵢ Bᵢᵀ Cᵢ Bᵢ per group,
         // its points in order), each group's into its own slice, then each CSC value
         // summed from its list.
@@ -223,28 +363,163 @@ impl<const D: usize> SchurSystem<D> {
         } else {
             self.csc_values.iter_mut().enumerate().for_each(sum);
         }
-        let k = SparseColMatRef::new(self.symbolic.as_ref(), &self.csc_values);
-        self.rhs.fill(0.0);
-        blocks.add_transpose(&self.a_inv_r, &mut self.rhs, parallel);
-        let used = self
-            .factorization
-            .solve(k, &mut self.rhs, choice)
-            .map_err(SchurFailure::Factorization)?;
-        let u = &self.rhs;
-        let (local_c, a_inv_r) = (&self.local_c, &self.a_inv_r);
-        let back = |(i, di): (usize, &mut [f64])| {
-            let v = block::<D>(a_inv_r, i) - local_c[i] * blocks.apply_point(i, u) * h2;
-            di.copy_from_slice(v.as_slice());
+    }
+
+    /// GMRES on `K u = b` (`b` in `rhs`, `u` left there), `K` applied matrix-free as
+    /// `M u + h² Bᵀ (C (B u))`, preconditioned by the last factorization. Accepted when the
+    /// stress residual of the direction it gives, `‖J_F d − r‖∞ = ‖h² R G B M⁻¹ e‖∞` for
+    /// the velocity residual `e = b − K u` (`docs/krylov.md`, 'Which residual'), is at
+    /// most `η ‖r‖∞`. `None` (counted as a failure) when it is not reached within the cap.
+    #[allow(clippy::too_many_arguments)]
+    fn gmres(
+        &mut self,
+        structured: &Structured<D>,
+        blocks: &PointBlocks<D>,
+        lin: &[NaturalMapLinearization<D>],
+        rho: &[f64],
+        r: &[f64],
+        request: KrylovRequest,
+        parallel: bool,
+    ) -> Option<Factorized> {
+        let clock = std::time::Instant::now();
+        let h2 = structured.h * structured.h;
+        let n_v = structured.lumped_mass.len();
+        let n_points = self.local_c.len();
+        let settings = request.settings;
+        let state = &mut self.krylov;
+        // (Re)built when absent or sized for another restart or dimension.
+        let rebuild = match &state.workspace {
+            Some(w) => !w.fits(n_v, settings.restart),
+            None => true,
         };
-        if parallel {
-            d.par_chunks_mut(D)
-                .enumerate()
-                .with_min_len(64)
-                .for_each(back);
-        } else {
-            d.chunks_mut(D).enumerate().for_each(back);
+        if rebuild {
+            state.workspace = Some(GmresWorkspace::new(n_v, settings.restart));
         }
-        Ok(used)
+        state.u.clear();
+        state.u.resize(n_v, 0.0);
+        state.points.resize(D * n_points, 0.0);
+        state.velocity.resize(n_v, 0.0);
+        let KrylovState {
+            workspace,
+            u,
+            points,
+            velocity,
+            counts,
+            degraded,
+        } = state;
+        let workspace = workspace.as_mut().expect("just built");
+        let (local_c, mass) = (&self.local_c, &structured.lumped_mass);
+        let factorization = &mut self.factorization;
+        let apply = |x: &[f64], y: &mut [f64]| {
+            let one = |(i, t): (usize, &mut [f64])| {
+                t.copy_from_slice((local_c[i] * blocks.apply_point(i, x) * h2).as_slice());
+            };
+            if parallel {
+                points
+                    .par_chunks_mut(D)
+                    .enumerate()
+                    .with_min_len(64)
+                    .for_each(one);
+            } else {
+                points.chunks_mut(D).enumerate().for_each(one);
+            }
+            for ((y, m), x) in y.iter_mut().zip(mass).zip(x) {
+                *y = m * x;
+            }
+            blocks.add_transpose(points, y, parallel);
+        };
+        // ‖h² ρᵢ Gᵢ Bᵢ M⁻¹ e‖∞ over the points; NaN counts as infinite.
+        let stress_residual = |e: &[f64], velocity: &mut [f64]| -> f64 {
+            for ((v, e), m) in velocity.iter_mut().zip(e).zip(mass) {
+                *v = e / m;
+            }
+            let velocity = &*velocity;
+            let one = |i: usize| -> f64 {
+                let t = (lin[i].coupling * blocks.apply_point(i, velocity) * (h2 * rho[i])).amax();
+                if t.is_nan() {
+                    f64::INFINITY
+                } else {
+                    t
+                }
+            };
+            if parallel {
+                (0..n_points)
+                    .into_par_iter()
+                    .with_min_len(256)
+                    .map(one)
+                    .reduce(|| 0.0, f64::max)
+            } else {
+                (0..n_points).map(one).fold(0.0, f64::max)
+            }
+        };
+        let allowed = request.forcing * r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        // The first 2-norm target from b (u = 0, e = b): scaled to the stress residual.
+        let b_norm = self.rhs.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let b_stress = stress_residual(&self.rhs, velocity);
+        let target = if b_stress > 0.0 {
+            0.5 * b_norm * allowed / b_stress
+        } else {
+            b_norm
+        };
+        let gmres = Gmres {
+            restart: settings.restart,
+            max_iterations: settings.max_iterations,
+            project_after: PROJECT_AFTER,
+        };
+        let mut checks = 0;
+        let result = gmres.solve(
+            workspace,
+            apply,
+            |x: &mut [f64]| factorization.precondition(x),
+            &self.rhs,
+            u,
+            target,
+            |_, e| {
+                checks += 1;
+                let stress = stress_residual(e, velocity);
+                if stress <= allowed {
+                    Verdict::Accept
+                } else {
+                    let e_norm = e.iter().map(|v| v * v).sum::<f64>().sqrt();
+                    Verdict::Continue {
+                        target: 0.5 * e_norm * allowed / stress,
+                    }
+                }
+            },
+        );
+        match result {
+            Ok(solved) => {
+                counts.krylov_iterations += solved.iterations;
+                *degraded = solved.iterations > settings.degraded_iterations;
+                tracing::debug!(
+                    iterations = solved.iterations,
+                    checks,
+                    forcing = request.forcing,
+                    seconds = clock.elapsed().as_secs_f64(),
+                    "GMRES on the last factorization"
+                );
+                self.rhs.copy_from_slice(u);
+                Some(Factorized::Reused {
+                    iterations: solved.iterations,
+                })
+            }
+            Err(error) => {
+                let iterations = match error {
+                    GmresError::NotConverged { iterations, .. }
+                    | GmresError::NonFinite { iterations } => iterations,
+                    GmresError::Settings => 0,
+                };
+                counts.krylov_iterations += iterations;
+                counts.krylov_failures += 1;
+                tracing::debug!(
+                    %error,
+                    forcing = request.forcing,
+                    seconds = clock.elapsed().as_secs_f64(),
+                    "GMRES missed its tolerance: refactorized"
+                );
+                None
+            }
+        }
     }
 }
 

@@ -10,7 +10,9 @@ use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par};
 
-use crate::factorization::{SupernodalCholesky, SymbolicSymmetricPatternLu, SymmetricPatternLu};
+use crate::factorization::{
+    Ordering, SupernodalCholesky, SymbolicSymmetricPatternLu, SymmetricPatternLu,
+};
 
 /// Which factorization solved this iteration's system.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -21,6 +23,10 @@ pub(crate) enum Factorized {
     /// The pivoting LU, because the no-pivot LU refused a pivot or its direction failed
     /// the accuracy check.
     PivotingLu,
+    /// No factorization: GMRES preconditioned by the last one, in `iterations`.
+    Reused {
+        iterations: usize,
+    },
 }
 
 /// Which LU a non-symmetric `K` is factorized by.
@@ -82,10 +88,19 @@ impl PivotingLu {
 #[allow(clippy::large_enum_variant)]
 pub(crate) enum SchurFactor {
     /// Associative: `ρ A⁻¹ D` is symmetric positive semi-definite, K is SPD.
-    Cholesky(SupernodalCholesky),
+    Cholesky {
+        cholesky: SupernodalCholesky,
+        /// The last factorization succeeded: it can precondition a later `K`.
+        ready: bool,
+        /// Factorizations stored in f32 (`Precision::Single`); `ready` is then the f32
+        /// factor's.
+        single: bool,
+    },
     Lu {
         no_pivot: SymmetricPatternLu,
         pivoting: Option<PivotingLu>,
+        /// The no-pivot LU holds the last factorization (not the pivoting fallback).
+        ready: bool,
     },
 }
 
@@ -94,17 +109,92 @@ impl SchurFactor {
     pub(crate) fn analyse(
         pattern: SymbolicSparseColMatRef<'_, usize>,
         symmetric: bool,
+        ordering: Ordering,
+        single: bool,
     ) -> Result<Self, String> {
         Ok(if symmetric {
-            SchurFactor::Cholesky(SupernodalCholesky::try_new(pattern).map_err(|e| e.to_string())?)
+            let cholesky = if single {
+                SupernodalCholesky::try_new_single(pattern, ordering)
+            } else {
+                SupernodalCholesky::try_new_with(pattern, ordering)
+            };
+            SchurFactor::Cholesky {
+                cholesky: cholesky.map_err(|e| e.to_string())?,
+                ready: false,
+                single,
+            }
         } else {
-            let symbolic =
-                SymbolicSymmetricPatternLu::try_new(pattern).map_err(|e| e.to_string())?;
+            let symbolic = SymbolicSymmetricPatternLu::try_new_with(pattern, ordering)
+                .map_err(|e| e.to_string())?;
             SchurFactor::Lu {
                 no_pivot: SymmetricPatternLu::new(Arc::new(symbolic)),
                 pivoting: None,
+                ready: false,
             }
         })
+    }
+
+    /// Stored entries of the factors (`L`, or `L` and `U`).
+    pub(crate) fn factor_nnz(&self) -> usize {
+        match self {
+            SchurFactor::Cholesky { cholesky, .. } => cholesky.factor_nnz(),
+            SchurFactor::Lu { no_pivot, .. } => no_pivot.symbolic().factor_nnz(),
+        }
+    }
+
+    /// Bytes of the stored factors (f64 and f32 storage as allocated).
+    pub(crate) fn factor_bytes(&self) -> usize {
+        match self {
+            SchurFactor::Cholesky { cholesky, .. } => cholesky.factor_bytes(),
+            SchurFactor::Lu { no_pivot, .. } => 8 * no_pivot.symbolic().factor_nnz(),
+        }
+    }
+
+    /// Whether a factorization is held that [`precondition`](Self::precondition) can use.
+    pub(crate) fn ready(&self) -> bool {
+        match self {
+            SchurFactor::Cholesky { ready, .. } | SchurFactor::Lu { ready, .. } => *ready,
+        }
+    }
+
+    /// Whether factorizations are stored in f32 (then only [`factorize_single`]
+    /// (Self::factorize_single) and GMRES give directions, [`solve`](Self::solve) being
+    /// the f64 fallback).
+    pub(crate) fn single(&self) -> bool {
+        matches!(self, SchurFactor::Cholesky { single: true, .. })
+    }
+
+    /// The f32 factorization of `k` (see [`single`](Self::single)).
+    pub(crate) fn factorize_single(
+        &mut self,
+        k: SparseColMatRef<'_, usize, f64>,
+    ) -> Result<(), String> {
+        match self {
+            SchurFactor::Cholesky {
+                cholesky,
+                ready,
+                single: true,
+            } => {
+                *ready = false;
+                cholesky.factorize_single(k).map_err(|e| e.to_string())?;
+                *ready = true;
+                Ok(())
+            }
+            _ => Err("single-precision factorizations need the Cholesky".into()),
+        }
+    }
+
+    /// `x ← K_old⁻¹ x` with the last factorization (see [`ready`](Self::ready)).
+    pub(crate) fn precondition(&mut self, x: &mut [f64]) {
+        match self {
+            SchurFactor::Cholesky {
+                cholesky,
+                single: true,
+                ..
+            } => cholesky.solve_in_place_single(x),
+            SchurFactor::Cholesky { cholesky, .. } => cholesky.solve_in_place(x),
+            SchurFactor::Lu { no_pivot, .. } => no_pivot.solve_in_place(x),
+        }
     }
 
     /// Factorizes `k` and solves `k x = rhs` in place (`choice` is ignored for Cholesky).
@@ -115,18 +205,33 @@ impl SchurFactor {
         choice: LuChoice,
     ) -> Result<Factorized, String> {
         match self {
-            SchurFactor::Cholesky(cholesky) => {
+            SchurFactor::Cholesky {
+                cholesky,
+                ready,
+                single,
+            } => {
+                // The f64 fallback of a single-precision solver leaves its f32 factor
+                // as the preconditioner.
+                if !*single {
+                    *ready = false;
+                }
                 cholesky.factorize(k).map_err(|e| e.to_string())?;
+                if !*single {
+                    *ready = true;
+                }
                 cholesky.solve_in_place(rhs);
                 Ok(Factorized::Cholesky)
             }
             SchurFactor::Lu {
                 no_pivot,
                 pivoting: fallback,
+                ready,
             } => {
+                *ready = false;
                 if let LuChoice::NoPivot { pivot_tolerance } = choice {
                     match no_pivot.factorize(k.val(), pivot_tolerance) {
                         Ok(()) => {
+                            *ready = true;
                             if tracing::enabled!(tracing::Level::TRACE) {
                                 tracing::trace!(
                                     smallest_pivot_ratio = no_pivot.smallest_pivot_ratio(),

@@ -1,7 +1,7 @@
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
 use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
-use faer::Mat;
+use faer::{Mat, MatMut};
 use talus_bipotential::NaturalMapLinearization;
 
 /// `J_F` assembled sparse, stress-sized, factored by sparse LU. Block row `i` of `J_F` has
@@ -18,6 +18,8 @@ pub(crate) struct StressSizedSystem {
     lu: SymbolicLu<usize>,
     values: Vec<f64>,
     rhs: Mat<f64>,
+    /// The last factorization, kept only for `NewtonSolve::Krylov` (`keep`).
+    last: Option<Lu<usize, f64>>,
 }
 
 impl StressSizedSystem {
@@ -71,6 +73,7 @@ impl StressSizedSystem {
             lu,
             values: vec![0.0; pairs.len()],
             rhs: Mat::zeros(n, 1),
+            last: None,
         })
     }
 
@@ -81,7 +84,9 @@ impl StressSizedSystem {
         rho: &[f64],
         r: &[f64],
         d: &mut [f64],
+        keep: bool,
     ) -> Result<(), String> {
+        self.last = None;
         let mut pos = 0;
         for (i, (l, &rho_i)) in lin.iter().zip(rho).enumerate() {
             let (a0, a1) = (self.col_ptr[i], self.col_ptr[i + 1]);
@@ -116,6 +121,23 @@ impl StressSizedSystem {
         for (k, out) in d.iter_mut().enumerate().take(self.n) {
             *out = self.rhs[(k, 0)];
         }
+        if keep {
+            self.last = Some(lu);
+        }
         Ok(())
+    }
+
+    /// `x ← J_old⁻¹ x` with the kept factorization; false without one.
+    pub(crate) fn precondition(&self, x: &mut [f64]) -> bool {
+        let Some(lu) = &self.last else {
+            return false;
+        };
+        let n = x.len();
+        lu.solve_in_place(MatMut::from_column_major_slice_mut(x, n, 1));
+        true
+    }
+
+    pub(crate) fn has_factorization(&self) -> bool {
+        self.last.is_some()
     }
 }

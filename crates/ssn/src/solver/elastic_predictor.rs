@@ -27,7 +27,7 @@ impl<const D: usize> Solver<D> {
             l.residual = block::<D>(&self.z, i) * self.rho[i];
         }
         let mut report = Report::start((0.0, 0.0));
-        if let Err(status) = self.newton_direction(&mut report) {
+        if let Err(status) = self.newton_direction(&mut report, 0.0) {
             return Err(SolveError::NotConverged(Box::new(Report {
                 status,
                 ..report

@@ -92,7 +92,11 @@ impl<const D: usize> Solver<D> {
                 report.status = Status::MaxIterations;
                 break;
             }
-            if let Err(status) = self.newton_direction(&mut report) {
+            if report.iterations == 0 {
+                self.forcing = None;
+            }
+            let needed = self.settings.tolerance * inf_norm(sigma).max(1.0) / residual;
+            if let Err(status) = self.newton_direction(&mut report, needed) {
                 report.status = status;
                 break;
             }

@@ -12,7 +12,10 @@ use talus_bipotential::{FlowRule, NaturalMapLinearization};
 use crate::error::invalid;
 use crate::newton::{DenseSystem, SchurSystem, StressSizedSystem};
 use crate::operator::{block, PointBlocks};
-use crate::{LinearSolver, Operator, ReducedSystem, Rho, Settings, SolveError, Stall};
+use crate::{
+    Forcing, LinearSolver, NewtonSolve, Operator, Precision, ReducedSystem, Rho, Settings,
+    SolveError, Stall,
+};
 
 /// A linearization that is never read (placeholder before the first evaluation).
 fn blank<const D: usize>() -> NaturalMapLinearization<D> {
@@ -46,6 +49,20 @@ pub struct Solver<const D: usize> {
     direction: Vec<f64>,
     check: Vec<f64>,
     scratch: Vec<f64>,
+    /// The last Krylov forcing term of the current solve (Eisenstat–Walker's safeguard).
+    forcing: Option<f64>,
+    /// GMRES on the stress-sized system (`NewtonSolve::Krylov` without a Schur system).
+    stress_krylov: StressKrylov,
+}
+
+/// The stress-sized Krylov path's state.
+#[derive(Default)]
+struct StressKrylov {
+    workspace: Option<crate::krylov::GmresWorkspace>,
+    /// The last GMRES solve needed more than `degraded_iterations`: refactorize next time.
+    degraded: bool,
+    /// `W x` inside the product with `J_F`.
+    wx: Vec<f64>,
 }
 
 /// Accepted `‖J_F d + F‖∞ / ‖F‖∞` of a Newton direction (inexact Newton forcing term).
@@ -100,6 +117,24 @@ fn validate(settings: &Settings) -> Result<(), SolveError> {
             ));
         }
     }
+    if let NewtonSolve::Krylov(k) = settings.newton_solve {
+        let forcing_ok = |eta: f64| eta > 0.0 && eta <= LINEAR_FORCING;
+        let forcing = match k.forcing {
+            Forcing::Fixed(eta) => forcing_ok(eta),
+            Forcing::EisenstatWalker { gamma, alpha, max } => {
+                gamma > 0.0 && gamma <= 1.0 && alpha > 1.0 && alpha <= 2.0 && forcing_ok(max)
+            }
+        };
+        if !(k.restart >= 1 && k.max_iterations >= 1 && forcing) {
+            return Err(invalid(
+                "settings.newton_solve",
+                format!(
+                    "{k:?}: need restart ≥ 1, max_iterations ≥ 1, η in (0, {LINEAR_FORCING}], \
+                     0 < gamma ≤ 1, 1 < alpha ≤ 2"
+                ),
+            ));
+        }
+    }
     if let Some(ls) = settings.line_search {
         if !(ls.armijo > 0.0 && ls.armijo < 0.5 && ls.shrink > 0.0 && ls.shrink < 1.0) {
             return Err(invalid(
@@ -141,6 +176,8 @@ impl<const D: usize> Solver<D> {
             direction: vec![0.0; n],
             check: vec![0.0; n],
             scratch: Vec::new(),
+            forcing: None,
+            stress_krylov: StressKrylov::default(),
             problem,
         };
         let symmetric = solver.problem.is_associative();
@@ -151,8 +188,20 @@ impl<const D: usize> Solver<D> {
                     .blocks
                     .as_ref()
                     .expect("structured operators carry point blocks");
-                solver.schur =
-                    Some(SchurSystem::new(s, blocks, symmetric).map_err(|e| invalid("B", e))?);
+                let single = matches!(
+                    settings.newton_solve,
+                    NewtonSolve::Krylov(k) if k.precision == Precision::Single
+                );
+                if single && !symmetric {
+                    return Err(invalid(
+                        "settings.newton_solve",
+                        "a single-precision factor needs an associative flow rule (Cholesky)",
+                    ));
+                }
+                solver.schur = Some(
+                    SchurSystem::new(s, blocks, symmetric, settings.ordering, single)
+                        .map_err(|e| invalid("B", e))?,
+                );
             }
             _ => solver.ensure_stress_sized()?,
         }
@@ -224,4 +273,18 @@ fn inf_norm(v: &[f64]) -> f64 {
         0.0,
         |m: f64, x| if x.is_nan() { f64::NAN } else { m.max(x.abs()) },
     )
+}
+
+impl<const D: usize> Solver<D> {
+    /// Stored entries of the velocity-sized Newton matrix's factors (`L`, or `L` and `U`);
+    /// `None` without a Schur system.
+    pub fn factor_nnz(&self) -> Option<usize> {
+        self.schur.as_ref().map(|s| s.factor_nnz())
+    }
+
+    /// Bytes of the velocity-sized Newton matrix's stored factors (f64 and, with
+    /// `Precision::Single`, f32) and of its GMRES workspace; `None` without a Schur system.
+    pub fn factor_memory(&self) -> Option<(usize, usize)> {
+        self.schur.as_ref().map(|s| s.memory())
+    }
 }
