@@ -308,6 +308,15 @@ fn build_mesh(scene: &Scene3) -> Result<TetrahedralMesh, SceneError> {
                     format!("{cells:?}: the number of cells must be ≥ 1 in x, y and z"),
                 ));
             }
+            // 3D has no size estimate yet: an absurd box is refused before its axes are
+            // allocated (a mutated `cells` asked for 5.9e18 bytes).
+            let tetrahedra = (cells.iter()).try_fold(6usize, |n, &c| n.checked_mul(c));
+            if tetrahedra.is_none_or(|n| n > MAX_BOX_TETRAHEDRA) {
+                return Err(scene.error(
+                    "mesh.box.cells",
+                    format!("{cells:?}: 6 tetrahedra per cell make more than {MAX_BOX_TETRAHEDRA}"),
+                ));
+            }
             let focus = focus.unwrap_or([x[0], y[0], z[0]]);
             let mut axes = Vec::with_capacity(3);
             for (k, (name, range)) in [("x", x), ("y", y), ("z", z)].into_iter().enumerate() {
@@ -361,6 +370,9 @@ fn build_mesh(scene: &Scene3) -> Result<TetrahedralMesh, SceneError> {
         )),
     }
 }
+
+/// Tetrahedra of a `[mesh.box]` at most: a cap before anything is allocated.
+const MAX_BOX_TETRAHEDRA: usize = 50_000_000;
 
 /// Layers of an extrusion at most: a cap before anything is allocated.
 const MAX_LAYERS: usize = 10_000;
