@@ -172,3 +172,43 @@ fn extrusion_and_3d_stability_errors_name_their_field() {
         .unwrap_or_else(|e| e.to_string());
     assert!(e.contains("mesh.gmsh.extrude"), "{e}");
 }
+
+/// Gravity increase in 3D: the same slab and section, its weight multiplied by the trial
+/// factor (`model::fem::weight_3d`), against the 2D search of the same scene.
+#[test]
+fn extruded_slope_gravity_increase_matches_plane_strain() {
+    let method = |text: &str| {
+        let text = common::replaced(text, "path = \"slope.msh\"", SECTION);
+        let text = common::replaced(
+            &text,
+            "method = \"strength_reduction\"",
+            "method = \"gravity_increase\"",
+        );
+        common::replaced(&text, "dilatancy = \"fixed\"\n", "")
+    };
+    let text2 = common::replaced(
+        &method(&read("slope.toml")),
+        "plots = true",
+        "plots = false",
+    );
+    let s2 = Scene::parse(&text2, Some(scenes().join("slope.toml"))).unwrap();
+    let out2 = common::target_tmp_dir("slope_extruded_3d", "gravity_2d");
+    let run2 = stability::run(&s2, &RunOptions::new(&out2)).unwrap();
+    let s3 = scene3(&method(&read("slope_extruded.toml")));
+    let out3 = common::target_tmp_dir("slope_extruded_3d", "gravity_3d");
+    let run3 = stability::run(&s3, &RunOptions::new(&out3)).unwrap();
+    let (f2, f3) = (
+        run2.factor_of_safety.value.unwrap(),
+        run3.factor_of_safety.value.unwrap(),
+    );
+    println!(
+        "gravity increase: 2D F = {f2:.4} ({} trials, {:.1} s), 3D F = {f3:.4} ({} trials, {:.1} s)",
+        run2.trials.len(),
+        run2.seconds,
+        run3.trials.len(),
+        run3.seconds
+    );
+    assert_eq!(run3.factor_of_safety.method, "gravity_increase");
+    assert!((f3 / f2 - 1.0).abs() < 0.01, "3D {f3} against 2D {f2}");
+    assert_eq!(run3.factor_of_safety.status, "found");
+}
