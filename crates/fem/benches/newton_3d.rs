@@ -248,7 +248,7 @@ fn main() {
         }
     }
     if !krylov_rows.is_empty() {
-        println!("\nWhole Newton solves of the last steps, direct against GMRES on a reused factorization (NewtonSolve::Krylov), same q and start, alternating order");
+        println!("\nWhole Newton solves of the last steps, direct against GMRES on a reused factorization (NewtonSolve::Krylov), same q and start, alternating order; seconds are CPU seconds of the process");
         println!("| cells | flow | free dofs | factor MiB | steps | direct s | krylov s | krylov / direct | Newton its direct / krylov | factorizations direct / krylov | GMRES solves | GMRES its per Newton it | GMRES MiB | max Δσ/‖σ‖ | peak MiB | elastic K: GMRES its, f64 / f32 factor | factor MiB f64 / f32 | f32 solver: factor MiB | f32 s | f32 / direct | f32 Newton its | f32 factorizations | GMRES its per Newton it |");
         println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
         for r in &krylov_rows {
@@ -1088,15 +1088,17 @@ fn krylov_child(cells: [usize; 3], associative: bool) {
                 None => state.sigma.clone(),
             };
             let mut single_runs = Vec::new();
+            // CPU seconds of the process (all threads): less disturbed than wall time by
+            // the other jobs of a shared machine.
             let run = |solver: &mut Solver<D>| {
                 let mut sigma = start.clone();
-                let t = Instant::now();
+                let t = cpu_seconds();
                 let r = match solver.solve(&mut sigma) {
                     Ok(r) => r,
                     Err(SolveError::NotConverged(r)) => *r,
                     Err(e) => panic!("step {step}: {e}"),
                 };
-                (sigma, r, t.elapsed().as_secs_f64())
+                (sigma, r, cpu_seconds() - t)
             };
             if let Some(single) = single.as_mut() {
                 single.set_q(model.reduced_rhs(&state, H)).expect("q");
@@ -1388,4 +1390,21 @@ fn nd_ordering() -> Ordering {
 fn nd_ordering() -> Ordering {
     eprintln!("TALUS_3D_BENCH_ND=1 needs `--features metis`");
     std::process::exit(2);
+}
+
+/// User + system CPU seconds of this process, all threads (`/proc/self/stat`, 100 Hz).
+fn cpu_seconds() -> f64 {
+    std::fs::read_to_string("/proc/self/stat")
+        .ok()
+        .and_then(|s| {
+            // Fields after the command name (which may hold spaces) start at state (3).
+            let rest = s.rsplit_once(')')?.1;
+            let f: Vec<&str> = rest.split_whitespace().collect();
+            let (u, k) = (
+                f.get(11)?.parse::<f64>().ok()?,
+                f.get(12)?.parse::<f64>().ok()?,
+            );
+            Some((u + k) / 100.0)
+        })
+        .unwrap_or(f64::NAN)
 }
