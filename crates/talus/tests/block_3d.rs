@@ -161,6 +161,14 @@ fn what_3d_does_not_run_yet_is_refused_naming_its_field() {
         "{BLOCK}\n[[pressure]]\nfaces = {{ box = [[0.2, 0.5, 0.2], [0.8, 1.5, 0.8]] }}\nvalue = 1e3\n"
     );
     assert_eq!(error_of(&loaded).field, "pressure[0].faces");
+    // The checks 2D's loads share (`scene::check::{pressure, point_load}`).
+    let bad_gradient =
+        format!("{BLOCK}\n[[pressure]]\nfaces = \"top\"\nvalue = 1e3\ngradient = inf\n");
+    assert_eq!(error_of(&bad_gradient).field, "pressure[0].gradient");
+    let bad_force =
+        format!("{BLOCK}\n[[point_load]]\npoint = [0.5, 2.0, 0.5]\nforce = [0.0, nan, 0.0]\n");
+    let err = error_of(&bad_force);
+    assert_eq!(err.field, "point_load[0].force", "{err}");
     let named = format!("{BLOCK}\n[[traction]]\nfaces = \"roof\"\nvalue = [0.0, -1e3, 0.0]\n");
     let err = error_of(&named);
     assert_eq!(err.field, "traction[0].faces", "{err}");

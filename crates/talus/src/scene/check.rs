@@ -5,8 +5,8 @@ use talus_bipotential::{DruckerPrager, DruckerPragerParameters, Elastic, Materia
 use super::material::Flow;
 use super::source::Locate;
 use super::{
-    MaterialModel, MaterialSpec, MpmSceneSpec, Ramp, SceneError, SceneSpec, SceneVector,
-    SolverSpec, TimeSpec,
+    MaterialModel, MaterialSpec, MpmSceneSpec, PointLoadSpec, PressureSpec, Ramp, SceneError,
+    SceneSpec, SceneVector, SolverSpec, TimeSpec,
 };
 
 /// The material at `field` (`material` or `material[k]`): Drucker-Prager with its
@@ -157,6 +157,68 @@ pub fn solver(scene: &impl Locate, sv: &SolverSpec) -> Result<(), SceneError> {
     }
     if sv.max_iterations == 0 {
         return Err(scene.error("solver.max_iterations", "must be at least 1"));
+    }
+    Ok(())
+}
+
+/// Every `[[pressure]]` and `[[point_load]]` of a FEM scene, finite (the force in `unit`,
+/// N/m or N): before the scales are checked, which would otherwise name the pressure's
+/// `value` for a non-finite `gradient`.
+pub fn loads<V: SceneVector>(
+    scene: &impl Locate,
+    spec: &SceneSpec<V>,
+    unit: &str,
+) -> Result<(), SceneError> {
+    for (k, p) in spec.pressure.iter().enumerate() {
+        pressure(scene, k, p)?;
+    }
+    for (k, l) in spec.point_load.iter().enumerate() {
+        point_load(scene, k, l, unit)?;
+    }
+    Ok(())
+}
+
+/// `pressure[k]`'s value (Pa) and gradient along y (Pa/m), finite: the pressure at height
+/// y is `value + gradient · y` (`docs/scenes.md`).
+fn pressure<V: SceneVector>(
+    scene: &impl Locate,
+    k: usize,
+    p: &PressureSpec<V>,
+) -> Result<(), SceneError> {
+    if !p.value.is_finite() {
+        return Err(scene.error(
+            &format!("pressure[{k}].value"),
+            format!("{} Pa must be finite", p.value),
+        ));
+    }
+    match p.gradient {
+        Some(g) if !g.is_finite() => Err(scene.error(
+            &format!("pressure[{k}].gradient"),
+            format!("{g} Pa/m must be finite"),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// `point_load[k]`'s point and force, finite (the force in `unit`, N/m or N).
+fn point_load<V: SceneVector>(
+    scene: &impl Locate,
+    k: usize,
+    l: &PointLoadSpec<V>,
+    unit: &str,
+) -> Result<(), SceneError> {
+    let finite = |v: &V| v.as_ref().iter().all(|c| c.is_finite());
+    if !finite(&l.point) {
+        return Err(scene.error(
+            &format!("point_load[{k}].point"),
+            format!("{:?} m must be finite", l.point),
+        ));
+    }
+    if !finite(&l.force) {
+        return Err(scene.error(
+            &format!("point_load[{k}].force"),
+            format!("{:?} {unit} must be finite", l.force),
+        ));
     }
     Ok(())
 }

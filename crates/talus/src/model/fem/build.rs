@@ -59,6 +59,8 @@ pub(super) fn check_scene(scene: &Scene) -> Result<(), SceneError> {
         ..spec.time
     };
     check::time(scene, &time)?;
+    // Loads finite before the scales read them (`check::loads`).
+    check::loads(scene, &scene.spec, "N/m")?;
     check::solver(scene, &spec.solver)?;
     // Before `caps`, whose field would be `time.steps`, which a staged scene leaves at 0.
     scales::stage_steps_cap(scene, &spec.stage)?;
@@ -273,23 +275,9 @@ pub(super) fn build(
         let edges = select_edges(scene, &mesh, &p.edges, &field, &in_stage)?;
         check_off_axis(scene, &mesh, &edges, &field, geometry)?;
         let ramp = check::ramp(scene, &format!("pressure[{k}].ramp"), &p.ramp)?;
-        if !p.value.is_finite() {
-            return Err(scene.error(
-                &format!("pressure[{k}].value"),
-                format!("{} Pa must be finite", p.value),
-            ));
-        }
         let forces = match p.gradient {
             None => assembly.pressure(&mesh, &edges, p.value),
-            Some(gradient) if gradient.is_finite() => {
-                assembly.pressure_with(&mesh, &edges, |x| p.value + gradient * x[1])
-            }
-            Some(gradient) => {
-                return Err(scene.error(
-                    &format!("pressure[{k}].gradient"),
-                    format!("{gradient} Pa/m must be finite"),
-                ))
-            }
+            Some(g) => assembly.pressure_with(&mesh, &edges, |x| p.value + g * x[1]),
         };
         add_load(
             forces.map_err(|e| scene.error(&field, e.to_string()))?,
@@ -301,18 +289,6 @@ pub(super) fn build(
             continue;
         }
         let field = format!("point_load[{k}]");
-        if !l.point.iter().all(|v| v.is_finite()) {
-            return Err(scene.error(
-                &format!("{field}.point"),
-                format!("{:?} m must be finite", l.point),
-            ));
-        }
-        if !l.force.iter().all(|v| v.is_finite()) {
-            return Err(scene.error(
-                &format!("{field}.force"),
-                format!("{:?} N/m must be finite", l.force),
-            ));
-        }
         let ramp = check::ramp(scene, &format!("{field}.ramp"), &l.ramp)?;
         let node = nearest_node(&mesh, l.point);
         add_load(

@@ -71,6 +71,8 @@ pub fn model_3d(scene: &Scene3) -> Result<Model3, SceneError> {
     let spec = &scene.spec;
     let time = spec.time;
     check::time(scene, &time)?;
+    // Loads finite before the scales read them (`check::loads`).
+    check::loads(scene, &scene.spec, "N")?;
     check::solver(scene, &spec.solver)?;
     scales::caps(scene, &time, spec.solver.max_step_halvings)?;
     let mesh = build_mesh(scene)?;
@@ -159,24 +161,10 @@ pub fn model_3d(scene: &Scene3) -> Result<Model3, SceneError> {
         let field = format!("pressure[{k}].faces");
         let faces = select_faces(scene, &mesh, &p.edges, &field)?;
         let ramp = check::ramp(scene, &format!("pressure[{k}].ramp"), &p.ramp)?;
-        if !p.value.is_finite() {
-            return Err(scene.error(
-                &format!("pressure[{k}].value"),
-                format!("{} Pa must be finite", p.value),
-            ));
-        }
         // As in 2D, `gradient` varies the pressure along y (water against a wall).
         let forces = match p.gradient {
             None => assembly.pressure(&mesh, &faces, p.value),
-            Some(gradient) if gradient.is_finite() => {
-                assembly.pressure_with(&mesh, &faces, |x| p.value + gradient * x[1])
-            }
-            Some(gradient) => {
-                return Err(scene.error(
-                    &format!("pressure[{k}].gradient"),
-                    format!("{gradient} Pa/m must be finite"),
-                ))
-            }
+            Some(g) => assembly.pressure_with(&mesh, &faces, |x| p.value + g * x[1]),
         };
         loads.push((
             forces.map_err(|e| scene.error(&field, e.to_string()))?,
@@ -185,12 +173,6 @@ pub fn model_3d(scene: &Scene3) -> Result<Model3, SceneError> {
     }
     for (k, l) in spec.point_load.iter().enumerate() {
         let field = format!("point_load[{k}]");
-        if !l.point.iter().all(|v| v.is_finite()) {
-            return Err(scene.error(
-                &format!("{field}.point"),
-                format!("{:?} m must be finite", l.point),
-            ));
-        }
         let ramp = check::ramp(scene, &format!("{field}.ramp"), &l.ramp)?;
         let node = nearest_node(&mesh, l.point);
         let forces = assembly
