@@ -263,3 +263,119 @@ where
     )?;
     Ok(())
 }
+
+/// The VTUs of a FEM run, 2D or 3D: `vtu/step_NNNNN.vtu` at step 0, every `vtu_every`
+/// steps, the last step and the state a run stopped at, each listed in `solution.pvd` as
+/// it is written (ParaView opens a killed run), with the last two states kept for the
+/// plastic strain increment. Nothing when the run writes no fields.
+#[derive(Debug)]
+pub(super) struct Vtus<'a, const N: usize = 2> {
+    out: &'a Path,
+    write_fields: bool,
+    /// (time, file) of every VTU written, from step 0 (saved in a checkpoint).
+    pub(super) pvd: Vec<(f64, String)>,
+    last_steps: LastSteps<N>,
+}
+
+impl<'a, const N: usize> Vtus<'a, N> {
+    /// Going on from the VTUs `pvd` lists (a stage carries them to the next).
+    pub(super) fn new(out: &'a Path, write_fields: bool, pvd: Vec<(f64, String)>) -> Self {
+        Self {
+            out,
+            write_fields,
+            pvd,
+            last_steps: LastSteps::default(),
+        }
+    }
+
+    pub(super) fn writes(&self) -> bool {
+        self.write_fields
+    }
+
+    /// Keeps `state`, the state after `step` (a resumed or carried start, or a step's
+    /// end), for the next VTU's increment.
+    pub(super) fn keep<const D: usize>(&mut self, step: usize, state: &State<D>)
+    where
+        Mandel<D>: Dimension<Point = [f64; N]>,
+    {
+        if self.write_fields {
+            self.last_steps.push(step, state);
+        }
+    }
+
+    /// After `step`: keeps `state`, and writes it at step 0, every `every` steps (0:
+    /// never) and at `last`.
+    pub(super) fn after_step<const D: usize>(
+        &mut self,
+        model: &Model<D>,
+        step: usize,
+        state: &State<D>,
+        (every, last): (usize, usize),
+    ) -> Result<(), RunError>
+    where
+        Mandel<D>: Dimension<Point = [f64; N]>,
+    {
+        self.keep(step, state);
+        if self.write_fields && (step == 0 || (every > 0 && step % every == 0) || step == last) {
+            self.write(model, step, state)?;
+        }
+        Ok(())
+    }
+
+    /// A run that stopped early (collapse, failure, interruption) ends with its last state.
+    pub(super) fn finish<const D: usize>(
+        &mut self,
+        model: &Model<D>,
+        step: usize,
+        state: &State<D>,
+    ) -> Result<(), RunError>
+    where
+        Mandel<D>: Dimension<Point = [f64; N]>,
+    {
+        if self.write_fields && self.pvd.last().map(|(t, _)| *t) != Some(state.time) {
+            self.write(model, step, state)?;
+        }
+        Ok(())
+    }
+
+    /// A checkpoint's list: the VTUs of later steps, and the one an interruption wrote of
+    /// its last state, are removed.
+    pub(super) fn restore(&mut self, pvd: Vec<(f64, String)>) -> Result<(), RunError> {
+        self.pvd = pvd;
+        let listed = |n: usize| {
+            self.pvd
+                .iter()
+                .any(|(_, f)| *f == format!("vtu/step_{n:05}.vtu"))
+        };
+        crate::run::checkpoint::drop_numbered_files(
+            &self.out.join("vtu"),
+            "step_",
+            ".vtu",
+            listed,
+        )?;
+        if self.write_fields && !self.pvd.is_empty() {
+            output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
+        }
+        Ok(())
+    }
+
+    /// `vtu/step_NNNNN.vtu` of `state`, listed in the collection.
+    fn write<const D: usize>(
+        &mut self,
+        model: &Model<D>,
+        step: usize,
+        state: &State<D>,
+    ) -> Result<(), RunError>
+    where
+        Mandel<D>: Dimension<Point = [f64; N]>,
+    {
+        let dir = self.out.join("vtu");
+        std::fs::create_dir_all(&dir).map_err(crate::run::io_err(&dir))?;
+        let name = format!("step_{step:05}.vtu");
+        let start = self.last_steps.start_of(step, state);
+        write_snapshot(model, state, start, &dir.join(&name))?;
+        self.pvd.push((state.time, format!("vtu/{name}")));
+        output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
+        Ok(())
+    }
+}

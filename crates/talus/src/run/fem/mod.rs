@@ -12,13 +12,11 @@ use std::time::Instant;
 use talus_engine::Stepper;
 
 use super::checkpoint::{self, Checkpoint, CheckpointError};
-use super::{io_err, RunError, RunOptions, RunOutputs, Shape, Span, HISTORY_COLUMNS};
+use super::{RunError, RunOptions, RunOutputs, Shape, Span, HISTORY_COLUMNS};
 use crate::model::fem::stages::Stages;
 use crate::model::fem::{FromScene, Model, ReactionForce, State, StepRecord};
-use crate::output;
 use crate::output::{Results, ResultsProgress};
 use crate::scene::Scene;
-use fields::write_snapshot;
 use plots::write_plots;
 pub use results::FemResults;
 pub use three_d::run_scene_3d;
@@ -133,16 +131,14 @@ struct FemOutputs<'a> {
     results: FemResults,
     model: &'a Model,
     out: &'a Path,
-    write_fields: bool,
     /// The nodes of the reported boundary's prescribed dofs.
     reaction_nodes: Vec<usize>,
-    pvd: Vec<(f64, String)>,
+    /// The VTUs and `solution.pvd`.
+    vtus: fields::Vtus<'a>,
     /// (settlement, reaction) after every step, from step 0.
     curve: Vec<(f64, f64)>,
     /// `(step, ‖F‖∞ / max(1, ‖σ‖∞) per iteration)` of every solve, for the Newton plot.
     histories: Vec<(usize, Vec<f64>)>,
-    /// The last two steps' stress and displacement: a VTU's plastic strain increment.
-    last_steps: fields::LastSteps,
     /// A staged run's stage: history.csv's `stage` column, the VTU at its end, and the
     /// force it releases (saved in a checkpoint).
     stage: Option<StageOutputs>,
@@ -194,12 +190,10 @@ impl<'a> FemOutputs<'a> {
             results: carried.results,
             model,
             out: &options.out_dir,
-            write_fields: options.write_fields,
             reaction_nodes: reaction_nodes(model),
-            pvd: carried.pvd,
+            vtus: fields::Vtus::new(&options.out_dir, options.write_fields, carried.pvd),
             curve: carried.curve,
             histories: carried.histories,
-            last_steps: fields::LastSteps::default(),
             stage,
         }
     }
@@ -208,7 +202,7 @@ impl<'a> FemOutputs<'a> {
     fn into_carried(self) -> Carried {
         Carried {
             results: self.results,
-            pvd: self.pvd,
+            pvd: self.vtus.pvd,
             curve: self.curve,
             histories: self.histories,
         }
@@ -324,13 +318,7 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
             Some(s) => s.last_step,
             None => self.scene.spec.time.steps,
         };
-        if self.write_fields {
-            self.last_steps.push(step, state);
-        }
-        if self.write_fields && (step == 0 || (every > 0 && step % every == 0) || step == last) {
-            self.write_vtu(step, state)?;
-        }
-        Ok(())
+        self.vtus.after_step(self.model, step, state, (every, last))
     }
 
     fn message(&self, report: &StepRecord, _: &State) -> String {
@@ -342,14 +330,10 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
     }
 
     fn finish(&mut self, state: &State, step: usize) -> Result<(), RunError> {
-        if !self.write_fields {
+        if !self.vtus.writes() {
             return Ok(());
         }
-        // A run that stopped early (collapse, failure, interruption) ends with its last
-        // state too; `write_vtu` keeps solution.pvd current.
-        if self.pvd.last().map(|(t, _)| *t) != Some(state.time) {
-            self.write_vtu(step, state)?;
-        }
+        self.vtus.finish(self.model, step, state)?;
         if self.scene.spec.output.plots && step > 0 {
             write_plots(
                 self.scene,
@@ -366,9 +350,7 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
     /// A resumed run's checkpoint state, or a stage's carried one: where the next step's
     /// plastic strain increment starts.
     fn begin(&mut self, step: usize, state: &State) {
-        if self.write_fields {
-            self.last_steps.push(step, state);
-        }
+        self.vtus.keep(step, state);
     }
 
     fn results(&self) -> &Results {
@@ -378,7 +360,7 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
     fn save(&self) -> serde_json::Value {
         serde_json::json!(FemProgress {
             results: self.results.results.progress(),
-            pvd: self.pvd.clone(),
+            pvd: self.vtus.pvd.clone(),
             curve: self.curve.clone(),
             histories: self.histories.clone(),
             stage: self.stage.clone(),
@@ -393,35 +375,9 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
         };
         let p: FemProgress = serde_json::from_value(saved).map_err(|e| corrupt(e.to_string()))?;
         self.results.results.restore(p.results).map_err(corrupt)?;
-        self.pvd = p.pvd;
         self.curve = p.curve;
         self.histories = p.histories;
         self.stage = p.stage;
-        // The VTUs of later steps, and the one an interruption wrote of its last state.
-        let listed = |n: usize| {
-            self.pvd
-                .iter()
-                .any(|(_, f)| *f == format!("vtu/step_{n:05}.vtu"))
-        };
-        checkpoint::drop_numbered_files(&self.out.join("vtu"), "step_", ".vtu", listed)?;
-        if self.write_fields && !self.pvd.is_empty() {
-            output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
-        }
-        Ok(())
-    }
-}
-
-impl FemOutputs<'_> {
-    /// `vtu/step_NNNNN.vtu` of `state`, listed in the collection.
-    fn write_vtu(&mut self, step: usize, state: &State) -> Result<(), RunError> {
-        let dir = self.out.join("vtu");
-        std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
-        let name = format!("step_{step:05}.vtu");
-        let start = self.last_steps.start_of(step, state);
-        write_snapshot(self.model, state, start, &dir.join(&name))?;
-        self.pvd.push((state.time, format!("vtu/{name}")));
-        // The collection lists every VTU written so far: ParaView opens a killed run.
-        output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
-        Ok(())
+        self.vtus.restore(p.pvd)
     }
 }

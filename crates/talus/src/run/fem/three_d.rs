@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use talus_engine::Stepper;
 
-use super::fields::{write_snapshot, LastSteps};
+use super::fields::Vtus;
 use super::{reaction_nodes, settlement, FemProgress, RunSummary, FEM_COLUMNS};
 use crate::model::fem::{
     initial_state_3d, model_3d, prescribed_forces_at_rest, Model3, ReactionForce, ReactionGroups,
@@ -17,7 +17,7 @@ use crate::model::fem::{
 };
 use crate::output::{self, Results};
 use crate::run::checkpoint::{self, Checkpoint, CheckpointError};
-use crate::run::{io_err, RunError, RunOptions, RunOutputs, Span, HISTORY_COLUMNS};
+use crate::run::{RunError, RunOptions, RunOutputs, Span, HISTORY_COLUMNS};
 use crate::scene::Scene3;
 
 /// Runs the 3D `scene` to its end (or from `resumed`'s checkpoint).
@@ -74,12 +74,10 @@ struct Outputs3<'a> {
     results: Results,
     groups: ReactionGroups,
     out: &'a Path,
-    write_fields: bool,
     reaction_nodes: Vec<usize>,
-    pvd: Vec<(f64, String)>,
+    vtus: Vtus<'a, 3>,
     curve: Vec<(f64, f64)>,
     histories: Vec<(usize, Vec<f64>)>,
-    last_steps: LastSteps<3>,
 }
 
 impl<'a> Outputs3<'a> {
@@ -106,25 +104,11 @@ impl<'a> Outputs3<'a> {
             results,
             groups,
             out: &options.out_dir,
-            write_fields: options.write_fields,
             reaction_nodes: reaction_nodes(model),
-            pvd: Vec::new(),
+            vtus: Vtus::new(&options.out_dir, options.write_fields, Vec::new()),
             curve: Vec::new(),
             histories: Vec::new(),
-            last_steps: LastSteps::default(),
         })
-    }
-
-    /// `vtu/step_NNNNN.vtu` of `state` (tetrahedra), listed in `solution.pvd`.
-    fn write_vtu(&mut self, step: usize, state: &State3) -> Result<(), RunError> {
-        let dir = self.out.join("vtu");
-        std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
-        let name = format!("step_{step:05}.vtu");
-        let start = self.last_steps.start_of(step, state);
-        write_snapshot(self.model, state, start, &dir.join(&name))?;
-        self.pvd.push((state.time, format!("vtu/{name}")));
-        output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
-        Ok(())
     }
 }
 
@@ -167,15 +151,9 @@ impl RunOutputs<&Model3, 6> for Outputs3<'_> {
     }
 
     fn after_step(&mut self, step: usize, state: &State3) -> Result<(), RunError> {
-        let every = self.scene.spec.output.vtu_every;
-        if self.write_fields {
-            self.last_steps.push(step, state);
-        }
-        let last = self.scene.spec.time.steps;
-        if self.write_fields && (step == 0 || (every > 0 && step % every == 0) || step == last) {
-            self.write_vtu(step, state)?;
-        }
-        Ok(())
+        let spec = &self.scene.spec;
+        let cadence = (spec.output.vtu_every, spec.time.steps);
+        self.vtus.after_step(self.model, step, state, cadence)
     }
 
     fn message(&self, report: &StepRecord, _: &State3) -> String {
@@ -187,12 +165,10 @@ impl RunOutputs<&Model3, 6> for Outputs3<'_> {
     }
 
     fn finish(&mut self, state: &State3, step: usize) -> Result<(), RunError> {
-        if !self.write_fields {
+        if !self.vtus.writes() {
             return Ok(());
         }
-        if self.pvd.last().map(|(t, _)| *t) != Some(state.time) {
-            self.write_vtu(step, state)?;
-        }
+        self.vtus.finish(self.model, step, state)?;
         if self.scene.spec.output.plots && step > 0 {
             // The dimension-free plots; a 3D body has no PNG field map.
             let title = (self.scene.spec.title.clone()).unwrap_or_else(|| "talus run".into());
@@ -216,9 +192,7 @@ impl RunOutputs<&Model3, 6> for Outputs3<'_> {
     }
 
     fn begin(&mut self, step: usize, state: &State3) {
-        if self.write_fields {
-            self.last_steps.push(step, state);
-        }
+        self.vtus.keep(step, state);
     }
 
     fn results(&self) -> &Results {
@@ -228,7 +202,7 @@ impl RunOutputs<&Model3, 6> for Outputs3<'_> {
     fn save(&self) -> serde_json::Value {
         serde_json::json!(FemProgress {
             results: self.results.progress(),
-            pvd: self.pvd.clone(),
+            pvd: self.vtus.pvd.clone(),
             curve: self.curve.clone(),
             histories: self.histories.clone(),
             stage: None,
@@ -243,18 +217,8 @@ impl RunOutputs<&Model3, 6> for Outputs3<'_> {
         };
         let p: FemProgress = serde_json::from_value(saved).map_err(|e| corrupt(e.to_string()))?;
         self.results.restore(p.results).map_err(corrupt)?;
-        self.pvd = p.pvd;
         self.curve = p.curve;
         self.histories = p.histories;
-        let listed = |n: usize| {
-            self.pvd
-                .iter()
-                .any(|(_, f)| *f == format!("vtu/step_{n:05}.vtu"))
-        };
-        checkpoint::drop_numbered_files(&self.out.join("vtu"), "step_", ".vtu", listed)?;
-        if self.write_fields && !self.pvd.is_empty() {
-            output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
-        }
-        Ok(())
+        self.vtus.restore(p.pvd)
     }
 }
