@@ -99,10 +99,19 @@ fn a_3d_run_writes_history_summary_and_tetrahedral_vtus() {
     let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
     let header = history.lines().next().unwrap();
     assert!(
-        header.ends_with(",reaction_force,footing_displacement,base_fx,base_fy,base_fz"),
+        header.ends_with(
+            ",reaction_force,footing_displacement,base_fx,base_fy,base_fz,inertial_share"
+        ),
         "{header}"
     );
     assert_eq!(history.lines().count(), 1 + 4, "a row per step from step 0");
+    // Quasi-static: inertia carries a negligible share of the base's reaction (2D's
+    // `inertial_share`, the same function).
+    let share: f64 = (history.lines().last().unwrap().rsplit(',').next().unwrap())
+        .parse()
+        .unwrap();
+    println!("inertial share {share:e}");
+    assert!(share < talus::run::fem::INERTIAL_SHARE_WARNING, "{share}");
     let summary = Summary::read(&out.join("summary.json")).unwrap();
     assert_eq!(summary.steps, 3);
     assert_eq!(summary.force_unit, "N");
@@ -132,11 +141,6 @@ fn a_3d_run_writes_history_summary_and_tetrahedral_vtus() {
 fn what_3d_does_not_run_yet_is_refused_naming_its_field() {
     let cases = [
         ("[output]", "[water]\nlevel = 1.0\n\n[output]", "water"),
-        (
-            "[output]",
-            "[[monitor]]\nname = \"top\"\npoint = [0.5, 2.0, 0.5]\n\n[output]",
-            "monitor",
-        ),
         (
             "[output]",
             "[initial_stress]\nstress = [-1.0, -1.0, 0.0, -1.0]\n\n[output]",
@@ -173,6 +177,70 @@ fn what_3d_does_not_run_yet_is_refused_naming_its_field() {
     let err = error_of(&named);
     assert_eq!(err.field, "traction[0].faces", "{err}");
     assert!(err.message.contains("top"), "lists the face sets: {err}");
+}
+
+/// A monitor at the top of the block records the column's settlement: `u_y(H) = −ρ g H² /
+/// (2M)`, `M = E (1 − ν) / ((1 + ν)(1 − 2ν))` the constrained modulus (the integral of
+/// `ε_yy = σ_yy / M` over the height; quadratic in y, held exactly by P2 tetrahedra), and
+/// no horizontal motion; its six columns and `summary.json`'s `uz`, `vz`. A point outside
+/// the mesh is refused naming `monitor[0].point`.
+#[test]
+fn a_3d_monitor_records_the_settlement_of_the_column() {
+    const E: f64 = 2.0e7;
+    let text = replaced(
+        BLOCK,
+        "[output]",
+        "[[monitor]]\nname = \"top\"\npoint = [0.5, 2.0, 0.5]\n\n[output]",
+    );
+    let (out, _, _) = talus_run("block_3d", "monitor", &text);
+    let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    let mut lines = history.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let last: Vec<f64> = (lines.last().unwrap().split(','))
+        .map(|v| v.parse().unwrap())
+        .collect();
+    let column = |name: &str| {
+        let k = header.iter().position(|h| *h == name);
+        last[k.unwrap_or_else(|| panic!("no column {name} in {header:?}"))]
+    };
+    let m = E * (1.0 - NU) / ((1.0 + NU) * (1.0 - 2.0 * NU));
+    let exact = -RHO * G * HEIGHT * HEIGHT / (2.0 * m);
+    let uy = column("top_uy");
+    println!(
+        "top u_y {uy:.10e} m against {exact:.10e} (rel. {:.1e}); u_x {:.1e}, u_z {:.1e}",
+        (uy - exact).abs() / exact.abs(),
+        column("top_ux"),
+        column("top_uz")
+    );
+    assert!(
+        (uy - exact).abs() < 1e-6 * exact.abs(),
+        "{uy} against {exact}"
+    );
+    for c in ["top_ux", "top_uz", "top_vx", "top_vz"] {
+        assert!(column(c).abs() < 1e-6 * exact.abs(), "{c} = {}", column(c));
+    }
+    let summary = Summary::read(&out.join("summary.json")).unwrap();
+    let top = summary.monitors["top"].unwrap();
+    // history.csv keeps 11 significant digits.
+    assert!(
+        (top.uy - uy).abs() < 1e-9 * uy.abs(),
+        "{top:?} against {uy}"
+    );
+    assert!(top.uz.is_some() && top.vz.is_some(), "{top:?}");
+    let outside = replaced(&text, "point = [0.5, 2.0, 0.5]", "point = [0.5, 2.5, 0.5]");
+    let err = error_of_run(&outside);
+    assert_eq!(err.field, "monitor[0].point", "{err}");
+}
+
+/// The error the run of a 3D scene stops with, after its model is built.
+fn error_of_run(text: &str) -> talus::scene::SceneError {
+    let scene = scene(text);
+    let dir = common::target_tmp_dir("block_3d", "refused_run");
+    match run_scene_3d(&scene, &RunOptions::new(dir.join("out")), None) {
+        Err(talus::run::RunError::Scene(e)) => e,
+        Err(e) => panic!("not a scene error: {e}"),
+        Ok(_) => panic!("the scene must be refused"),
+    }
 }
 
 /// A uniform pressure on the top of the block, selected by a 3D box, adds `q A` to the

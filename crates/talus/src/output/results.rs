@@ -1,6 +1,7 @@
 //! The results a user reads besides the solver's: one reaction per named boundary
-//! (`NAME_fx, NAME_fy`, N/m) and one displacement and velocity per monitor (`NAME_ux,
-//! NAME_uy, NAME_vx, NAME_vy`) appended to each `history.csv` row, tracked over the run for
+//! (`NAME_fx, NAME_fy`, N/m; 3D `NAME_fz` too, N) and one displacement and velocity per
+//! monitor (`NAME_ux, NAME_uy, NAME_vx, NAME_vy`; 3D `NAME_ux, NAME_uy, NAME_uz, NAME_vx,
+//! NAME_vy, NAME_vz`) appended to each `history.csv` row, tracked over the run for
 //! `summary.json` (FEM and MPM alike).
 use std::collections::BTreeMap;
 
@@ -16,11 +17,12 @@ pub struct Results {
     boundaries: Vec<String>,
     monitors: Vec<String>,
     reported: Option<String>,
-    /// Force components per boundary: 2 (`fx, fy`) in 2D and MPM, 3 (`fx, fy, fz`) in 3D.
+    /// Force components per boundary: 2 (`fx, fy`) in 2D and MPM, 3 (`fx, fy, fz`) in 3D;
+    /// a monitor's displacement and velocity have as many.
     components: usize,
     last: Vec<Vec<f64>>,
     peak: Vec<(Vec<f64>, usize)>,
-    monitor_values: Vec<Option<[f64; 4]>>,
+    monitor_values: Vec<Option<Vec<f64>>>,
     /// `(settlement, force)` of the reported boundary at every recorded step.
     curve: Vec<(f64, f64)>,
     steps: usize,
@@ -38,7 +40,7 @@ pub struct Results {
 pub struct ResultsProgress {
     last: Vec<Vec<f64>>,
     peak: Vec<(Vec<f64>, usize)>,
-    monitor_values: Vec<Option<[f64; 4]>>,
+    monitor_values: Vec<Option<Vec<f64>>>,
     curve: Vec<(f64, f64)>,
     steps: usize,
     time: f64,
@@ -65,8 +67,9 @@ impl Results {
         Self::with_components(base, boundaries, monitors, reported, 2)
     }
 
-    /// [`Results::new`] with `components` force components per boundary (3 in 3D:
-    /// `NAME_fx, NAME_fy, NAME_fz`).
+    /// [`Results::new`] with `components` force components per boundary and displacement
+    /// and velocity components per monitor (3 in 3D: `NAME_fx, NAME_fy, NAME_fz`,
+    /// `NAME_ux, NAME_uy, NAME_uz, NAME_vx, NAME_vy, NAME_vz`).
     pub fn with_components(
         base: &str,
         boundaries: &[(String, String)],
@@ -82,7 +85,7 @@ impl Results {
             .chain(
                 monitors
                     .iter()
-                    .map(|m| (m, &crate::scene::MONITOR_COLUMNS[..])),
+                    .map(|m| (m, crate::scene::monitor_columns(components))),
             );
         let fields: Vec<&String> = boundaries.iter().chain(monitors).map(|(f, _)| f).collect();
         for (k, ((field, name), suffixes)) in named.enumerate() {
@@ -139,23 +142,23 @@ impl Results {
                 .iter()
                 .map(move |s| format!(",{n}_{s}"))
         });
-        let m = self
-            .monitors
-            .iter()
-            .flat_map(|n| crate::scene::MONITOR_COLUMNS.map(|s| format!(",{n}_{s}")));
+        let m = self.monitors.iter().flat_map(|n| {
+            (crate::scene::monitor_columns(self.components).iter())
+                .map(move |s| format!(",{n}_{s}"))
+        });
         b.chain(m).collect()
     }
 
     /// Records step `step` (0: the initial state) at `time`: each named boundary's force,
-    /// each monitor's `[ux, uy, vx, vy]` (`None`: no material around an MPM point, written
-    /// as empty cells), the reported boundary's `(settlement, force)`. Returns what follows
-    /// the row's base columns.
+    /// each monitor's `[ux, uy, vx, vy]` (3D `[ux, uy, uz, vx, vy, vz]`; `None`: no
+    /// material around an MPM point, written as empty cells), the reported boundary's
+    /// `(settlement, force)`. Returns what follows the row's base columns.
     pub fn record(
         &mut self,
         step: usize,
         time: f64,
         forces: &[impl AsRef<[f64]>],
-        monitors: &[Option<[f64; 4]>],
+        monitors: &[Option<impl AsRef<[f64]>>],
         reported: Option<(f64, f64)>,
     ) -> String {
         let mut row = String::new();
@@ -172,13 +175,13 @@ impl Results {
         for (k, m) in monitors.iter().enumerate().take(self.monitors.len()) {
             match m {
                 Some(v) => {
-                    for x in v {
+                    for x in v.as_ref() {
                         row += &format!(",{x:.10e}");
                     }
                 }
-                None => row += ",,,,",
+                None => row += &",".repeat(2 * self.components),
             }
-            self.monitor_values[k] = *m;
+            self.monitor_values[k] = m.as_ref().map(|v| v.as_ref().to_vec());
         }
         if let Some(point) = reported {
             self.curve.push(point);
@@ -263,12 +266,7 @@ impl Results {
             .monitors
             .iter()
             .zip(&self.monitor_values)
-            .map(|(name, v)| {
-                (
-                    name.clone(),
-                    v.map(|[ux, uy, vx, vy]| MonitorValues { ux, uy, vx, vy }),
-                )
-            })
+            .map(|(name, v)| (name.clone(), v.as_deref().and_then(MonitorValues::from_row)))
             .collect::<BTreeMap<_, _>>();
         let reaction = self.reported.as_ref().and_then(|name| {
             self.curve
@@ -355,6 +353,40 @@ mod tests {
     }
 
     #[test]
+    fn a_3d_monitor_has_six_columns_and_its_summary_z_components() {
+        let mut r = Results::with_components(
+            "step",
+            &[named("boundary[0].name", "base")],
+            &[named("monitor[0].name", "crest")],
+            None,
+            3,
+        )
+        .unwrap();
+        assert_eq!(
+            r.header(),
+            ",base_fx,base_fy,base_fz,crest_ux,crest_uy,crest_uz,crest_vx,crest_vy,crest_vz"
+        );
+        let row = r.record(0, 0.0, &[[1.0, 2.0, 3.0]], &[None::<[f64; 6]>], None);
+        assert_eq!(row.matches(',').count(), 9, "{row}");
+        r.record(
+            1,
+            0.1,
+            &[[1.0, 2.0, 3.0]],
+            &[Some([1., 2., 3., 4., 5., 6.])],
+            None,
+        );
+        let m = r.summary(RunStatus::Finished, None, 1).monitors["crest"].unwrap();
+        assert_eq!(
+            (m.ux, m.uy, m.uz, m.vx, m.vy, m.vz),
+            (1., 2., Some(3.), 4., 5., Some(6.))
+        );
+        let err =
+            Results::with_components("step,a_uz", &[], &[named("monitor[0].name", "a")], None, 3)
+                .unwrap_err();
+        assert!(err.message.contains("a_uz"), "{err:?}");
+    }
+
+    #[test]
     fn final_and_peak_by_magnitude() {
         let mut r = Results::new(
             "step",
@@ -363,9 +395,10 @@ mod tests {
             Some("b".into()),
         )
         .unwrap();
-        r.record(0, 0.0, &[[0.0, 1.0]], &[], Some((0.0, 1.0)));
-        r.record(1, 0.1, &[[3.0, -4.0]], &[], Some((0.1, 4.0)));
-        let row = r.record(2, 0.2, &[[1.0, 2.0]], &[], Some((0.2, 2.0)));
+        let none: &[Option<[f64; 4]>] = &[];
+        r.record(0, 0.0, &[[0.0, 1.0]], none, Some((0.0, 1.0)));
+        r.record(1, 0.1, &[[3.0, -4.0]], none, Some((0.1, 4.0)));
+        let row = r.record(2, 0.2, &[[1.0, 2.0]], none, Some((0.2, 2.0)));
         assert_eq!(row, format!(",{:.10e},{:.10e}", 1.0, 2.0));
         let s = r.summary(RunStatus::Finished, None, 2);
         assert_eq!(s.boundaries["b"].last, [1.0, 2.0]);

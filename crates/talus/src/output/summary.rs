@@ -50,8 +50,39 @@ pub struct BoundaryReaction {
 pub struct MonitorValues {
     pub ux: f64,
     pub uy: f64,
+    /// 3D only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uz: Option<f64>,
     pub vx: f64,
     pub vy: f64,
+    /// 3D only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vz: Option<f64>,
+}
+
+impl MonitorValues {
+    /// From a row's `[ux, uy, vx, vy]` (2D, MPM) or `[ux, uy, uz, vx, vy, vz]` (3D).
+    pub fn from_row(v: &[f64]) -> Option<Self> {
+        match *v {
+            [ux, uy, vx, vy] => Some(Self {
+                ux,
+                uy,
+                uz: None,
+                vx,
+                vy,
+                vz: None,
+            }),
+            [ux, uy, uz, vx, vy, vz] => Some(Self {
+                ux,
+                uy,
+                uz: Some(uz),
+                vx,
+                vy,
+                vz: Some(vz),
+            }),
+            _ => None,
+        }
+    }
 }
 
 /// The reported boundary (`output.reaction`): its force and settlement as in the

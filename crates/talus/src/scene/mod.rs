@@ -24,7 +24,10 @@ pub use error::SceneError;
 pub use file::SceneFile;
 pub use load::{builtin_footing, builtin_footing_with_cells, Scene, Scene3, BUILTIN_FOOTING};
 pub use material::{Flow, MaterialModel, MaterialSpec, Materials, RegionSpec};
-pub use monitor::{bad_name, first_duplicate, MonitorSpec, MONITOR_COLUMNS, REACTION_COLUMNS};
+pub use monitor::{
+    bad_name, first_duplicate, monitor_columns, MonitorSpec, MONITOR_COLUMNS, MONITOR_COLUMNS_3D,
+    REACTION_COLUMNS,
+};
 pub use mpm_load::MpmScene;
 pub use mpm_types::*;
 pub use solver::{RhoScaling, SolverSpec};

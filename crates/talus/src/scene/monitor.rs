@@ -10,8 +10,18 @@ pub struct MonitorSpec<V: super::SceneVector = [f64; 2]> {
     pub point: V,
 }
 
-/// The columns a monitor adds to `history.csv`, in order.
+/// The columns a monitor adds to `history.csv`, in order (2D and MPM).
 pub const MONITOR_COLUMNS: [&str; 4] = ["ux", "uy", "vx", "vy"];
+/// The columns a monitor adds to a 3D run's `history.csv`, in order.
+pub const MONITOR_COLUMNS_3D: [&str; 6] = ["ux", "uy", "uz", "vx", "vy", "vz"];
+
+/// A monitor's columns with `components` displacement and velocity components (2 or 3).
+pub fn monitor_columns(components: usize) -> &'static [&'static str] {
+    match components {
+        3 => &MONITOR_COLUMNS_3D,
+        _ => &MONITOR_COLUMNS,
+    }
+}
 /// The columns a named boundary adds: the first two in 2D (and MPM), all three in 3D.
 pub const REACTION_COLUMNS: [&str; 3] = ["fx", "fy", "fz"];
 

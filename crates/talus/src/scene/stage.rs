@@ -32,7 +32,7 @@ pub struct StageSpec {
     pub factor_of_safety: bool,
 }
 
-impl SceneSpec {
+impl<V: super::SceneVector> SceneSpec<V> {
     /// The steps of the whole run: `[time] steps`, or the stages' sum (saturated: the cap
     /// on steps refuses it, `scales::stage_steps_cap`).
     pub fn total_steps(&self) -> usize {
@@ -42,7 +42,9 @@ impl SceneSpec {
             (self.stage.iter()).fold(0, |sum, s| sum.saturating_add(s.steps))
         }
     }
+}
 
+impl SceneSpec {
     /// Whether a load or boundary condition with `stages` (its `stages` key) acts in the
     /// stage named `stage` (`None`: an unstaged scene, where everything acts).
     pub fn acts_in(stages: &Option<Vec<String>>, stage: Option<&str>) -> bool {

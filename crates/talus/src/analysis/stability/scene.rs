@@ -69,24 +69,7 @@ impl StabilityScene<4> for Scene {
     }
 
     fn monitor_node(&self, model: &Model, name: &str) -> Result<usize, SceneError> {
-        let monitors = NodeMonitors::new(self, model)?;
-        let k = (monitors.names.iter())
-            .position(|(_, n)| n == name)
-            .ok_or_else(|| {
-                let known: Vec<&str> = monitors.names.iter().map(|(_, n)| n.as_str()).collect();
-                self.error(
-                    "stability.monitor",
-                    format!(
-                        "\"{name}\" names no [[monitor]] (the scene has: {})",
-                        if known.is_empty() {
-                            "none".into()
-                        } else {
-                            known.join(", ")
-                        }
-                    ),
-                )
-            })?;
-        Ok(monitors.nodes[k])
+        NodeMonitors::node_named(self, model, name)
     }
 
     fn model_warnings(&self, model: &Model) -> Vec<String> {
@@ -140,29 +123,12 @@ impl StabilityScene<6> for Scene3 {
         crate::model::fem::weight_3d(self, model, g)
     }
 
-    fn monitor_node(&self, _: &Model<6>, name: &str) -> Result<usize, SceneError> {
-        Err(self.error(
-            "stability.monitor",
-            format!(
-                "\"{name}\": a monitored point is not supported in 3D yet (docs/3d.md, \
-                 'Next'); leave `monitor` out and the criterion watches the largest \
-                 displacement increment over the body"
-            ),
-        ))
+    fn monitor_node(&self, model: &Model<6>, name: &str) -> Result<usize, SceneError> {
+        NodeMonitors::node_named(self, model, name)
     }
 
     fn model_warnings(&self, model: &Model<6>) -> Vec<String> {
-        let plastic = model.materials.iter().any(|m| m.drucker_prager().is_some());
-        if plastic && model.mesh.order == talus_fem::ElementOrder::P1 {
-            vec![
-                "plastic flow on P1 (4-node) tetrahedra: they lock, more still than P1 \
-                  triangles, and overestimate the factor of safety; mesh with P2 (10-node) \
-                  tetrahedra"
-                    .to_string(),
-            ]
-        } else {
-            Vec::new()
-        }
+        crate::model::fem::warnings(self, model)
     }
 
     fn plot_mechanism(

@@ -1,14 +1,14 @@
 //! A finite-element [`Model`] from a scene: the mesh, its boundary conditions and loads,
 //! the material, checked field by field against the scene's own scales.
 use talus_fem::{
-    Assembly, BoundaryEdge, Constraint, DofMap, ElementOrder, FemError, Geometry, Mesh, Model,
-    State,
+    Assembly, BoundaryEdge, Constraint, Dimension, DofMap, ElementMesh, ElementOrder, FemError,
+    Geometry, Mandel, Mesh, Model, State,
 };
 
 use crate::scene::dimension::three_d_key;
 use crate::scene::{
-    check, scales, scales::ramp_max, AnalysisKind, Fix, MeshSpec, Order, Ramp, Scene, SceneError,
-    SceneSpec, Selection, TimeSpec, WaterSpec, WaterTable,
+    check, scales, scales::ramp_max, AnalysisKind, Fix, MeshSpec, Order, Ramp, Scene,
+    SceneDocument, SceneError, SceneSpec, SceneVector, Selection, TimeSpec, WaterSpec, WaterTable,
 };
 
 /// A [`Model`] built from a scene, and the state a run of it starts from.
@@ -319,24 +319,38 @@ pub(super) fn build(
 
 /// What a run of `model` should be told (`summary.json`'s `warnings`): plastic flow on
 /// P1 triangles, which lock (Prandtl's N_c 6.0–6.8% too high on 40×28 cells against 0.6–1.3%
-/// with P2, `docs/verification.md`).
-pub fn warnings(scene: &Scene, model: &Model) -> Vec<String> {
+/// with P2, `docs/verification.md`), or on P1 tetrahedra, which lock more.
+pub fn warnings<const N: usize, const D: usize>(
+    scene: &SceneDocument<SceneSpec<[f64; N]>>,
+    model: &Model<D>,
+) -> Vec<String>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+{
     let plastic = model.materials.iter().any(|m| m.drucker_prager().is_some());
-    let gmsh = matches!(scene.spec.mesh, MeshSpec::Gmsh { .. });
-    if plastic && model.mesh.order == ElementOrder::P1 {
-        vec![format!(
-            "plastic flow on P1 (3-node) triangles: they lock and overestimate limit loads \
-             (Prandtl's N_c by 6.0–6.8% on 40×28 cells, against 0.6–1.3% with P2; \
-             docs/verification.md); use {}",
-            if gmsh {
-                "[mesh.gmsh] order = \"P2\", which adds mid-edge nodes to a linear mesh"
-            } else {
-                "order = \"P2\""
-            }
-        )]
-    } else {
-        Vec::new()
+    if !plastic || model.mesh.order() != ElementOrder::P1 {
+        return Vec::new();
     }
+    if N == 3 {
+        return vec![
+            "plastic flow on P1 (4-node) tetrahedra: they lock, more still than P1 \
+              triangles, and overestimate limit loads and factors of safety; mesh with P2 \
+              (10-node) tetrahedra"
+                .to_string(),
+        ];
+    }
+    let gmsh = matches!(scene.spec.mesh, MeshSpec::Gmsh { .. });
+    vec![format!(
+        "plastic flow on P1 (3-node) triangles: they lock and overestimate limit loads \
+         (Prandtl's N_c by 6.0–6.8% on 40×28 cells, against 0.6–1.3% with P2; \
+         docs/verification.md); use {}",
+        if gmsh {
+            "[mesh.gmsh] order = \"P2\", which adds mid-edge nodes to a linear mesh"
+        } else {
+            "order = \"P2\""
+        }
+    )]
 }
 
 /// The weight of gravity `g` (m/s²) on the body (N/m) with each Gauss point's density:

@@ -53,13 +53,6 @@ fn refuse_unsupported(scene: &Scene3) -> Result<(), SceneError> {
             "a uniform initial stress (its 4 components are 2D's; the K₀ procedure runs)",
         ));
     }
-    if !spec.monitor.is_empty() {
-        return Err(not_in_3d(
-            scene,
-            "monitor",
-            "a monitored point ([[monitor]])",
-        ));
-    }
     // Every material's saturated density belongs to the water, which 3D does not have.
     Ok(())
 }

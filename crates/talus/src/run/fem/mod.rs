@@ -11,14 +11,16 @@ use std::time::Instant;
 
 use talus_engine::Stepper;
 
+use talus_fem::{Dimension, Mandel};
+
 use super::checkpoint::{self, Checkpoint, CheckpointError};
 use super::{RunError, RunOptions, RunOutputs, Shape, Span, HISTORY_COLUMNS};
 use crate::model::fem::stages::Stages;
 use crate::model::fem::{FromScene, Model, ReactionForce, State, StepRecord};
 use crate::output::{Results, ResultsProgress};
-use crate::scene::Scene;
-use plots::write_plots;
-pub use results::FemResults;
+use crate::scene::{Scene, SceneDocument, SceneSpec, SceneVector};
+use plots::{write_plots, PlasticStrainMap};
+pub use results::{FemResults, INERTIAL_SHARE, INERTIAL_SHARE_WARNING};
 pub use three_d::run_scene_3d;
 
 /// What a finished run measured (`D`: 4 in 2D, 6 in 3D).
@@ -124,17 +126,22 @@ fn run_scene_from(
 /// and monitors'.
 pub const FEM_COLUMNS: [&str; 2] = ["reaction_force", "footing_displacement"];
 
-/// What a FEM run adds to the run loop: the reported boundary's reaction and settlement,
-/// element VTUs and the PNG plots.
-struct FemOutputs<'a> {
-    scene: &'a Scene,
+/// What a FEM run adds to the run loop, in 2D (`N = 2`, Mandel size `D = 4`) and 3D
+/// (3, 6): the reported boundary's reaction and settlement, the named boundaries and
+/// monitors (`FemResults`), element VTUs and the PNG plots.
+struct FemOutputs<'a, const N: usize = 2, const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+    [f64; N]: SceneVector,
+{
+    scene: &'a SceneDocument<SceneSpec<[f64; N]>>,
     results: FemResults,
-    model: &'a Model,
+    model: &'a Model<D>,
     out: &'a Path,
     /// The nodes of the reported boundary's prescribed dofs.
     reaction_nodes: Vec<usize>,
     /// The VTUs and `solution.pvd`.
-    vtus: fields::Vtus<'a>,
+    vtus: fields::Vtus<'a, N>,
     /// (settlement, reaction) after every step, from step 0.
     curve: Vec<(f64, f64)>,
     /// `(step, ‖F‖∞ / max(1, ‖σ‖∞) per iteration)` of every solve, for the Newton plot.
@@ -155,10 +162,14 @@ struct StageOutputs {
     release: Option<stages::Release>,
 }
 
-impl<'a> FemOutputs<'a> {
+impl<'a, const N: usize, const D: usize> FemOutputs<'a, N, D>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+{
     fn new(
-        scene: &'a Scene,
-        model: &'a Model,
+        scene: &'a SceneDocument<SceneSpec<[f64; N]>>,
+        model: &'a Model<D>,
         options: &'a RunOptions,
         stage: Option<StageOutputs>,
     ) -> Result<Self, RunError> {
@@ -179,9 +190,9 @@ impl<'a> FemOutputs<'a> {
 
     /// The outputs on `model` that go on from what `carried` recorded.
     fn on(
-        scene: &'a Scene,
+        scene: &'a SceneDocument<SceneSpec<[f64; N]>>,
         carried: Carried,
-        model: &'a Model,
+        model: &'a Model<D>,
         options: &'a RunOptions,
         stage: Option<StageOutputs>,
     ) -> Self {
@@ -210,9 +221,9 @@ impl<'a> FemOutputs<'a> {
 
     /// The outputs of a staged run's next stage, on its model: what was recorded carries on.
     fn next_stage(
-        scene: &'a Scene,
+        scene: &'a SceneDocument<SceneSpec<[f64; N]>>,
         carried: Carried,
-        model: &'a Model,
+        model: &'a Model<D>,
         options: &'a RunOptions,
         stage: StageOutputs,
     ) -> Result<Self, RunError> {
@@ -273,7 +284,12 @@ struct FemProgress {
     stage: Option<StageOutputs>,
 }
 
-impl RunOutputs<&Model> for FemOutputs<'_> {
+impl<const N: usize, const D: usize> RunOutputs<&Model<D>, D> for FemOutputs<'_, N, D>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+    Model<D>: PlasticStrainMap<D>,
+{
     fn columns(&self) -> String {
         format!(
             ",{}{}{}",
@@ -283,7 +299,7 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
         )
     }
 
-    fn row(&mut self, step: usize, state: &State, report: Option<&StepRecord>) -> String {
+    fn row(&mut self, step: usize, state: &State<D>, report: Option<&StepRecord>) -> String {
         let displacement = settlement(&self.reaction_nodes, &state.displacement);
         if let Some(r) = report {
             self.histories.extend(
@@ -312,7 +328,7 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
     }
 
     /// VTUs at step 0, every `vtu_every` steps and the last.
-    fn after_step(&mut self, step: usize, state: &State) -> Result<(), RunError> {
+    fn after_step(&mut self, step: usize, state: &State<D>) -> Result<(), RunError> {
         let every = self.scene.spec.output.vtu_every;
         let last = match &self.stage {
             Some(s) => s.last_step,
@@ -321,15 +337,16 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
         self.vtus.after_step(self.model, step, state, (every, last))
     }
 
-    fn message(&self, report: &StepRecord, _: &State) -> String {
+    fn message(&self, report: &StepRecord, _: &State<D>) -> String {
         format!(
-            "{} Newton its, F = {:.4e} N/m",
+            "{} Newton its, F = {:.4e} {}",
             report.newton_iterations,
-            report.reaction_force()
+            report.reaction_force(),
+            self.scene.spec.analysis.geometry.force_unit()
         )
     }
 
-    fn finish(&mut self, state: &State, step: usize) -> Result<(), RunError> {
+    fn finish(&mut self, state: &State<D>, step: usize) -> Result<(), RunError> {
         if !self.vtus.writes() {
             return Ok(());
         }
@@ -349,7 +366,7 @@ impl RunOutputs<&Model> for FemOutputs<'_> {
 
     /// A resumed run's checkpoint state, or a stage's carried one: where the next step's
     /// plastic strain increment starts.
-    fn begin(&mut self, step: usize, state: &State) {
+    fn begin(&mut self, step: usize, state: &State<D>) {
         self.vtus.keep(step, state);
     }
 

@@ -1,11 +1,12 @@
-//! The PNG plots of a FEM run: force against displacement, Newton residuals, the plastic
-//! strain map.
+//! The PNG plots of a FEM run: force against displacement, Newton residuals, and in 2D
+//! the plastic strain map (a map of a 3D body is a ParaView job, from the VTUs).
 use std::path::Path;
 
-use crate::model::fem::{Model, State};
+use talus_fem::{Dimension, Mandel, Model, State};
+
 use crate::output::{self, significant, FieldMap, MeshView};
 use crate::run::RunError;
-use crate::scene::{AnalysisKind, Scene};
+use crate::scene::{AnalysisKind, SceneDocument, SceneSpec, SceneVector};
 
 use super::fields::element_fields;
 
@@ -16,14 +17,19 @@ const CLIP_PERCENTILE: f64 = 99.0;
 /// of about 1e-15, and a map of it is one colour reading 0.
 const PLASTIC_STRAIN_RESOLUTION: f64 = 1e-10;
 
-pub(super) fn write_plots(
-    scene: &Scene,
-    model: &Model,
-    state: &State,
+pub(super) fn write_plots<const N: usize, const D: usize>(
+    scene: &SceneDocument<SceneSpec<[f64; N]>>,
+    model: &Model<D>,
+    state: &State<D>,
     histories: &[(usize, Vec<f64>)],
     curve: &[(f64, f64)],
     out: &Path,
-) -> Result<(), RunError> {
+) -> Result<(), RunError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+    Model<D>: PlasticStrainMap<D>,
+{
     let title = scene
         .spec
         .title
@@ -45,7 +51,6 @@ pub(super) fn write_plots(
             scene.spec.solver.tolerance,
         )?;
     }
-    let (_, plastic) = element_fields(model, state);
     let reported = (!model.reaction_dofs.is_empty())
         .then(|| curve.last().copied())
         .flatten();
@@ -53,29 +58,72 @@ pub(super) fn write_plots(
         "cumulative plastic strain {}",
         when(scene, state, reported, curve.len().saturating_sub(1))
     );
-    output::plot_field_map(
-        &out.join("plastic_strain.png"),
-        &MeshView {
-            nodes: &model.mesh.nodes,
-            elements: &model.mesh.triangles,
-        },
-        None,
-        &plastic,
-        &FieldMap {
-            title: &title,
-            subtitle: Some(&subtitle),
-            label: "∫‖ε̇ᵖ‖dt (-)",
-            clip_percentile: Some(CLIP_PERCENTILE),
-            resolution: PLASTIC_STRAIN_RESOLUTION,
-        },
-    )?;
-    Ok(())
+    model.plastic_strain_map(state, &out.join("plastic_strain.png"), &title, &subtitle)
+}
+
+/// The map of the cumulative plastic strain over the body: 2D only.
+pub(super) trait PlasticStrainMap<const D: usize>
+where
+    Mandel<D>: Dimension,
+{
+    fn plastic_strain_map(
+        &self,
+        state: &State<D>,
+        path: &Path,
+        title: &str,
+        subtitle: &str,
+    ) -> Result<(), RunError>;
+}
+
+impl PlasticStrainMap<4> for Model<4> {
+    fn plastic_strain_map(
+        &self,
+        state: &State<4>,
+        path: &Path,
+        title: &str,
+        subtitle: &str,
+    ) -> Result<(), RunError> {
+        let (_, plastic) = element_fields(self, state);
+        output::plot_field_map(
+            path,
+            &MeshView {
+                nodes: &self.mesh.nodes,
+                elements: &self.mesh.triangles,
+            },
+            None,
+            &plastic,
+            &FieldMap {
+                title,
+                subtitle: Some(subtitle),
+                label: "∫‖ε̇ᵖ‖dt (-)",
+                clip_percentile: Some(CLIP_PERCENTILE),
+                resolution: PLASTIC_STRAIN_RESOLUTION,
+            },
+        )?;
+        Ok(())
+    }
+}
+
+/// A 3D body's map is a ParaView job, from the VTUs.
+impl PlasticStrainMap<6> for Model<6> {
+    fn plastic_strain_map(&self, _: &State<6>, _: &Path, _: &str, _: &str) -> Result<(), RunError> {
+        Ok(())
+    }
 }
 
 /// When the map is drawn, in the words of the scene: a quasi-static scene's time is a load
 /// parameter, so its map is dated by the reported boundary's settlement and load (or the
 /// load step without one); a dynamic scene's by its time, with the settlement and load.
-fn when(scene: &Scene, state: &State, reported: Option<(f64, f64)>, step: usize) -> String {
+fn when<const N: usize, const D: usize>(
+    scene: &SceneDocument<SceneSpec<[f64; N]>>,
+    state: &State<D>,
+    reported: Option<(f64, f64)>,
+    step: usize,
+) -> String
+where
+    Mandel<D>: Dimension,
+    [f64; N]: SceneVector,
+{
     let boundary = scene.spec.output.reaction.as_deref().unwrap_or("reported");
     let unit = scene.spec.analysis.geometry.force_unit();
     let loaded = reported.map(|(u, f)| {

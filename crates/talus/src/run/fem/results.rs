@@ -4,12 +4,16 @@
 //! 'Results'); the run loop (`run::steps`) writes it.
 use std::ops::{Deref, DerefMut};
 
+use talus_fem::{Dimension, Mandel, Model, State};
+
 use crate::model::fem::{
-    prescribed_forces_at_rest, Model, NodeMonitors, ReactionForce, ReactionGroups, State,
-    StepRecord,
+    prescribed_forces_at_rest, NodeMonitors, ReactionForce, ReactionGroups, StepRecord,
 };
 use crate::output::Results;
-use crate::scene::{AnalysisKind, Scene, SceneError};
+use crate::scene::{AnalysisKind, SceneDocument, SceneError, SceneSpec, SceneVector};
+
+/// A FEM scene of `N`-component points: 2D (`Scene`) or 3D (`Scene3`).
+type SceneOf<const N: usize> = SceneDocument<SceneSpec<[f64; N]>>;
 
 /// The `history.csv` column after the named boundaries and monitors, in a scene that
 /// reports a reaction (`[output] reaction`): the share of that reaction that is inertia.
@@ -76,13 +80,21 @@ impl FemResults {
     /// other columns), then [`INERTIAL_SHARE`] if the scene reports a reaction. Warns of
     /// the model's doubtful choices and of ramps faster than the step
     /// (`scene::check::fast_ramps`).
-    pub fn new(scene: &Scene, model: &Model, base: &str) -> Result<Self, SceneError> {
+    pub fn new<const N: usize, const D: usize>(
+        scene: &SceneOf<N>,
+        model: &Model<D>,
+        base: &str,
+    ) -> Result<Self, SceneError>
+    where
+        Mandel<D>: Dimension<Point = [f64; N]>,
+        [f64; N]: SceneVector,
+    {
         let names: Vec<Option<String>> =
             scene.spec.boundary.iter().map(|b| b.name.clone()).collect();
         let groups = ReactionGroups::of_model(model, &names);
         let monitors = NodeMonitors::new(scene, model)?;
         let share = scene.spec.output.reaction.is_some();
-        let mut results = Results::new(
+        let mut results = Results::with_components(
             &if share {
                 format!("{base},{INERTIAL_SHARE}")
             } else {
@@ -91,6 +103,7 @@ impl FemResults {
             &groups.names,
             &monitors.names,
             scene.spec.output.reaction.clone(),
+            N,
         )
         .map_err(|e| scene.error(&e.field, e.message))?;
         results.set_force_unit(scene.spec.analysis.geometry.force_unit());
@@ -119,7 +132,15 @@ impl FemResults {
 
     /// The same results on the model of a staged run's next stage: its named boundaries'
     /// dofs and its monitors' nodes (the mesh may have changed), what was recorded kept.
-    pub fn rebind(self, scene: &Scene, model: &Model) -> Result<Self, SceneError> {
+    pub fn rebind<const N: usize, const D: usize>(
+        self,
+        scene: &SceneOf<N>,
+        model: &Model<D>,
+    ) -> Result<Self, SceneError>
+    where
+        Mandel<D>: Dimension<Point = [f64; N]>,
+        [f64; N]: SceneVector,
+    {
         let names: Vec<Option<String>> =
             scene.spec.boundary.iter().map(|b| b.name.clone()).collect();
         Ok(Self {
@@ -131,8 +152,16 @@ impl FemResults {
 
     /// Step 0: the initial state at rest (no inertia: `inertial_share` 0, or `NaN`
     /// without a reported reaction).
-    pub fn initial(&mut self, model: &Model, state: &State, reaction: f64) -> String {
-        let forces = self.groups.sums(&prescribed_forces_at_rest(model, state));
+    pub fn initial<const N: usize, const D: usize>(
+        &mut self,
+        model: &Model<D>,
+        state: &State<D>,
+        reaction: f64,
+    ) -> String
+    where
+        Mandel<D>: Dimension<Point = [f64; N]>,
+    {
+        let forces = (self.groups).sums_of::<N>(&prescribed_forces_at_rest(model, state));
         let monitors = self.monitors.values(model, state);
         let row = self
             .results
@@ -142,18 +171,21 @@ impl FemResults {
     }
 
     /// After `step`, with the footing displacement of the reported boundary.
-    pub fn step(
+    pub fn step<const N: usize, const D: usize>(
         &mut self,
-        model: &Model,
-        state: &State,
+        model: &Model<D>,
+        state: &State<D>,
         step: usize,
         record: &StepRecord,
         displacement: f64,
-    ) -> String {
+    ) -> String
+    where
+        Mandel<D>: Dimension<Point = [f64; N]>,
+    {
         let forces = record
             .stats
             .as_ref()
-            .map(|s| self.groups.sums(&s.prescribed_forces))
+            .map(|s| self.groups.sums_of::<N>(&s.prescribed_forces))
             .unwrap_or_default();
         let monitors = self.monitors.values(model, state);
         let row = self.results.record(
@@ -198,7 +230,14 @@ impl FemResults {
 ///
 /// `M a` is `f − Bᵀσ` on the free dofs (eq. 15 at the step's end) and the step's boundary
 /// force minus the one at rest on the prescribed dofs.
-pub fn inertial_share(model: &Model, state: &State, record: &StepRecord) -> Option<f64> {
+pub fn inertial_share<const D: usize>(
+    model: &Model<D>,
+    state: &State<D>,
+    record: &StepRecord,
+) -> Option<f64>
+where
+    Mandel<D>: Dimension,
+{
     let stats = record.stats.as_ref()?;
     let reaction = stats.reaction_force;
     let reported: Vec<usize> = model
