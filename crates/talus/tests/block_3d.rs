@@ -140,7 +140,6 @@ fn a_3d_run_writes_history_summary_and_tetrahedral_vtus() {
 #[test]
 fn what_3d_does_not_run_yet_is_refused_naming_its_field() {
     let cases = [
-        ("[output]", "[water]\nlevel = 1.0\n\n[output]", "water"),
         (
             "[output]",
             "[initial_stress]\nstress = [-1.0, -1.0, 0.0, -1.0]\n\n[output]",
@@ -230,6 +229,81 @@ fn a_3d_monitor_records_the_settlement_of_the_column() {
     let outside = replaced(&text, "point = [0.5, 2.0, 0.5]", "point = [0.5, 2.5, 0.5]");
     let err = error_of_run(&outside);
     assert_eq!(err.field, "monitor[0].point", "{err}");
+}
+
+/// The block half under water (`[water] level = 1`, saturated density 2200 kg/m³ below
+/// it), started from the K₀ procedure (K₀ = 0.5, surface y = 2): the uniaxial-strain column
+/// with the water of `docs/water.md`. The effective vertical stress is the buoyant weight
+/// above the point, `σ'_yy = −ρ g (2 − y)` above the table and `−(ρ g + γ' (1 − y))` below
+/// it, `γ' = ρ_sat g − γ_w`; the pore pressure `p = γ_w (1 − y)`; the total stress
+/// `σ = σ' − p I`, `σ_xx = σ_zz = K₀ σ'_yy − p`. That state balances the saturated weight
+/// exactly, so the steps keep it: the final Gauss-point stresses are the closed form, and the
+/// base carries the whole weight, `ρ g V_dry + ρ_sat g V_wet` (Terzaghi's effective stress;
+/// Craig's Soil Mechanics, ch. 3).
+#[test]
+fn a_block_half_under_water_keeps_the_effective_stress_of_its_k0_state() {
+    const RHO_SAT: f64 = 2200.0;
+    const GAMMA_W: f64 = 9810.0;
+    const K0: f64 = 0.5;
+    let text = replaced(
+        &replaced(BLOCK, "density = 2000.0", "density = 2000.0\nsaturated_density = 2200.0"),
+        "[output]",
+        "[water]\nlevel = 1.0\nunit_weight = 9810.0\n\n[initial_stress]\nk0 = 0.5\nsurface = 2.0\n\n[output]",
+    );
+    let scene = scene(&text);
+    let dir = common::target_tmp_dir("block_3d", "water");
+    let summary = run_scene_3d(&scene, &RunOptions::new(dir.join("out")), None)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let model = model_3d(&scene).unwrap();
+    let sigma = &summary.final_state.sigma;
+    let buoyant = RHO_SAT * G - GAMMA_W;
+    let scale = RHO_SAT * G * HEIGHT;
+    let (mut e_yy, mut e_lateral, mut e_shear, mut wet) = (0.0f64, 0.0f64, 0.0f64, 0);
+    for (p, x) in model.assembly.gauss_points.iter().enumerate() {
+        let s = &sigma[6 * p..6 * p + 6];
+        let y = x[1];
+        let (effective, pore) = if y >= 1.0 {
+            (-RHO * G * (HEIGHT - y), 0.0)
+        } else {
+            wet += 1;
+            (-(RHO * G + buoyant * (1.0 - y)), GAMMA_W * (1.0 - y))
+        };
+        e_yy = e_yy.max((s[1] - (effective - pore)).abs() / scale);
+        let lateral = K0 * effective - pore;
+        e_lateral = e_lateral.max((s[0] - lateral).abs().max((s[2] - lateral).abs()) / scale);
+        e_shear = e_shear.max(s[3..].iter().fold(0.0f64, |m, v| m.max(v.abs())) / scale);
+    }
+    println!(
+        "{} Gauss points ({wet} under water): σ_yy {e_yy:.2e}, σ_xx and σ_zz {e_lateral:.2e}, \
+         shears {e_shear:.2e} of ρ_sat g H",
+        model.n_points()
+    );
+    assert!(wet > 0 && wet < model.n_points());
+    assert!(e_yy < 1e-6, "σ_yy off by {e_yy:e}");
+    assert!(e_lateral < 1e-6, "σ_xx, σ_zz off by {e_lateral:e}");
+    assert!(e_shear < 1e-6, "shears of {e_shear:e}");
+    // Each point's pore pressure is the table's, and the base carries the saturated weight.
+    for (p, x) in model.assembly.gauss_points.iter().enumerate() {
+        let exact = GAMMA_W * (1.0 - x[1]).max(0.0);
+        assert!(
+            (model.pore_pressure[p] - exact).abs() <= 1e-9 * GAMMA_W,
+            "point {p}"
+        );
+    }
+    let weight = (RHO * G + RHO_SAT * G) * VOLUME / 2.0;
+    let reaction = summary
+        .records
+        .last()
+        .unwrap()
+        .stats
+        .as_ref()
+        .unwrap()
+        .reaction_force;
+    println!("weight {weight} N: reaction {reaction:.10e}");
+    assert!(
+        (reaction.abs() - weight).abs() < 1e-9 * weight,
+        "{reaction} against {weight}"
+    );
 }
 
 /// The error the run of a 3D scene stops with, after its model is built.

@@ -105,6 +105,66 @@ fn extruded_slope_has_the_plane_strain_factor_of_safety() {
     assert!(!out3.join("mechanism.png").exists());
 }
 
+/// The slope with a water table (`scenes/slope_water.toml`: the phreatic line through the
+/// slope, saturated weight below it, pore pressure in the cone, the water's push on the
+/// submerged face) extruded along z with rollers on both z faces is in plane strain too:
+/// its factor of safety is the 2D one within 1%, on the same section mesh. The water's
+/// pieces in 3D are 2D's functions (`model::fem::build`: densities, `free_below` on faces,
+/// the pore pressure along the extruded phreatic surface). A `[stability] monitor` names a
+/// 3D `[[monitor]]` (the crest) as in 2D.
+#[test]
+fn extruded_slope_with_water_has_the_plane_strain_factor_of_safety() {
+    let text2 = common::replaced(&read("slope_water.toml"), "path = \"slope.msh\"", SECTION);
+    let text2 = common::replaced(&text2, "plots = true", "plots = false");
+    let text2 = common::replaced(
+        &text2,
+        "tolerance = 0.005",
+        "tolerance = 0.005\nmonitor = \"crest\"",
+    );
+    let mut text3 = common::replaced(
+        &text2,
+        "gravity = [0.0, -10.0]",
+        "gravity = [0.0, -10.0, 0.0]",
+    );
+    text3 = common::replaced(
+        &text3,
+        SECTION,
+        &format!("{SECTION}\nextrude = [0.0, 1.0]\nlayers = 1"),
+    );
+    text3 = common::replaced(&text3, "[analysis]\n", "[analysis]\ngeometry = \"3d\"\n");
+    text3 = common::replaced(&text3, "fix = \"xy\"", "fix = \"xyz\"");
+    text3 = common::replaced(
+        &text3,
+        "[analysis]",
+        "[[boundary]]\nnodes = \"back\"\nfix = \"z\"\n\n[[boundary]]\nnodes = \"front\"\nfix = \"z\"\n\n[analysis]",
+    );
+    text3 = common::replaced(&text3, "point = [20.0, 10.0]", "point = [20.0, 10.0, 0.5]");
+    let s2 = Scene::parse(&text2, Some(scenes().join("slope_water.toml"))).unwrap();
+    let run2 = stability::run(
+        &s2,
+        &RunOptions::new(common::target_tmp_dir("slope_extruded_3d", "water_2d")),
+    )
+    .unwrap();
+    let s3 = scene3(&text3);
+    let run3 = stability::run(
+        &s3,
+        &RunOptions::new(common::target_tmp_dir("slope_extruded_3d", "water_3d")),
+    )
+    .unwrap();
+    let (f2, f3) = (
+        run2.factor_of_safety.value.unwrap(),
+        run3.factor_of_safety.value.unwrap(),
+    );
+    println!(
+        "with water: 2D F = {f2:.4} {:?} in {:.1} s, 3D F = {f3:.4} {:?} in {:.1} s",
+        run2.factor_of_safety.bracket, run2.seconds, run3.factor_of_safety.bracket, run3.seconds
+    );
+    assert!((f3 / f2 - 1.0).abs() < 0.01, "3D {f3} against 2D {f2}");
+    // The water matters: the dry section's factor is 1.4151 (the test above), so a 3D run
+    // that ignored it would miss the 2D one by far more than 1%.
+    assert!(f2 < 1.3 && f3 < 1.3, "{f2} {f3}");
+}
+
 /// The keys of an extrusion and of a 3D `[stability]` name themselves when wrong.
 #[test]
 fn extrusion_and_3d_stability_errors_name_their_field() {

@@ -1,20 +1,25 @@
 use talus_bipotential::DruckerPrager;
+use talus_fem::{Dimension, Mandel, Model};
 
-use crate::scene::{InitialStressSpec, Locate, Scene, SceneError};
-
-use talus_fem::Model;
+use crate::scene::{InitialStressSpec, Locate, SceneError, SceneOf, SceneVector};
 
 /// The initial stress at every Gauss point (Mandel, flat), each checked against its
 /// material's yield cone (an elastic point has none). With layers of different densities
 /// or under a water table the K₀ procedure's vertical effective stress is the (buoyant,
 /// below the table) weight of the elements above the point ([`super::layered_weight`]);
 /// else `γ (surface − y)` as for one dry material. The total stress subtracts the pore
-/// pressure from the normal components.
-pub fn initial_stress(
-    scene: &Scene,
-    model: &Model,
+/// pressure from the normal components. In 3D (Mandel size 6) the same procedure, y
+/// vertical: `σ_xx = σ_zz = K₀ σ'_yy`, no shear (a uniform `stress` has 2D's four
+/// components: `model::fem::build3` refuses it).
+pub fn initial_stress<const N: usize, const D: usize>(
+    scene: &SceneOf<N>,
+    model: &Model<D>,
     spec: &InitialStressSpec,
-) -> Result<Vec<f64>, SceneError> {
+) -> Result<Vec<f64>, SceneError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+{
     // In equilibrium with the gravity of the start, t = 0 (`gravity_ramp` scales it).
     let ramp = crate::scene::check::ramp(scene, "gravity_ramp", &scene.spec.gravity_ramp)?;
     let g = scene.spec.gravity.map(|g| -g[1]).unwrap_or(0.0);
@@ -65,7 +70,7 @@ pub fn initial_stress(
         if at.is_empty() {
             continue;
         }
-        let these: Vec<[f64; 2]> = at.iter().map(|&p| points[p]).collect();
+        let these: Vec<[f64; 2]> = at.iter().map(|&p| [points[p][0], points[p][1]]).collect();
         let above: Option<Vec<f64>> = weight.as_ref().map(|w| at.iter().map(|&p| w[p]).collect());
         let values = initial_stress_at(
             scene,
@@ -89,7 +94,13 @@ pub fn initial_stress(
             }
         }
     }
-    Ok(sigma.into_iter().flatten().collect())
+    Ok(match D {
+        // (xx, yy, zz, √2 xy) → (xx, yy, zz, √2 yz, √2 xz, √2 xy).
+        6 => (sigma.into_iter())
+            .flat_map(|[xx, yy, zz, xy]| [xx, yy, zz, 0.0, 0.0, xy])
+            .collect(),
+        _ => sigma.into_iter().flatten().collect(),
+    })
 }
 
 /// The initial stress (Mandel, Pa) of `spec` at each of `points` (m): the K₀ procedure

@@ -9,6 +9,9 @@ pub type Scene = SceneDocument<SceneSpec>;
 /// A parsed 3D FEM scene (`[analysis] geometry = "3d"`).
 pub type Scene3 = SceneDocument<SceneSpec<[f64; 3]>>;
 
+/// A FEM scene of `N`-component points: [`Scene`] (2) or [`Scene3`] (3).
+pub type SceneOf<const N: usize> = SceneDocument<SceneSpec<[f64; N]>>;
+
 /// The text of `scenes/footing.toml`, shipped in the binary.
 pub const BUILTIN_FOOTING: &str = include_str!("../../../../scenes/footing.toml");
 

@@ -22,7 +22,9 @@ mod water;
 
 pub use error::SceneError;
 pub use file::SceneFile;
-pub use load::{builtin_footing, builtin_footing_with_cells, Scene, Scene3, BUILTIN_FOOTING};
+pub use load::{
+    builtin_footing, builtin_footing_with_cells, Scene, Scene3, SceneOf, BUILTIN_FOOTING,
+};
 pub use material::{Flow, MaterialModel, MaterialSpec, Materials, RegionSpec};
 pub use monitor::{
     bad_name, first_duplicate, monitor_columns, MonitorSpec, MONITOR_COLUMNS, MONITOR_COLUMNS_3D,

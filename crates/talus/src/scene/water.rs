@@ -102,9 +102,11 @@ impl WaterTable {
         a[1] + (b[1] - a[1]) * (x - a[0]) / (b[0] - a[0])
     }
 
-    /// `p_w = γ_w · max(0, y_phreatic(x) − y)` (Pa, compression positive).
-    pub fn pore_pressure(&self, [x, y]: [f64; 2]) -> f64 {
-        self.unit_weight * (self.height(x) - y).max(0.0)
+    /// `p_w = γ_w · max(0, y_phreatic(x) − y)` (Pa, compression positive) at `[x, y]` or,
+    /// in 3D, `[x, y, z]`: the phreatic surface is the line's extrusion along z.
+    pub fn pore_pressure(&self, at: impl AsRef<[f64]>) -> f64 {
+        let at = at.as_ref();
+        self.unit_weight * (self.height(at[0]) - at[1]).max(0.0)
     }
 }
 

@@ -120,7 +120,7 @@ impl StabilityScene<6> for Scene3 {
     }
 
     fn weight(&self, model: &Model<6>, g: [f64; 3]) -> Result<(Vec<f64>, Vec<f64>), SceneError> {
-        crate::model::fem::weight_3d(self, model, g)
+        crate::model::fem::weight(self, model, g)
     }
 
     fn monitor_node(&self, model: &Model<6>, name: &str) -> Result<usize, SceneError> {

@@ -8,7 +8,8 @@ use talus_fem::{
 use crate::scene::dimension::three_d_key;
 use crate::scene::{
     check, scales, scales::ramp_max, AnalysisKind, Fix, MeshSpec, Order, Ramp, Scene,
-    SceneDocument, SceneError, SceneSpec, SceneVector, Selection, TimeSpec, WaterSpec, WaterTable,
+    SceneDocument, SceneError, SceneOf, SceneSpec, SceneVector, Selection, TimeSpec, WaterSpec,
+    WaterTable,
 };
 
 /// A [`Model`] built from a scene, and the state a run of it starts from.
@@ -29,18 +30,31 @@ impl FromScene for Model {
     }
 
     fn initial_state(&self, scene: &Scene) -> Result<State, SceneError> {
-        let dofs = self.assembly.dofs();
-        let mut state = State::at_rest(
-            self.n_points(),
-            dofs.n_free(),
-            dofs.n_prescribed(),
-            self.mesh.nodes.len(),
-        );
-        if let Some(initial) = &scene.spec.initial_stress {
-            state.sigma = crate::model::initial_stress(scene, self, initial)?;
-        }
-        Ok(state)
+        initial_state(scene, self)
     }
+}
+
+/// The state at the start of a run of `model` (2D or 3D): at rest, with the scene's
+/// initial stress (K₀ procedure or uniform) or stress free.
+pub fn initial_state<const N: usize, const D: usize>(
+    scene: &SceneOf<N>,
+    model: &Model<D>,
+) -> Result<State<D>, SceneError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+{
+    let dofs = model.assembly.dofs();
+    let mut state = State::at_rest(
+        model.n_points(),
+        dofs.n_free(),
+        dofs.n_prescribed(),
+        model.mesh.node_positions().len(),
+    );
+    if let Some(initial) = &scene.spec.initial_stress {
+        state.sigma = crate::model::initial_stress(scene, model, initial)?;
+    }
+    Ok(state)
 }
 
 /// What a stage changes in the model it is built on (`super::stages`).
@@ -153,56 +167,19 @@ pub(super) fn build(
         Some(_) => None,
         None => water_table(scene)?,
     };
-    // Each Gauss point's density; the points' layout is mapped ahead of the assembly
-    // only when the densities vary (layers, saturated below a water table).
-    let dry = required_densities(scene)?;
-    let densities = if water.is_none() && dry.iter().all(|d| *d == dry[0]) {
-        Vec::new()
-    } else {
-        let (elements, positions) = Assembly::gauss_layout(&mesh, geometry)
-            .map_err(|e| scene.error("mesh", e.to_string()))?;
-        let point_material: Vec<usize> = elements.iter().map(|&e| element_material[e]).collect();
-        let below: Vec<bool> = positions
-            .iter()
-            .map(|&x| water.as_ref().is_some_and(|w| w.pore_pressure(x) > 0.0))
-            .collect();
-        point_densities(scene, &point_material, &below)?
-    };
-    // One density everywhere: the scalar assembly (a layered scene of one material
-    // gives the one-material model bit for bit); else each point's.
-    let uniform = densities
-        .iter()
-        .all(|d| *d == densities.first().copied().unwrap_or(dry[0]));
-    let assembly = if uniform {
-        Assembly::with_geometry(
-            &mesh,
-            &dofs,
-            densities.first().copied().unwrap_or(dry[0]),
-            geometry,
-        )
-    } else {
-        Assembly::with_point_densities(&mesh, &dofs, &densities, geometry)
-    }
-    .map_err(|e| {
-        let field = match &e {
-            FemError::InvalidInput {
-                field: "density", ..
-            } => "material.density",
-            _ if geometry == Geometry::Axisymmetric => "analysis.geometry",
-            _ => "material.density",
-        };
-        scene.error(field, e.to_string())
-    })?;
+    let (assembly, densities) = assembly_with_densities(
+        scene,
+        &mesh,
+        &dofs,
+        element_material,
+        water.as_ref(),
+        geometry,
+    )?;
     let point_material: Vec<usize> = assembly
         .gauss_element
         .iter()
         .map(|&e| element_material[e])
         .collect();
-    let densities = if densities.is_empty() {
-        vec![dry[0]; assembly.n_points()]
-    } else {
-        densities
-    };
 
     // A stage may switch the reported boundary off: its reaction is 0 there.
     let switched_off = spec.output.reaction.as_ref().is_some_and(|name| {
@@ -242,7 +219,13 @@ pub(super) fn build(
     // The water's push on the free boundary below the table (`water_loads`), following
     // the weight's ramp as the pore pressure does.
     if let Some(w) = &water {
-        let edges = free_edges_below(&mesh, &dofs, w);
+        let edges = free_below(
+            mesh.boundary_edges(),
+            |e| &e.nodes[..],
+            &mesh.nodes,
+            &dofs,
+            w,
+        );
         if !edges.is_empty() {
             add_load(
                 assembly
@@ -353,15 +336,81 @@ where
     )]
 }
 
-/// The weight of gravity `g` (m/s²) on the body (N/m) with each Gauss point's density:
-/// the scalar integration when they are all one (the weight of a one-material scene, bit
-/// for bit).
-fn point_weight(
-    scene: &Scene,
-    assembly: &Assembly,
+/// The assembly of `mesh` (2D or 3D) and each Gauss point's density (kg/m³): its
+/// material's, saturated below the water table. The points' layout is mapped ahead of the
+/// assembly only when the densities vary (layers, a water table); one density everywhere
+/// gives the scalar assembly (a layered scene of one material is the one-material model
+/// bit for bit).
+pub(super) fn assembly_with_densities<const N: usize, const D: usize, M>(
+    scene: &SceneOf<N>,
+    mesh: &M,
+    dofs: &DofMap,
+    element_material: &[usize],
+    water: Option<&WaterTable>,
+    geometry: Geometry,
+) -> Result<(Assembly<D>, Vec<f64>), SceneError>
+where
+    M: ElementMesh<Dim = Mandel<D>>,
+    Mandel<D>: Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+{
+    let dry = required_densities(scene)?;
+    let densities = if water.is_none() && dry.iter().all(|d| *d == dry[0]) {
+        Vec::new()
+    } else {
+        let (elements, positions) = Assembly::<D>::gauss_layout(mesh, geometry)
+            .map_err(|e| scene.error("mesh", e.to_string()))?;
+        let point_material: Vec<usize> = elements.iter().map(|&e| element_material[e]).collect();
+        let below: Vec<bool> = positions
+            .iter()
+            .map(|&x| water.is_some_and(|w| w.pore_pressure(x) > 0.0))
+            .collect();
+        point_densities(scene, &point_material, &below)?
+    };
+    let uniform = densities
+        .iter()
+        .all(|d| *d == densities.first().copied().unwrap_or(dry[0]));
+    let assembly = if uniform {
+        Assembly::with_geometry(
+            mesh,
+            dofs,
+            densities.first().copied().unwrap_or(dry[0]),
+            geometry,
+        )
+    } else {
+        Assembly::with_point_densities(mesh, dofs, &densities, geometry)
+    }
+    .map_err(|e| {
+        let field = match &e {
+            FemError::InvalidInput {
+                field: "density", ..
+            } => "material.density",
+            _ if geometry == Geometry::Axisymmetric => "analysis.geometry",
+            _ => "material.density",
+        };
+        scene.error(field, e.to_string())
+    })?;
+    let densities = if densities.is_empty() {
+        vec![dry[0]; assembly.n_points()]
+    } else {
+        densities
+    };
+    Ok((assembly, densities))
+}
+
+/// The weight of gravity `g` (m/s²) on the body (N/m in 2D, N in 3D) with each Gauss
+/// point's density: the scalar integration when they are all one (the weight of a
+/// one-material scene, bit for bit).
+pub(super) fn point_weight<const N: usize, const D: usize>(
+    scene: &SceneOf<N>,
+    assembly: &Assembly<D>,
     densities: &[f64],
-    g: [f64; 2],
-) -> Result<(Vec<f64>, Vec<f64>), SceneError> {
+    g: [f64; N],
+) -> Result<(Vec<f64>, Vec<f64>), SceneError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+{
     if densities.iter().all(|d| *d == densities[0]) {
         assembly.body_force(densities[0], g)
     } else {
@@ -371,12 +420,17 @@ fn point_weight(
 }
 
 /// The weight of gravity `g` (m/s²) on `model` built from `scene`, each point with its
-/// density, saturated where the model has pore pressure (N/m, free and prescribed dofs).
-pub fn weight(
-    scene: &Scene,
-    model: &Model,
-    g: [f64; 2],
-) -> Result<(Vec<f64>, Vec<f64>), SceneError> {
+/// density, saturated where the model has pore pressure (free and prescribed dofs): what
+/// `[stability] method = "gravity_increase"` multiplies.
+pub fn weight<const N: usize, const D: usize>(
+    scene: &SceneOf<N>,
+    model: &Model<D>,
+    g: [f64; N],
+) -> Result<(Vec<f64>, Vec<f64>), SceneError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+{
     let below: Vec<bool> = (0..model.n_points())
         .map(|p| model.pore_pressure.get(p).is_some_and(|&pw| pw > 0.0))
         .collect();
@@ -384,25 +438,35 @@ pub fn weight(
     point_weight(scene, &model.assembly, &densities, g)
 }
 
-/// The boundary edges the water pushes on: those with a node below the table that are
-/// free, i.e. not every node of theirs has a prescribed component (a slope face, the floor
-/// of a flooded cut; not a fixed base or a side on rollers, whose supports would carry the
-/// push into their reaction alone).
-fn free_edges_below(mesh: &Mesh, dofs: &DofMap, water: &WaterTable) -> Vec<BoundaryEdge> {
-    let held = |n: usize| dofs.prescribed(n, 0).is_some() || dofs.prescribed(n, 1).is_some();
-    mesh.boundary_edges()
+/// The boundary pieces the water pushes on (`pieces`: edges in 2D, faces in 3D, with their
+/// nodes `nodes_of`): those with a node below the table that are free, i.e. not every node
+/// of theirs has a prescribed component (a slope face, the floor of a flooded cut; not a
+/// fixed base or a side on rollers, whose supports would carry the push into their
+/// reaction alone).
+pub(super) fn free_below<B, const N: usize>(
+    pieces: Vec<B>,
+    nodes_of: impl Fn(&B) -> &[usize],
+    positions: &[[f64; N]],
+    dofs: &DofMap,
+    water: &WaterTable,
+) -> Vec<B> {
+    let held = |n: usize| (0..N).any(|c| dofs.prescribed(n, c).is_some());
+    pieces
         .into_iter()
         .filter(|e| {
-            e.nodes
+            let nodes = nodes_of(e);
+            nodes
                 .iter()
-                .any(|&n| water.pore_pressure(mesh.nodes[n]) > 0.0)
-                && !e.nodes.iter().all(|&n| held(n))
+                .any(|&n| water.pore_pressure(positions[n]) > 0.0)
+                && !nodes.iter().all(|&n| held(n))
         })
         .collect()
 }
 
 /// The scene's water table, checked (`None`: dry).
-pub fn water_table(scene: &Scene) -> Result<Option<WaterTable>, SceneError> {
+pub fn water_table<V: SceneVector>(
+    scene: &SceneDocument<SceneSpec<V>>,
+) -> Result<Option<WaterTable>, SceneError> {
     scene
         .spec
         .water
@@ -413,8 +477,8 @@ pub fn water_table(scene: &Scene) -> Result<Option<WaterTable>, SceneError> {
 
 /// Each Gauss point's density (kg/m³): its material's, saturated where `below` (the
 /// water table).
-fn point_densities(
-    scene: &Scene,
+fn point_densities<V: SceneVector>(
+    scene: &SceneDocument<SceneSpec<V>>,
     point_material: &[usize],
     below: &[bool],
 ) -> Result<Vec<f64>, SceneError> {
@@ -433,7 +497,9 @@ fn point_densities(
 /// The density (kg/m³) of each material: required by a dynamic analysis (the mass) and by
 /// gravity (the weight); a weightless quasi-static scene may leave it out (its masses are
 /// scaled from the stiffness, `super::quasi_static`).
-fn required_densities(scene: &Scene) -> Result<Vec<f64>, SceneError> {
+pub(super) fn required_densities<V: SceneVector>(
+    scene: &SceneDocument<SceneSpec<V>>,
+) -> Result<Vec<f64>, SceneError> {
     let spec = &scene.spec;
     let materials = &spec.material;
     let field = |k: usize| format!("{}.density", materials.field(k));

@@ -1,15 +1,16 @@
 //! A 3D finite-element [`Model`] from a scene (`[analysis] geometry = "3d"`,
 //! `docs/3d.md`): a `[mesh.box]` of tetrahedra or a Gmsh file of them, the materials and
-//! `[[region]]` boxes, the `[[boundary]]` conditions with their reaction, gravity, face
+//! `[[region]]` boxes, the `[[boundary]]` conditions with their reaction, gravity, a water
+//! table (pore pressure, saturated weight, its push on the free faces below it), face
 //! tractions and pressures, point loads, the quasi-static masses and the K₀ initial
-//! stress; what 3D does not run yet (water, stages, a uniform initial stress, monitors)
-//! is refused naming its field; `[stability]` runs by `analysis::stability`. The parts
-//! shared with 2D are the same functions: materials (`super::materials`), prescribed
-//! motion (`super::motion`), quasi-static masses (`super::quasi_static`), the checks of
-//! `scene::check`.
+//! stress; what 3D does not run yet (stages, a uniform initial stress) is refused naming
+//! its field; `[stability]` runs by `analysis::stability`. The parts shared with 2D are
+//! the same functions: densities, weight and water (`super::build`), materials
+//! (`super::materials`), prescribed motion (`super::motion`), quasi-static masses
+//! (`super::quasi_static`), the initial stress (`crate::model::initial_stress`), the checks
+//! of `scene::check`.
 use talus_fem::{
-    Assembly, BoundaryFace, Constraint, DofMap, ElementMesh, ElementOrder, Model, State,
-    TetrahedralMesh,
+    BoundaryFace, Constraint, DofMap, ElementMesh, ElementOrder, Model, State, TetrahedralMesh,
 };
 
 use crate::scene::{
@@ -36,9 +37,6 @@ fn not_in_3d(scene: &Scene3, field: &str, what: &str) -> SceneError {
 /// The sections a 3D scene may not use yet, refused naming the first one given.
 fn refuse_unsupported(scene: &Scene3) -> Result<(), SceneError> {
     let spec = &scene.spec;
-    if spec.water.is_some() {
-        return Err(not_in_3d(scene, "water", "a water table ([water])"));
-    }
     if !spec.stage.is_empty() {
         return Err(not_in_3d(
             scene,
@@ -53,7 +51,6 @@ fn refuse_unsupported(scene: &Scene3) -> Result<(), SceneError> {
             "a uniform initial stress (its 4 components are 2D's; the K₀ procedure runs)",
         ));
     }
-    // Every material's saturated density belongs to the water, which 3D does not have.
     Ok(())
 }
 
@@ -97,24 +94,18 @@ pub fn model_3d(scene: &Scene3) -> Result<Model3, SceneError> {
     if dofs.n_free() == 0 {
         return Err(scene.error("boundary", "every degree of freedom is prescribed"));
     }
-    let dry = densities(scene)?;
-    let uniform = dry.iter().all(|d| *d == dry[0]);
-    let assembly = if uniform {
-        Assembly::with_geometry(&mesh, &dofs, dry[0], geometry)
-    } else {
-        let (elements, _) = Assembly::<6>::gauss_layout(&mesh, geometry)
-            .map_err(|e| scene.error("mesh", e.to_string()))?;
-        let densities: Vec<f64> = elements
-            .iter()
-            .map(|&e| dry[ground.element_material[e]])
-            .collect();
-        Assembly::with_point_densities(&mesh, &dofs, &densities, geometry)
-    }
-    .map_err(|e| scene.error("material.density", e.to_string()))?;
+    let water = super::build::water_table(scene)?;
+    let (assembly, point_density) = super::build::assembly_with_densities(
+        scene,
+        &mesh,
+        &dofs,
+        &ground.element_material,
+        water.as_ref(),
+        geometry,
+    )?;
     let point_material: Vec<usize> = (assembly.gauss_element.iter())
         .map(|&e| ground.element_material[e])
         .collect();
-    let point_density: Vec<f64> = point_material.iter().map(|&m| dry[m]).collect();
 
     let boundary_nodes: Vec<Vec<usize>> = constraints.iter().map(|(n, _)| n.clone()).collect();
     let motion =
@@ -125,21 +116,33 @@ pub fn model_3d(scene: &Scene3) -> Result<Model3, SceneError> {
     let mut loads: Vec<((Vec<f64>, Vec<f64>), Option<Ramp>)> = Vec::new();
     let gravity_ramp = check::ramp(scene, "gravity_ramp", &spec.gravity_ramp)?;
     match spec.gravity {
-        Some(g) => {
-            let weight = if uniform {
-                assembly.body_force(dry[0], g)
-            } else {
-                assembly.body_force_at_points(&point_density, g)
-            };
-            loads.push((
-                weight.map_err(|e| scene.error("gravity", e.to_string()))?,
-                gravity_ramp,
-            ));
-        }
+        Some(g) => loads.push((
+            super::build::point_weight(scene, &assembly, &point_density, g)?,
+            gravity_ramp.clone(),
+        )),
         None if gravity_ramp.is_some() => {
             return Err(scene.error("gravity_ramp", "multiplies `gravity`, which is not given"))
         }
         None => {}
+    }
+    // The water's push on the free faces below the table, following the weight's ramp
+    // as the pore pressure does (2D's edges, `super::build::free_below`).
+    if let Some(w) = &water {
+        let faces = super::build::free_below(
+            mesh.boundary_faces(),
+            |f| &f.nodes[..],
+            &mesh.nodes,
+            &dofs,
+            w,
+        );
+        if !faces.is_empty() {
+            loads.push((
+                assembly
+                    .pressure_with(&mesh, &faces, |x| w.pore_pressure(x))
+                    .map_err(|e| scene.error("water", e.to_string()))?,
+                gravity_ramp.clone(),
+            ));
+        }
     }
     for (k, t) in spec.traction.iter().enumerate() {
         let field = format!("traction[{k}].faces");
@@ -175,6 +178,12 @@ pub fn model_3d(scene: &Scene3) -> Result<Model3, SceneError> {
     }
     let mut model = Model::with_materials(mesh, assembly, ground.materials, point_material)
         .map_err(|e| scene.error("material", e.to_string()))?;
+    if let Some(w) = &water {
+        model.pore_pressure = (model.assembly.gauss_points.iter())
+            .map(|&x| w.pore_pressure(x))
+            .collect();
+        model.pore_pressure_ramp = gravity_ramp;
+    }
     for (forces, ramp) in loads {
         model.add_load(forces, ramp);
     }
@@ -186,82 +195,11 @@ pub fn model_3d(scene: &Scene3) -> Result<Model3, SceneError> {
     Ok(model)
 }
 
-/// The weight of gravity `g` (m/s²) on `model` built from `scene` (N, free and prescribed
-/// dofs), as `model_3d` adds it: what `[stability] method = "gravity_increase"` multiplies.
-pub fn weight_3d(
-    scene: &Scene3,
-    model: &Model3,
-    g: [f64; 3],
-) -> Result<(Vec<f64>, Vec<f64>), SceneError> {
-    let dry = densities(scene)?;
-    if dry.iter().all(|d| *d == dry[0]) {
-        model.assembly.body_force(dry[0], g)
-    } else {
-        let at: Vec<f64> = model.point_material.iter().map(|&m| dry[m]).collect();
-        model.assembly.body_force_at_points(&at, g)
-    }
-    .map_err(|e| scene.error("gravity", e.to_string()))
-}
-
 /// The state a run of `model` starts from: at rest, stress free or with the K₀
-/// procedure's stress (`σ_yy` the weight above, `σ_xx = σ_zz = K₀ σ_yy`, no shear:
-/// `crate::model::initial_stress_at`, the 2D procedure's, whose hoop σ_zz is 3D's).
+/// procedure's stress (`crate::model::initial_stress`, 2D's: layers and a water table
+/// included; `σ_xx = σ_zz = K₀ σ'_yy`, no shear).
 pub fn initial_state_3d(scene: &Scene3, model: &Model3) -> Result<State3, SceneError> {
-    let dofs = model.assembly.dofs();
-    let mut state = State::at_rest(
-        model.n_points(),
-        dofs.n_free(),
-        dofs.n_prescribed(),
-        model.mesh.nodes.len(),
-    );
-    let Some(spec) = &scene.spec.initial_stress else {
-        return Ok(state);
-    };
-    let ramp = check::ramp(scene, "gravity_ramp", &scene.spec.gravity_ramp)?;
-    // In equilibrium with the gravity of t = 0; y is vertical, as in 2D.
-    let g = scene.spec.gravity.map_or(0.0, |g| -g[1]) * ramp.map_or(1.0, |r| r.at(0.0));
-    let materials = scene.spec.material.all();
-    let gammas: Vec<f64> = (materials.iter())
-        .map(|m| {
-            if g == 0.0 {
-                0.0
-            } else {
-                m.density.unwrap_or(0.0) * g
-            }
-        })
-        .collect();
-    if gammas.iter().any(|x| *x != gammas[0]) {
-        return Err(not_in_3d(
-            scene,
-            "initial_stress.k0",
-            "the K₀ procedure under layers of different densities",
-        ));
-    }
-    let points = &model.assembly.gauss_points;
-    let mut sigma = vec![0.0; 6 * points.len()];
-    for (m, gamma) in gammas.iter().enumerate() {
-        let at: Vec<usize> = (0..points.len())
-            .filter(|&p| model.point_material[p] == m)
-            .collect();
-        if at.is_empty() {
-            continue;
-        }
-        let these: Vec<[f64; 2]> = at.iter().map(|&p| [points[p][0], points[p][1]]).collect();
-        let values = crate::model::initial_stress_at(
-            scene,
-            model.materials[m].drucker_prager(),
-            *gamma,
-            spec,
-            &these,
-            None,
-        )?;
-        // (xx, yy, zz, √2 xy) → (xx, yy, zz, √2 yz, √2 xz, √2 xy).
-        for (&p, [xx, yy, zz, xy]) in at.iter().zip(values) {
-            sigma[6 * p..6 * p + 6].copy_from_slice(&[xx, yy, zz, 0.0, 0.0, xy]);
-        }
-    }
-    state.sigma = sigma;
-    Ok(state)
+    super::initial_state(scene, model)
 }
 
 /// The mesh of `[mesh.box]` or `[mesh.gmsh]`.
@@ -443,28 +381,6 @@ fn extruded_mesh(
             format!("{} extruded over [{z0}, {z1}] m: {e}", file.display()),
         )
     })
-}
-
-/// Each material's density (kg/m³), required with gravity or by a dynamic analysis, as
-/// in 2D (`build::required_densities`).
-fn densities(scene: &Scene3) -> Result<Vec<f64>, SceneError> {
-    let spec = &scene.spec;
-    let materials = &spec.material;
-    (materials.all().iter().enumerate())
-        .map(|(k, m)| match m.density {
-            Some(d) => Ok(d),
-            None if spec.gravity.is_some() => Err(scene.error(
-                &format!("{}.density", materials.field(k)),
-                "is required with `gravity` (the weight of the ground)",
-            )),
-            None if spec.analysis.kind == AnalysisKind::Dynamic => Err(scene.error(
-                &format!("{}.density", materials.field(k)),
-                "is required by a dynamic analysis (the mass); a quasi-static one \
-                 ([analysis] kind = \"quasi_static\") without gravity does not need it",
-            )),
-            None => Ok(1.0),
-        })
-        .collect()
 }
 
 /// The scene against its own scales (`scene::scales`), as 2D's `check_scales`: the cell
