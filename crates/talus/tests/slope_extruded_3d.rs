@@ -114,43 +114,8 @@ fn extruded_slope_has_the_plane_strain_factor_of_safety() {
 /// 3D `[[monitor]]` (the crest) as in 2D.
 #[test]
 fn extruded_slope_with_water_has_the_plane_strain_factor_of_safety() {
-    let text2 = common::replaced(&read("slope_water.toml"), "path = \"slope.msh\"", SECTION);
-    let text2 = common::replaced(&text2, "plots = true", "plots = false");
-    let text2 = common::replaced(
-        &text2,
-        "tolerance = 0.005",
-        "tolerance = 0.005\nmonitor = \"crest\"",
-    );
-    let mut text3 = common::replaced(
-        &text2,
-        "gravity = [0.0, -10.0]",
-        "gravity = [0.0, -10.0, 0.0]",
-    );
-    text3 = common::replaced(
-        &text3,
-        SECTION,
-        &format!("{SECTION}\nextrude = [0.0, 1.0]\nlayers = 1"),
-    );
-    text3 = common::replaced(&text3, "[analysis]\n", "[analysis]\ngeometry = \"3d\"\n");
-    text3 = common::replaced(&text3, "fix = \"xy\"", "fix = \"xyz\"");
-    text3 = common::replaced(
-        &text3,
-        "[analysis]",
-        "[[boundary]]\nnodes = \"back\"\nfix = \"z\"\n\n[[boundary]]\nnodes = \"front\"\nfix = \"z\"\n\n[analysis]",
-    );
-    text3 = common::replaced(&text3, "point = [20.0, 10.0]", "point = [20.0, 10.0, 0.5]");
-    let s2 = Scene::parse(&text2, Some(scenes().join("slope_water.toml"))).unwrap();
-    let run2 = stability::run(
-        &s2,
-        &RunOptions::new(common::target_tmp_dir("slope_extruded_3d", "water_2d")),
-    )
-    .unwrap();
-    let s3 = scene3(&text3);
-    let run3 = stability::run(
-        &s3,
-        &RunOptions::new(common::target_tmp_dir("slope_extruded_3d", "water_3d")),
-    )
-    .unwrap();
+    let (run2, run3) = talus::analysis::verification::extruded_slope_runs("slope_water.toml", true)
+        .unwrap_or_else(|e| panic!("{e}"));
     let (f2, f3) = (
         run2.factor_of_safety.value.unwrap(),
         run3.factor_of_safety.value.unwrap(),

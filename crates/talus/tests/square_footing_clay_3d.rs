@@ -14,44 +14,18 @@
 //! limit load is proportional to the cylinder's radius, so the circumscribed load is the
 //! inscribed one times `(2√6/3)/√2 = 2/√3`, which the coarse mesh checks to 1e-3 (the
 //! elastic part does not scale; the plateau does).
-mod common;
+use talus::analysis::verification::{extrapolated, square_footing_nc, TRESCA_SQUARE_NC};
 
-use common::replaced;
-use talus::run::fem::run_scene_3d;
-use talus::run::RunOptions;
-use talus::scene::SceneFile;
-use talus_fem::ReactionForce;
-
-const SCENE: &str = include_str!("../../../scenes/square_footing_clay_3d.toml");
-const C: f64 = 1.0e4;
-/// The quarter footing's area, (B/2)², m².
-const QUARTER: f64 = 0.25;
-
-/// `N_c = F / ((B/2)² c)` on the plateau and its last relative rise per step.
-fn bearing_factor(cells: &str, fit: &str, name: &str) -> (f64, f64) {
-    let text = replaced(
-        &replaced(SCENE, "cells = [9, 7, 9]", &format!("cells = [{cells}]")),
-        "cone_fit = \"plane_strain\"",
-        &format!("cone_fit = \"{fit}\""),
-    );
-    let Ok(SceneFile::Fem3(scene)) = SceneFile::parse(&text, None) else {
-        panic!("not a 3D scene")
-    };
-    let dir = common::target_tmp_dir("square_footing_clay_3d", name);
-    let mut options = RunOptions::new(dir.join("out"));
-    options.write_fields = false;
-    let run = run_scene_3d(&scene, &options, None).unwrap_or_else(|e| panic!("{e}"));
-    let f: Vec<f64> = run.records.iter().map(|r| r.reaction_force()).collect();
-    let n = f.len();
-    let rise = (f[n - 1] - f[n - 2]) / f[n - 1];
-    (f[n - 1] / (QUARTER * C), rise)
+/// `N_c` and the last step's rise of the quarter footing on `cells` with `fit`.
+fn bearing_factor(cells: [usize; 3], fit: &str) -> (f64, f64) {
+    square_footing_nc(cells, fit).unwrap_or_else(|e| panic!("{e}"))
 }
 
 #[test]
 fn von_mises_cylinders_inscribed_and_circumscribed_bracket_tresca_n_c() {
-    let (coarse, rise_c) = bearing_factor("6, 5, 6", "plane_strain", "inscribed_6");
-    let (fine, rise_f) = bearing_factor("9, 7, 9", "plane_strain", "inscribed_9");
-    let (outer, _) = bearing_factor("6, 5, 6", "outer_cone", "circumscribed_6");
+    let (coarse, rise_c) = bearing_factor([6, 5, 6], "plane_strain");
+    let (fine, rise_f) = bearing_factor([9, 7, 9], "plane_strain");
+    let (outer, _) = bearing_factor([6, 5, 6], "outer_cone");
     println!("N_c inscribed: 6x5x6 {coarse:.4}, 9x7x9 {fine:.4}; circumscribed 6x5x6 {outer:.4}");
     // On the plateau: the last step adds less than 0.1 %.
     assert!(
@@ -64,17 +38,20 @@ fn von_mises_cylinders_inscribed_and_circumscribed_bracket_tresca_n_c() {
     // Displacement elements converge from above.
     assert!(fine < coarse, "{fine} !< {coarse}");
     let (h_c, h_f): (f64, f64) = (1.0 / 6.0, 1.0 / 9.0);
+    let [lower, upper] = TRESCA_SQUARE_NC;
     for p in [1.0f64, 1.14] {
-        let c = (coarse - fine) / (h_c.powf(p) - h_f.powf(p));
-        let inscribed = fine - c * h_f.powf(p);
+        let inscribed = extrapolated(p, (h_c, coarse), (h_f, fine));
         let circumscribed = inscribed * 2.0 / 3f64.sqrt();
         println!("p = {p}: N0 inscribed {inscribed:.3}, circumscribed {circumscribed:.3}");
-        assert!(inscribed <= 5.78, "p = {p}: inscribed {inscribed} > 5.78");
         assert!(
-            circumscribed >= 5.90,
-            "p = {p}: circumscribed {circumscribed} < 5.90"
+            inscribed <= lower,
+            "p = {p}: inscribed {inscribed} > {lower}"
+        );
+        assert!(
+            circumscribed >= upper,
+            "p = {p}: circumscribed {circumscribed} < {upper}"
         );
         // And the bracket is not vacuous: within 15 % of the range it brackets.
-        assert!(inscribed > 5.78 / 1.15 && circumscribed < 5.90 * 1.15);
+        assert!(inscribed > lower / 1.15 && circumscribed < upper * 1.15);
     }
 }

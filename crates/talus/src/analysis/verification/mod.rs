@@ -10,6 +10,7 @@ mod material_point;
 mod prandtl;
 mod stability;
 mod stages;
+mod three_d;
 mod triaxial;
 mod water;
 
@@ -33,6 +34,11 @@ pub use stability::{
     CHEN_REFERENCE, CUT_REFERENCE, SLOPE_REFERENCE,
 };
 pub use stages::{cut_in_lifts_case, cut_scenes, staged_factor, CUT_IN_LIFTS};
+pub use three_d::{
+    block_column_case, extrapolated, extruded_slope_cases, extruded_slope_runs,
+    extruded_slope_scenes, square_footing_clay_case, square_footing_nc, BLOCK_3D,
+    SQUARE_FOOTING_CLAY_3D, TRESCA_SQUARE_NC,
+};
 pub use triaxial::{
     run_triaxial, triaxial_compression, triaxial_dilatancy_ratio, triaxial_peak_deviator,
     triaxial_scene, TriaxialRun,
@@ -120,5 +126,9 @@ pub fn all_cases(quick: bool, figures: Option<&std::path::Path>) -> Vec<CaseResu
     out.extend(vertical_cut_fenicsx_case());
     out.extend(cut_in_lifts_case());
     out.extend(submerged_slope_case());
+    // 3D: each stamps its own seconds.
+    out.extend(block_column_case());
+    out.extend(square_footing_clay_case());
+    out.extend(extruded_slope_cases());
     out
 }
