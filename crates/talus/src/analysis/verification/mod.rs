@@ -35,9 +35,9 @@ pub use stability::{
 };
 pub use stages::{cut_in_lifts_case, cut_scenes, staged_factor, CUT_IN_LIFTS};
 pub use three_d::{
-    block_column_case, extrapolated, extruded_slope_cases, extruded_slope_runs,
-    extruded_slope_scenes, square_footing_clay_case, square_footing_nc, BLOCK_3D,
-    SQUARE_FOOTING_CLAY_3D, TRESCA_SQUARE_NC,
+    block_column_case, circular_footing_case, circular_footing_nc, extrapolated,
+    extruded_slope_cases, extruded_slope_runs, extruded_slope_scenes, square_footing_clay_case,
+    square_footing_nc, BLOCK_3D, SQUARE_FOOTING_CLAY_3D, TRESCA_SQUARE_NC,
 };
 pub use triaxial::{
     run_triaxial, triaxial_compression, triaxial_dilatancy_ratio, triaxial_peak_deviator,
@@ -130,5 +130,6 @@ pub fn all_cases(quick: bool, figures: Option<&std::path::Path>) -> Vec<CaseResu
     out.extend(block_column_case());
     out.extend(square_footing_clay_case());
     out.extend(extruded_slope_cases());
+    out.extend(circular_footing_case());
     out
 }

@@ -1,9 +1,10 @@
 //! The 3D cases (`docs/3d.md`): the uniaxial-strain column of `scenes/block_3d.toml`, the
 //! square footing on undrained clay between the von Mises cylinders inscribed in and
 //! circumscribed about Tresca's hexagon, and the extruded plane-strain slope against its
-//! 2D factor of safety, dry and with a water table. The integration tests
-//! (`block_3d.rs`, `square_footing_clay_3d.rs`, `slope_extruded_3d.rs`) run the same
-//! functions and check more of their files.
+//! 2D factor of safety, dry and with a water table, and the circular footing on clay
+//! against its axisymmetric run on the revolved mesh. The integration tests (`block_3d.rs`,
+//! `square_footing_clay_3d.rs`, `slope_extruded_3d.rs`, `circular_footing_3d.rs`) run the
+//! same functions and check more of their files.
 use std::time::Instant;
 
 use talus_fem::ReactionForce;
@@ -11,7 +12,7 @@ use talus_fem::ReactionForce;
 use super::stability::scene_path;
 use super::{case_dir, CaseResult, Check};
 use crate::analysis::stability::{self, StabilityRun};
-use crate::run::fem::run_scene_3d;
+use crate::run::fem::{run_scene, run_scene_3d};
 use crate::run::RunOptions;
 use crate::scene::{Scene, Scene3, SceneFile};
 
@@ -244,4 +245,56 @@ pub fn extruded_slope_cases() -> Vec<CaseResult> {
             }
         })
         .collect()
+}
+
+/// `N_c = Q / (π R² c)` of the circular footing (R = 0.5 m, c = 10 kPa) after each step
+/// of the 3D quarter cylinder (`scenes/circular_footing_3d.toml`, 4 × the quarter's load)
+/// and of its axisymmetric run on the meridian it was revolved from
+/// (`scenes/circular_footing_axi.toml`, whose load is the whole footing's):
+/// `(three_d, axisymmetric)`.
+pub fn circular_footing_nc() -> Result<(Vec<f64>, Vec<f64>), String> {
+    let area_c = std::f64::consts::PI * 0.25 * 1.0e4;
+    let options = |name: &str| RunOptions {
+        write_fields: false,
+        ..RunOptions::new(case_dir(name))
+    };
+    let path3 = scene_path("circular_footing_3d.toml");
+    let text3 = std::fs::read_to_string(&path3).map_err(|e| e.to_string())?;
+    let run3 = run_scene_3d(&parse3(&text3, Some(path3))?, &options("circular_3d"), None)
+        .map_err(|e| e.to_string())?;
+    let path = scene_path("circular_footing_axi.toml");
+    let text = std::fs::read_to_string(&path).map_err(|e| e.to_string())?;
+    let axi = Scene::parse(&text, Some(path)).map_err(|e| e.to_string())?;
+    let run = run_scene(&axi, &options("circular_axi")).map_err(|e| e.to_string())?;
+    let nc = |q: f64| q / area_c;
+    Ok((
+        run3.records
+            .iter()
+            .map(|r| nc(4.0 * r.reaction_force()))
+            .collect(),
+        run.records.iter().map(|r| nc(r.reaction_force())).collect(),
+    ))
+}
+
+/// The circular footing's limit load in 3D against its axisymmetric run, within 2 %
+/// (issue 25).
+pub fn circular_footing_case() -> Vec<CaseResult> {
+    let start = Instant::now();
+    let (computed, reference) = circular_footing_nc()
+        .ok()
+        .and_then(|(n3, na)| Some((*n3.last()?, *na.last()?)))
+        .unwrap_or((f64::NAN, f64::NAN));
+    vec![CaseResult {
+        case: "circular_footing_3d_vs_axisymmetric".into(),
+        quantity: "N_c of a rough rigid circular footing on clay (outer cone), quarter \
+                   cylinder of P2 tetrahedra revolved from the axisymmetric meridian \
+                   (reference: the axisymmetric run)"
+            .into(),
+        reference,
+        computed,
+        tolerance: 0.02,
+        check: Check::Relative,
+        seconds: start.elapsed().as_secs_f64(),
+        source: "axisymmetry: the 3D mechanism of an axisymmetric footing is axisymmetric".into(),
+    }]
 }
