@@ -25,7 +25,7 @@ pub use file::SceneFile;
 pub use load::{builtin_footing, builtin_footing_with_cells, Scene, Scene3, BUILTIN_FOOTING};
 pub use material::{Flow, MaterialModel, MaterialSpec, Materials, RegionSpec};
 pub use monitor::{bad_name, first_duplicate, MonitorSpec, MONITOR_COLUMNS, REACTION_COLUMNS};
-pub use mpm_load::MpmScene;
+pub use mpm_load::{check_dimension as check_mpm_dimension, MpmScene, MpmScene3};
 pub use mpm_types::*;
 pub use solver::{RhoScaling, SolverSpec};
 pub use source::{Locate, SceneDocument};
