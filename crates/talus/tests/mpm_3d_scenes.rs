@@ -25,7 +25,7 @@ use talus::run::mpm::{run_mpm_scene, run_mpm_scene_3d};
 use talus::run::RunOptions;
 use talus::scene::{MpmScene, SceneError, SceneFile};
 
-/// A sand column 0.1 × 0.2 m (10 × 20 cells of dx = 0.01 m, 4 particles each) against a
+/// A sand column 0.1 × 0.2 m (5 × 10 cells of dx = 0.02 m, 4 particles each) against a
 /// slip wall at x = 0, collapsing on a Coulomb floor μ = 0.5: the library's
 /// `plane_strain_in_3d.rs` case, 60 steps of 1 ms.
 const COLUMN_2D: &str = r#"
@@ -34,7 +34,7 @@ gravity = [0.0, -9.81]
 
 [grid]
 origin = [0.0, 0.0]
-spacing = 0.01
+spacing = 0.02
 cells = [20, 12]
 
 [[body]]
@@ -68,7 +68,7 @@ runout = true
 vtu_every = 0
 "#;
 
-/// [`COLUMN_2D`] one cell thick in z (0.01 m) with slip walls on both z faces, listed
+/// [`COLUMN_2D`] one cell thick in z (0.02 m) with slip walls on both z faces, listed
 /// before the floor so that its friction acts along x alone on their nodes.
 fn column_3d() -> String {
     let text = replaced(
@@ -78,13 +78,13 @@ fn column_3d() -> String {
     );
     let text = replaced(
         &text,
-        "origin = [0.0, 0.0]\nspacing = 0.01\ncells = [20, 12]",
-        "origin = [0.0, 0.0, 0.0]\nspacing = 0.01\ncells = [20, 12, 1]",
+        "origin = [0.0, 0.0]\nspacing = 0.02\ncells = [20, 12]",
+        "origin = [0.0, 0.0, 0.0]\nspacing = 0.02\ncells = [20, 12, 1]",
     );
     let text = replaced(
         &text,
         "rectangle = [[0.0, 0.0], [0.1, 0.2]]",
-        "box = [[0.0, 0.0, 0.0], [0.1, 0.2, 0.01]]",
+        "box = [[0.0, 0.0, 0.0], [0.1, 0.2, 0.02]]",
     );
     let text = replaced(
         &text,
@@ -112,7 +112,7 @@ fn scene3(text: &str) -> talus::scene::MpmScene3 {
 
 #[test]
 fn a_plane_strain_column_run_in_3d_gives_the_2d_history() {
-    let thickness = 0.01;
+    let thickness = 0.02;
     let out2 = out_dir("plane_strain_2d");
     let scene2 = MpmScene::parse(COLUMN_2D, None).unwrap();
     let run2 = run_mpm_scene(&scene2, &RunOptions::new(&out2)).unwrap_or_else(|e| panic!("{e}"));
@@ -222,7 +222,8 @@ fn the_3d_column_scene_holds_its_quarter_cylinder() {
 /// Tolerance 2 % of ρgH, as the library test's (it measures 1.4 %).
 #[test]
 fn an_elastic_column_in_3d_settles_in_uniaxial_strain() {
-    let (e, nu, rho, g, width, height, dx) = (1e7, 0.3, 2000.0, 9.81, 0.2, 1.0, 0.05);
+    let (e, nu, rho, g, width, height, dx): (f64, f64, f64, f64, f64, f64, f64) =
+        (1e7, 0.3, 2000.0, 9.81, 0.2, 1.0, 0.05);
     let modulus = e * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
     let h = 25.0 * dx / (modulus / rho).sqrt();
     let steps = 20;
@@ -348,7 +349,7 @@ fn bad_3d_mpm_inputs_are_named() {
         (
             replaced(
                 &good,
-                "box = [[0.0, 0.0, 0.0], [0.1, 0.2, 0.01]]",
+                "box = [[0.0, 0.0, 0.0], [0.1, 0.2, 0.02]]",
                 "box = [[0.0, 0.0], [0.1, 0.2]]",
             ),
             "body[0].box",
@@ -358,8 +359,8 @@ fn bad_3d_mpm_inputs_are_named() {
         (
             replaced(
                 &good,
-                "box = [[0.0, 0.0, 0.0], [0.1, 0.2, 0.01]]",
-                "rectangle = [[0.0, 0.0, 0.0], [0.1, 0.2, 0.01]]",
+                "box = [[0.0, 0.0, 0.0], [0.1, 0.2, 0.02]]",
+                "rectangle = [[0.0, 0.0, 0.0], [0.1, 0.2, 0.02]]",
             ),
             "body[0].rectangle",
             "box",
@@ -368,7 +369,7 @@ fn bad_3d_mpm_inputs_are_named() {
         (
             replaced(
                 &good,
-                "box = [[0.0, 0.0, 0.0], [0.1, 0.2, 0.01]]",
+                "box = [[0.0, 0.0, 0.0], [0.1, 0.2, 0.02]]",
                 "box = [[0.0, 0.0, 0.0], [0.1, 0.2, 0.0]]",
             ),
             "body[0].box",
@@ -382,7 +383,7 @@ fn bad_3d_mpm_inputs_are_named() {
         (
             replaced(
                 &good,
-                "box = [[0.0, 0.0, 0.0], [0.1, 0.2, 0.01]]",
+                "box = [[0.0, 0.0, 0.0], [0.1, 0.2, 0.02]]",
                 "cylinder = { centre = [0.0, 0.0], base = 0.0, radius = 0.0, height = 0.1 }",
             ),
             "body[0].cylinder.radius",
@@ -392,7 +393,7 @@ fn bad_3d_mpm_inputs_are_named() {
         (
             replaced(
                 &good,
-                "box = [[0.0, 0.0, 0.0], [0.1, 0.2, 0.01]]",
+                "box = [[0.0, 0.0, 0.0], [0.1, 0.2, 0.02]]",
                 "cylinder = { centre = [0.0, 0.0], base = 0.0, radius = 0.005, height = 0.1 }",
             ),
             "body[0].cylinder",
@@ -402,8 +403,8 @@ fn bad_3d_mpm_inputs_are_named() {
         (
             replaced(
                 &good,
-                "box = [[0.0, 0.0, 0.0], [0.1, 0.2, 0.01]]",
-                "box = [[0.0, 0.0, 0.0], [0.1, 0.2, 0.01]]\ncylinder = { centre = [0.0, 0.0], \
+                "box = [[0.0, 0.0, 0.0], [0.1, 0.2, 0.02]]",
+                "box = [[0.0, 0.0, 0.0], [0.1, 0.2, 0.02]]\ncylinder = { centre = [0.0, 0.0], \
                  base = 0.0, radius = 0.005, height = 0.1, quarter = true }",
             ),
             "body[0].cylinder",
@@ -411,7 +412,7 @@ fn bad_3d_mpm_inputs_are_named() {
         ),
         // what 3D does not take yet
         (
-            format!("{good}\n[[surface_load]]\nregion = [[0.0, 0.2, 0.0], [0.1, 0.2, 0.01]]\npressure = 1.0\n"),
+            format!("{good}\n[[surface_load]]\nregion = [[0.0, 0.2, 0.0], [0.1, 0.2, 0.02]]\npressure = 1.0\n"),
             "surface_load",
             "not supported",
         ),
@@ -421,7 +422,7 @@ fn bad_3d_mpm_inputs_are_named() {
             "not supported",
         ),
         (
-            format!("{good}\n[[monitor]]\nname = \"top\"\npoint = [0.05, 0.15, 0.005]\n"),
+            format!("{good}\n[[monitor]]\nname = \"top\"\npoint = [0.05, 0.15, 0.01]\n"),
             "monitor",
             "not supported",
         ),

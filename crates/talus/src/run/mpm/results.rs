@@ -70,6 +70,8 @@ where
         let mut results =
             Results::with_components(base, &named, &monitors, spec.output.reaction.clone(), N)
                 .map_err(|e| scene.error(&e.field, e.message))?;
+        // N/m in plane strain, N in 3D.
+        results.set_force_unit(spec.analysis.geometry.force_unit());
         // Ramps faster than the step are sampled at the step ends only: said, not silent.
         let ramps = crate::scene::check::mpm_ramps(spec);
         let end = spec.time.step * spec.time.steps as f64;
