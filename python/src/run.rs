@@ -12,7 +12,7 @@ use pyo3::types::PyDict;
 use talus::model::fem::{model_3d, FromScene, Model};
 use talus::run::checkpoint::Checkpoint;
 use talus::run::fem::{resume_scene, run_scene, run_scene_3d};
-use talus::run::mpm::{resume_mpm_scene, run_mpm_scene};
+use talus::run::mpm::{resume_mpm_scene, run_mpm_scene, run_mpm_scene_3d};
 use talus::run::{RunError, RunOptions};
 use talus::scene::SceneFile;
 
@@ -35,9 +35,12 @@ enum Final {
         gauss_element: Vec<usize>,
     },
     Mpm {
-        position: Vec<[f64; 2]>,
-        velocity: Vec<[f64; 2]>,
-        stress: Vec<[f64; 4]>,
+        /// 2 in 2D, 3 in 3D: the width of `position` and `velocity`.
+        dim: usize,
+        position: Vec<f64>,
+        velocity: Vec<f64>,
+        /// Mandel components per particle: 4 in 2D, 6 in 3D.
+        stress: Vec<f64>,
         plastic_strain: Vec<f64>,
     },
 }
@@ -98,9 +101,20 @@ fn step(
             }
             .particles;
             Ok(Final::Mpm {
-                position: p.position,
-                velocity: p.velocity,
-                stress: p.stress,
+                dim: 2,
+                position: p.position.into_iter().flatten().collect(),
+                velocity: p.velocity.into_iter().flatten().collect(),
+                stress: p.stress.into_iter().flatten().collect(),
+                plastic_strain: p.plastic_strain,
+            })
+        }
+        SceneFile::Mpm3(scene) => {
+            let p = run_mpm_scene_3d(scene, options, resumed)?.particles;
+            Ok(Final::Mpm {
+                dim: 3,
+                position: p.position.into_iter().flatten().collect(),
+                velocity: p.velocity.into_iter().flatten().collect(),
+                stress: p.stress.into_iter().flatten().collect(),
                 plastic_strain: p.plastic_strain,
             })
         }
@@ -138,11 +152,6 @@ fn read_history(path: &Path) -> Result<(Vec<String>, Vec<f64>, usize), String> {
         rows += 1;
     }
     Ok((header, values, rows))
-}
-
-fn flat2(v: Vec<[f64; 2]>) -> Array2<f64> {
-    let n = v.len();
-    Array2::from_shape_vec((n, 2), v.into_iter().flatten().collect()).expect("n×2 values")
 }
 
 /// Runs `scene`; returns a dict with `history` (column → array), `summary_json` (the
@@ -289,18 +298,23 @@ fn finish<'py>(
             fields.set_item("gauss_element", element.into_pyarray(py))?;
         }
         Final::Mpm {
+            dim,
             position,
             velocity,
             stress,
             plastic_strain,
         } => {
             d.set_item("kind", "mpm")?;
-            d.set_item("dimension", 2)?;
-            let n = stress.len();
-            let stress = Array2::from_shape_vec((n, 4), stress.into_iter().flatten().collect())
-                .map_err(|e| raise(py, "RunError", (e.to_string(), PyDict::new(py))))?;
-            fields.set_item("positions", flat2(position).into_pyarray(py))?;
-            fields.set_item("velocity", flat2(velocity).into_pyarray(py))?;
+            d.set_item("dimension", dim)?;
+            let n = plastic_strain.len();
+            let bad_shape = |e: numpy::ndarray::ShapeError| {
+                raise(py, "RunError", (e.to_string(), PyDict::new(py)))
+            };
+            let stress = Array2::from_shape_vec((n, 2 * dim), stress).map_err(bad_shape)?;
+            let position = Array2::from_shape_vec((n, dim), position).map_err(bad_shape)?;
+            let velocity = Array2::from_shape_vec((n, dim), velocity).map_err(bad_shape)?;
+            fields.set_item("positions", position.into_pyarray(py))?;
+            fields.set_item("velocity", velocity.into_pyarray(py))?;
             fields.set_item("stress", stress.into_pyarray(py))?;
             fields.set_item("plastic_strain", plastic_strain.into_pyarray(py))?;
         }

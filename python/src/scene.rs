@@ -30,6 +30,9 @@ pub fn validate(source: &str, path: Option<PathBuf>) -> Result<SceneFile, SceneE
         SceneFile::Mpm(scene) => {
             MpmModel::from_scene(scene)?;
         }
+        SceneFile::Mpm3(scene) => {
+            MpmModel::from_scene_3d(scene)?;
+        }
     }
     Ok(file)
 }
@@ -38,7 +41,7 @@ fn kind(file: &SceneFile) -> &'static str {
     match file {
         SceneFile::Fem(_) => "fem",
         SceneFile::Fem3(_) => "fem",
-        SceneFile::Mpm(_) => "mpm",
+        SceneFile::Mpm(_) | SceneFile::Mpm3(_) => "mpm",
     }
 }
 

@@ -10,7 +10,7 @@ use talus::model::size::{available_memory, SizeEstimate};
 use talus::run::checkpoint::{self, Checkpoint, CheckpointError};
 use talus::run::fem::{resume_scene, run_scene};
 use talus::run::folder;
-use talus::run::mpm::{resume_mpm_scene, run_mpm_scene};
+use talus::run::mpm::{resume_mpm_scene, run_mpm_scene, run_mpm_scene_3d, MpmRunSummary};
 use talus::run::{stop_when, RunError, RunOptions};
 use talus::scene::{builtin_footing, MpmScene, Scene, SceneFile};
 
@@ -147,7 +147,8 @@ fn run(
     let estimate = match &scene {
         SceneFile::Fem(s) => Some(SizeEstimate::of_fem(s)?),
         SceneFile::Mpm(s) => Some(SizeEstimate::of_mpm(s)),
-        // The size estimate counts triangles' points: a 3D scene has none yet.
+        SceneFile::Mpm3(s) => Some(SizeEstimate::of_mpm(s)),
+        // The size estimate counts triangles' points: a 3D FEM scene has none yet.
         SceneFile::Fem3(_) => None,
     };
     let available = available_memory();
@@ -181,6 +182,7 @@ fn run(
         SceneFile::Fem(scene) => run_fem(&scene, &options, None),
         SceneFile::Fem3(scene) => run_fem3(&scene, &options, None),
         SceneFile::Mpm(scene) => run_mpm(&scene, &options, None),
+        SceneFile::Mpm3(scene) => run_mpm3(&scene, &options, None),
     }
 }
 
@@ -231,6 +233,7 @@ fn resume(out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
         SceneFile::Fem(scene) => run_fem(&scene, &options, Some(checkpoint)),
         SceneFile::Fem3(scene) => run_fem3(&scene, &options, Some(checkpoint)),
         SceneFile::Mpm(scene) => run_mpm(&scene, &options, Some(checkpoint)),
+        SceneFile::Mpm3(scene) => run_mpm3(&scene, &options, Some(checkpoint)),
     }
 }
 
@@ -386,13 +389,38 @@ fn run_mpm(
         Some(c) => resume_mpm_scene(scene, c, options),
         None => run_mpm_scene(scene, options),
     };
-    let summary = match ended(summary, &out) {
+    report_mpm_run(summary, &out)
+}
+
+/// `talus run` of a 3D MPM scene (`docs/3d-mpm.md`).
+fn run_mpm3(
+    scene: &talus::scene::MpmScene3,
+    options: &RunOptions,
+    resumed: Option<Checkpoint<serde_json::Value>>,
+) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    let out = options.out_dir.clone();
+    report_mpm_run(run_mpm_scene_3d(scene, options, resumed), &out)
+}
+
+/// The cost of an MPM run in one line, its runout, and the summary.
+fn report_mpm_run<const D: usize>(
+    summary: Result<MpmRunSummary<D>, RunError>,
+    out: &std::path::Path,
+) -> Result<ExitCode, Box<dyn std::error::Error>>
+where
+    talus_mpm::Mandel<D>: talus_mpm::Dimension,
+{
+    let summary = match ended(summary, out) {
         Ok(summary) => summary,
         Err(code) => return Ok(code.into()),
     };
     let runout = if summary.runout_reported {
+        let measure = match summary.runout {
+            talus::model::mpm::Runout::Front(_) => "(L − L0)/L0",
+            talus::model::mpm::Runout::Radial { .. } => "(R − R0)/R0",
+        };
         format!(
-            "; final runout (L − L0)/L0 = {:.4}",
+            "; final runout {measure} = {:.4}",
             summary.runout_normalized
         )
     } else {
@@ -407,7 +435,7 @@ fn run_mpm(
         summary.max_residual(),
         out.display()
     );
-    print_summary(&out);
+    print_summary(out);
     Ok(ExitCode::SUCCESS)
 }
 

@@ -2,8 +2,8 @@
 //! 'Checkpoints and resume'): a run killed (SIGKILL) or interrupted (SIGINT) after a
 //! checkpoint, then resumed, ends with the same `history.csv` (the `seconds` column
 //! aside), the same VTU files, `solution.pvd`, `summary.json` and final checkpoint, byte for
-//! byte, as the run that was never stopped; a changed scene or a damaged checkpoint is
-//! refused with exit 1.
+//! byte, as the run that was never stopped (FEM, 2D and 3D MPM); a changed scene or a
+//! damaged checkpoint is refused with exit 1.
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::sync::OnceLock;
@@ -59,6 +59,19 @@ fn column() -> PathBuf {
             ("vtu_every = 108", "vtu_every = 10"),
             ("snapshot_every = 108", "snapshot_every = 20"),
             ("[mpm]", "[solver]\nmax_iterations = 10\n\n[mpm]"),
+        ],
+    )
+}
+
+/// The 3D column collapse (`scenes/column_3d.toml`, 395 particles), 40 steps, VTUs every
+/// 10: a 3D MPM run checkpoints and resumes as a 2D one.
+fn column_3d() -> PathBuf {
+    scene(
+        "column_3d.toml",
+        "column3d40.toml",
+        &[
+            ("steps = 786", "steps = 40"),
+            ("vtu_every = 78", "vtu_every = 10"),
         ],
     )
 }
@@ -318,6 +331,22 @@ fn mpm_column_killed_half_way_then_resumed_matches_the_uninterrupted_run() {
     assert_ok(&resume(&out));
     assert_same_run(&reference, &out, 40);
     assert!(files(&reference.join("snapshots")) == files(&out.join("snapshots")));
+}
+
+#[test]
+fn mpm_3d_column_killed_half_way_then_resumed_matches_the_uninterrupted_run() {
+    let scene = column_3d();
+    let reference = out_dir("column_3d_reference");
+    assert_ok(&run(&scene, &reference, Some(5)));
+    let out = out_dir("column_3d_killed");
+    let (killed, step) = stopped_run(&scene, &out, 5, 10, 1, "KILL");
+    assert_eq!(killed.status.code(), None);
+    assert!(
+        (10..40).contains(&step),
+        "killed at the checkpoint of step {step}"
+    );
+    assert_ok(&resume(&out));
+    assert_same_run(&reference, &out, 40);
 }
 
 fn assert_refused(o: &Output, words: &str) {

@@ -106,6 +106,28 @@ fn read(bytes: &[u8], path: &Path) -> Result<Outcome, String> {
             }
             Err(e) => Ok(Outcome::Refused(e.to_string())),
         },
+        SceneFile::Mpm3(scene) => {
+            let estimate = SizeEstimate::of_mpm(&scene);
+            if let Err(e) = estimate.check(None) {
+                return Ok(Outcome::Refused(e.to_string()));
+            }
+            if !(estimate.points <= MAX_POINTS && estimate.grid_nodes <= MAX_GRID_NODES) {
+                return Ok(Outcome::Skipped(format!(
+                    "{} particles, {} grid nodes",
+                    estimate.points, estimate.grid_nodes
+                )));
+            }
+            match MpmModel::from_scene_3d(&scene) {
+                Ok(model) => {
+                    let p = &model.particles;
+                    let xs: Vec<f64> = p.position.iter().flatten().copied().collect();
+                    finite(&xs, "the particle positions")?;
+                    finite(&p.mass, "the particle masses")?;
+                    Ok(Outcome::Read)
+                }
+                Err(e) => Ok(Outcome::Refused(e.to_string())),
+            }
+        }
         SceneFile::Mpm(scene) => {
             let estimate = SizeEstimate::of_mpm(&scene);
             if let Err(e) = estimate.check(None) {

@@ -95,6 +95,11 @@ fn every_shipped_mpm_scene_parses_and_builds() {
                 assert!(!model.particles.is_empty(), "{}", path.display());
                 names.push(path.file_name().unwrap().to_string_lossy().into_owned());
             }
+            SceneFile::Mpm3(scene) => {
+                let model = MpmModel::from_scene_3d(&scene).unwrap_or_else(|e| panic!("{e}"));
+                assert!(!model.particles.is_empty(), "{}", path.display());
+                names.push(path.file_name().unwrap().to_string_lossy().into_owned());
+            }
             SceneFile::Fem(scene) => assert!(scene.path.is_some()),
             SceneFile::Fem3(scene) => assert!(scene.path.is_some()),
         }
@@ -103,6 +108,7 @@ fn every_shipped_mpm_scene_parses_and_builds() {
     assert_eq!(
         names,
         [
+            "column_3d.toml",
             "column_a0.5.toml",
             "column_a1.toml",
             "column_a2.toml",

@@ -1,35 +1,248 @@
-//! A material-point model from a scene (`[grid]`): the solver and its particles, every input checked first so
-//! that a bad scene is an error naming the field and the value, never a panic.
+//! A material-point model from a scene (`[grid]`), 2D or 3D (`docs/3d-mpm.md`): the solver
+//! and its particles, every input checked first so that a bad scene is an error naming the
+//! field and the value, never a panic. One build for both dimensions; what differs (the
+//! grid, the bodies' fills, the runout, what 3D does not take yet) is [`MpmSpace`].
 use talus_mpm::{
-    Grid, GridBoundary, Mpm, MpmSettings, Particles, PrescribedVelocity, ShapeFunction, Side, Wall,
-    WallCondition,
+    front, radial_front, Dimension, Grid, GridBoundary, Mandel, Mpm, MpmError, MpmSettings,
+    Particles, PrescribedVelocity, ShapeFunction, Side, Wall, WallCondition,
 };
 
 use talus_bipotential::Material;
 
 use crate::scene::{
-    check, scales, scales::ramp_max, AnalysisKind, GeometryKind, InitialStressSpec, Materials,
-    MpmScene, PredictorSpec, Ramp, SceneError, ShapeSpec, SideSpec, WallConditionSpec,
+    check, check_mpm_dimension, scales, scales::ramp_max, AnalysisKind, BodySpec, CylinderSpec,
+    GeometryKind, InitialStressSpec, Materials, MpmScene, MpmScene3, MpmSceneSpec, PredictorSpec,
+    Ramp, SceneDocument, SceneError, SceneVector, ShapeSpec, SideSpec, WallConditionSpec,
 };
 use talus_engine::{PredictorRule, StepSettings};
 use talus_mpm::{MpmLoadProgramme, ProgrammedMpm, RampedSurfaceLoad, RunoutReference};
 
 use crate::model::initial_stress_at;
 
-/// Everything a run needs: the solver, the particles at t = 0, and what to report.
-pub struct MpmModel {
+/// An MPM scene of `N` dimensions.
+pub type MpmDocument<const N: usize> = SceneDocument<MpmSceneSpec<[f64; N]>>;
+
+/// Everything a run needs: the solver, the particles at t = 0, and what to report; `D` the
+/// Mandel size (4 in 2D, 6 in 3D).
+pub struct MpmModel<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
     /// The solver with the scene's load programme (it reads as an [`Mpm`]).
-    pub mpm: ProgrammedMpm,
+    pub mpm: ProgrammedMpm<D>,
     /// How the engine steps it (`[solver]`, `[mpm] predictor`).
     pub step_settings: StepSettings,
-    pub particles: Particles,
+    pub particles: Particles<D>,
     /// The `output.reaction` box, if any.
     pub reaction: Option<Reaction>,
-    pub runout: RunoutReference,
+    pub runout: Runout,
     /// y of the bottom wall, if there is one (m).
     pub floor: Option<f64>,
-    /// The grid extent `[[x0, y0], [x1, y1]]` (m), the frame of every PNG.
+    /// The grid's extent in x and y `[[x0, y0], [x1, y1]]` (m), the frame of every PNG
+    /// (in 3D the particles seen along z).
     pub bounds: [[f64; 2]; 2],
+}
+
+/// How a run measures the runout of its bodies (history.csv's `front` and
+/// `runout_normalized`, `docs/scenes.md`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Runout {
+    /// The largest particle x, against the bodies' extent from the left wall
+    /// ([`RunoutReference`]): 2D, and 3D bodies that are not all one cylinder.
+    Front(RunoutReference),
+    /// 3D bodies that are one vertical cylinder (or its quarter): the largest distance `R`
+    /// of a particle from its axis `[x_c, z_c]`, against its radius `R₀`:
+    /// `(R − R₀)/R₀`, Lube et al. (2004)'s runout.
+    Radial { axis: [f64; 2], radius: f64 },
+}
+
+impl Runout {
+    /// The front of `particles` (m): x, or the distance from the axis.
+    pub fn front<const D: usize>(&self, particles: &Particles<D>) -> f64
+    where
+        Mandel<D>: MpmSpace<D>,
+    {
+        match self {
+            Runout::Front(_) => front(particles),
+            Runout::Radial { axis, .. } => Mandel::<D>::radial_front(particles, *axis),
+        }
+    }
+
+    /// `(L − L₀)/L₀` or `(R − R₀)/R₀` of a `front` (m).
+    pub fn normalized(&self, front: f64) -> f64 {
+        match self {
+            Runout::Front(r) => r.normalized(front),
+            Runout::Radial { radius, .. } => (front - radius) / radius,
+        }
+    }
+}
+
+/// What an MPM scene of Mandel size `D` builds its own way; the rest of the build is one
+/// for both.
+pub trait MpmSpace<const D: usize>: Dimension<Point: SceneVector>
+where
+    Mandel<D>: Dimension,
+{
+    /// The grid of the scene's `origin`, `spacing`, `cells` (checked) and shape.
+    fn grid(
+        origin: Self::Point,
+        spacing: f64,
+        cells: <Self::Point as SceneVector>::Cells,
+        shape: ShapeFunction,
+    ) -> Result<Grid<D>, MpmError>;
+
+    /// The particles of a body (its shape checked by [`body_shape`]), or why not.
+    fn fill(
+        shape: &BodyShape<Self::Point>,
+        spacing: f64,
+        per_cell: usize,
+        density: f64,
+    ) -> Result<Particles<D>, String>;
+
+    /// The prescribed components of a box from `[vx, vy(, vz)]`.
+    fn components(v: &[Option<f64>]) -> Self::Components;
+
+    /// [`radial_front`] (3D only: 2D never measures it).
+    fn radial_front(particles: &Particles<D>, axis: [f64; 2]) -> f64;
+
+    /// `[[surface_load]]` (2D only so far).
+    fn surface_loads(
+        scene: &SceneDocument<MpmSceneSpec<Self::Point>>,
+        particles: &mut Particles<D>,
+    ) -> Result<Vec<RampedSurfaceLoad<D>>, SceneError>;
+
+    /// `[initial_stress]` at every particle (2D only so far).
+    fn initial_stress(
+        scene: &SceneDocument<MpmSceneSpec<Self::Point>>,
+        initial: &InitialStressSpec,
+        materials: &BodyMaterials,
+        gammas: &[f64],
+        densities: &[f64],
+        particles: &Particles<D>,
+    ) -> Result<Vec<[f64; D]>, SceneError>;
+}
+
+impl MpmSpace<4> for Mandel<4> {
+    fn grid(
+        origin: [f64; 2],
+        spacing: f64,
+        cells: [usize; 2],
+        shape: ShapeFunction,
+    ) -> Result<Grid, MpmError> {
+        Grid::try_new(origin, spacing, cells, shape)
+    }
+
+    fn fill(
+        shape: &BodyShape<[f64; 2]>,
+        spacing: f64,
+        per_cell: usize,
+        density: f64,
+    ) -> Result<Particles, String> {
+        match shape {
+            BodyShape::Cuboid(r) => {
+                Particles::fill_rectangle(*r, spacing, per_cell, density).map_err(|e| e.to_string())
+            }
+            // `check_mpm_dimension` refuses a cylinder in 2D.
+            BodyShape::Cylinder(_) => Err("a cylinder is 3D".into()),
+        }
+    }
+
+    fn components(v: &[Option<f64>]) -> [Option<f64>; 2] {
+        [v[0], v[1]]
+    }
+
+    fn radial_front(particles: &Particles, _: [f64; 2]) -> f64 {
+        front(particles)
+    }
+
+    fn surface_loads(
+        scene: &MpmScene,
+        particles: &mut Particles,
+    ) -> Result<Vec<RampedSurfaceLoad>, SceneError> {
+        surface_loads(scene, particles)
+    }
+
+    fn initial_stress(
+        scene: &MpmScene,
+        initial: &InitialStressSpec,
+        materials: &BodyMaterials,
+        gammas: &[f64],
+        densities: &[f64],
+        particles: &Particles,
+    ) -> Result<Vec<[f64; 4]>, SceneError> {
+        initial_stress(scene, initial, materials, gammas, densities, particles)
+    }
+}
+
+/// What 3D does not take yet, named.
+const NOT_3D_YET: &str = "is not supported in a 3D MPM scene yet (docs/3d-mpm.md, 'Left to do')";
+
+impl MpmSpace<6> for Mandel<6> {
+    fn grid(
+        origin: [f64; 3],
+        spacing: f64,
+        cells: [usize; 3],
+        shape: ShapeFunction,
+    ) -> Result<Grid<6>, MpmError> {
+        Grid::try_new_3d(origin, spacing, cells, shape)
+    }
+
+    fn fill(
+        shape: &BodyShape<[f64; 3]>,
+        spacing: f64,
+        per_cell: usize,
+        density: f64,
+    ) -> Result<Particles<6>, String> {
+        let filled = match shape {
+            BodyShape::Cuboid(b) => Particles::fill_box(*b, spacing, per_cell, density),
+            BodyShape::Cylinder(c) => {
+                let base = [c.centre[0], c.base, c.centre[1]];
+                let fill = if c.quarter {
+                    Particles::fill_quarter_cylinder
+                } else {
+                    Particles::fill_cylinder
+                };
+                fill(base, c.radius, c.height, spacing, per_cell, density)
+            }
+        };
+        filled.map_err(|e| e.to_string())
+    }
+
+    fn components(v: &[Option<f64>]) -> [Option<f64>; 3] {
+        [v[0], v[1], v[2]]
+    }
+
+    fn radial_front(particles: &Particles<6>, axis: [f64; 2]) -> f64 {
+        radial_front(particles, axis)
+    }
+
+    fn surface_loads(
+        scene: &MpmScene3,
+        _: &mut Particles<6>,
+    ) -> Result<Vec<RampedSurfaceLoad<6>>, SceneError> {
+        if scene.spec.surface_load.is_empty() {
+            return Ok(Vec::new());
+        }
+        Err(scene.error("surface_load", NOT_3D_YET))
+    }
+
+    fn initial_stress(
+        scene: &MpmScene3,
+        _: &InitialStressSpec,
+        _: &BodyMaterials,
+        _: &[f64],
+        _: &[f64],
+        _: &Particles<6>,
+    ) -> Result<Vec<[f64; 6]>, SceneError> {
+        Err(scene.error("initial_stress", NOT_3D_YET))
+    }
+}
+
+/// A body's checked shape: a rectangle (3D: box) by its corners, or a cylinder.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum BodyShape<V> {
+    Cuboid([V; 2]),
+    Cylinder(CylinderSpec),
 }
 
 /// The prescribed box whose force goes into history.csv.
@@ -45,8 +258,44 @@ pub struct Reaction {
 const EPS: f64 = 1e-9;
 
 impl MpmModel {
+    /// The model of a 2D scene.
     pub fn from_scene(scene: &MpmScene) -> Result<Self, SceneError> {
+        Self::build(scene)
+    }
+}
+
+impl MpmModel<6> {
+    /// The model of a 3D scene (`[analysis] geometry = "3d"`).
+    pub fn from_scene_3d(scene: &MpmScene3) -> Result<Self, SceneError> {
+        Self::build(scene)
+    }
+}
+
+impl<const D: usize> MpmModel<D>
+where
+    Mandel<D>: Dimension,
+{
+    /// The model of a scene of either dimension.
+    pub fn build<const N: usize>(scene: &MpmDocument<N>) -> Result<Self, SceneError>
+    where
+        Mandel<D>: MpmSpace<D> + Dimension<Point = [f64; N]>,
+        [f64; N]: SceneVector,
+    {
         let spec = &scene.spec;
+        check_mpm_dimension(&scene.source, scene.path.as_ref(), N)?;
+        let three_d = N == 3;
+        let geometry = spec.analysis.geometry;
+        if three_d != (geometry == GeometryKind::ThreeD) {
+            let message = if three_d {
+                format!(
+                    "{:?}: a 3D material point scene has geometry = \"3d\"",
+                    geometry
+                )
+            } else {
+                crate::scene::dimension::NO_3D_RUN.to_string()
+            };
+            return Err(scene.error("analysis.geometry", message));
+        }
         let grid = grid(scene)?;
         let materials = materials(scene)?;
         if spec.analysis.kind == AnalysisKind::QuasiStatic {
@@ -56,11 +305,11 @@ impl MpmModel {
                  scene ([grid]) runs \"dynamic\" only",
             ));
         }
-        if spec.analysis.geometry != GeometryKind::PlaneStrain {
+        if spec.analysis.geometry == GeometryKind::Axisymmetric {
             return Err(scene.error(
                 "analysis.geometry",
                 "\"axisymmetric\" is for finite-element scenes ([mesh]); a material point \
-                 scene ([grid]) is plane strain only",
+                 scene ([grid]) is plane strain or 3D",
             ));
         }
         if let Some(r) = spec.analysis.inertia_ratio {
@@ -70,7 +319,7 @@ impl MpmModel {
             ));
         }
         let densities = densities(scene)?;
-        let gravity = spec.gravity.unwrap_or([0.0; 2]);
+        let gravity = spec.gravity.unwrap_or([0.0; N]);
         if !gravity.iter().all(|g| g.is_finite()) {
             return Err(scene.error("gravity", format!("{gravity:?} m/s² must be finite")));
         }
@@ -80,11 +329,15 @@ impl MpmModel {
         }
         check::time(scene, &spec.time)?;
         scales::caps(scene, &spec.time, spec.solver.max_step_halvings)?;
-        let mut particles = bodies(scene, &grid, &materials, &densities)?;
+        let shapes = body_shapes(scene, &grid)?;
+        let mut particles = bodies(scene, &grid, &shapes, &materials, &densities)?;
         let walls = walls(scene)?;
         let (prescribed, prescribed_ramps) = prescribed(scene, &grid)?;
         let reaction = reaction(scene, walls.len(), &prescribed)?;
-        let ramped_surface_loads = surface_loads(scene, &mut particles)?;
+        let ramped_surface_loads = Mandel::<D>::surface_loads(scene, &mut particles)?;
+        if three_d && !spec.monitor.is_empty() {
+            return Err(scene.error("monitor", NOT_3D_YET));
+        }
         if let Some(initial) = &spec.initial_stress {
             // In equilibrium with the gravity of the start, t = 0 (`gravity_ramp` scales it).
             let gammas: Vec<f64> = densities
@@ -94,23 +347,22 @@ impl MpmModel {
                     None => -density * gravity[1],
                 })
                 .collect();
-            particles.stress =
-                initial_stress(scene, initial, &materials, &gammas, &densities, &particles)?;
+            particles.stress = Mandel::<D>::initial_stress(
+                scene, initial, &materials, &gammas, &densities, &particles,
+            )?;
         }
         check::time(scene, &spec.time)?;
         check::solver(scene, &spec.solver)?;
-        check_scales(scene)?;
+        check_scales(scene, &shapes)?;
         let settings = settings(scene)?;
         let floor = walls
             .iter()
             .any(|w| w.side == Side::Bottom)
             .then_some(grid.origin()[1]);
         let has_left_wall = walls.iter().any(|w| w.side == Side::Left);
-        let runout = RunoutReference::of_bodies(
-            spec.body.iter().map(|b| b.rectangle),
-            has_left_wall.then_some(grid.origin()[0]),
-        );
-        let bounds = [grid.origin(), grid.end()];
+        let runout = runout(&shapes, has_left_wall.then_some(grid.origin()[0]));
+        let (o, e) = (grid.origin(), grid.end());
+        let bounds = [[o[0], o[1]], [e[0], e[1]]];
         let boundary = GridBoundary { walls, prescribed };
         let mpm = Mpm::with_materials(grid, boundary, &materials.materials, gravity, settings)
             .map_err(|e| scene.error("grid", e.to_string()))?;
@@ -131,8 +383,27 @@ impl MpmModel {
     }
 }
 
+/// The runout of bodies of `shapes`: radial when they are one cylinder (the column of
+/// Lube et al. 2004), else the x front from the bodies' extent (`left_wall`: the x of the
+/// left wall, if any).
+fn runout<V: SceneVector>(shapes: &[BodyShape<V>], left_wall: Option<f64>) -> Runout {
+    if let [BodyShape::Cylinder(c)] = shapes {
+        return Runout::Radial {
+            axis: c.centre,
+            radius: c.radius,
+        };
+    }
+    Runout::Front(RunoutReference::of_bodies(
+        shapes.iter().map(|s| {
+            let [lo, hi] = extent(s);
+            [[lo[0], lo[1]], [hi[0], hi[1]]]
+        }),
+        left_wall,
+    ))
+}
+
 /// The scene's materials, checked, and the material of each body.
-struct BodyMaterials {
+pub struct BodyMaterials {
     /// In file order: the particles' material indices point into it.
     materials: Vec<Material>,
     /// Each `[[body]]`'s index into `materials`.
@@ -145,7 +416,9 @@ struct BodyMaterials {
 /// `[material]` (every body of it) or a `[[material]]` list whose every material has a
 /// `name`, is used by a body, and names no `regions` (the bodies place the materials);
 /// each `[[body]]` names its `material` (optional with a single one).
-fn materials(scene: &MpmScene) -> Result<BodyMaterials, SceneError> {
+fn materials<V: SceneVector>(
+    scene: &SceneDocument<MpmSceneSpec<V>>,
+) -> Result<BodyMaterials, SceneError> {
     let spec = &scene.spec;
     let all = spec.material.all();
     let list = matches!(spec.material, Materials::Many(_));
@@ -238,7 +511,9 @@ fn materials(scene: &MpmScene) -> Result<BodyMaterials, SceneError> {
 }
 
 /// Each material's density (kg/m³): required, the particles' mass.
-fn densities(scene: &MpmScene) -> Result<Vec<f64>, SceneError> {
+fn densities<V: SceneVector>(
+    scene: &SceneDocument<MpmSceneSpec<V>>,
+) -> Result<Vec<f64>, SceneError> {
     let materials = &scene.spec.material;
     let mut densities = Vec::with_capacity(materials.all().len());
     for (k, m) in materials.all().iter().enumerate() {
@@ -324,33 +599,41 @@ fn initial_stress(
 
 /// The scene against its own scales (`scene::scales`): `h` against the wave time of a cell
 /// and the boxes' motion (at most a cell per step), the stresses against E.
-fn check_scales(scene: &MpmScene) -> Result<(), SceneError> {
+fn check_scales<V: SceneVector>(
+    scene: &SceneDocument<MpmSceneSpec<V>>,
+    shapes: &[BodyShape<V>],
+) -> Result<(), SceneError> {
     let spec = &scene.spec;
     let dx = spec.grid.spacing;
-    let (bottom, top) = spec
-        .body
+    let (bottom, top) = shapes
         .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(b, t), r| {
-            (b.min(r.rectangle[0][1]), t.max(r.rectangle[1][1]))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(b, t), s| {
+            let [lo, hi] = extent(s);
+            (b.min(lo[1]), t.max(hi[1]))
         });
     let loads = spec.surface_load.iter().enumerate().map(|(k, l)| {
         let v = l.pressure * ramp_max(&l.ramp);
         (format!("surface_load[{k}].pressure"), v)
     });
     let speeds = spec.prescribed.iter().enumerate().map(|(k, p)| {
-        let [vx, vy] = match p.velocity {
-            Some(v) => v,
-            None => [p.velocity_x.unwrap_or(0.0), p.velocity_y.unwrap_or(0.0)],
+        let given = [p.velocity_x, p.velocity_y, p.velocity_z];
+        let v = match p.velocity {
+            Some(v) => norm(v.as_ref()),
+            None => norm(&given.map(|c| c.unwrap_or(0.0))[..V::DIM]),
         };
-        let v = vx.hypot(vy) * ramp_max(&p.ramp);
-        (format!("prescribed[{k}].velocity"), v)
+        (format!("prescribed[{k}].velocity"), v * ramp_max(&p.ramp))
+    });
+    // Only |g| counts: 2D passes its two components as before, 3D its norm.
+    let gravity = spec.gravity.map(|g| match g.as_ref() {
+        [gx, gy] => [*gx, *gy],
+        g => [norm(g), 0.0],
     });
     let imposed = scales::Imposed {
         materials: (spec.material.all().iter().enumerate())
             .map(|(k, m)| (spec.material.field(k), m))
             .collect(),
         time: &spec.time,
-        gravity: spec.gravity,
+        gravity,
         heights: [bottom, top],
         initial_stress: spec.initial_stress.as_ref(),
         loads: loads.collect(),
@@ -365,7 +648,19 @@ fn check_scales(scene: &MpmScene) -> Result<(), SceneError> {
     scales::check_scales(scene, &imposed, &grid)
 }
 
-fn grid(scene: &MpmScene) -> Result<Grid, SceneError> {
+/// The Euclidean norm; in 2D `vx.hypot(vy)` as before.
+fn norm(v: &[f64]) -> f64 {
+    match v {
+        [x, y] => x.hypot(*y),
+        _ => v.iter().map(|c| c * c).sum::<f64>().sqrt(),
+    }
+}
+
+fn grid<const D: usize, const N: usize>(scene: &MpmDocument<N>) -> Result<Grid<D>, SceneError>
+where
+    Mandel<D>: MpmSpace<D> + Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+{
     let g = &scene.spec.grid;
     if !g.origin.iter().all(|v| v.is_finite()) {
         return Err(scene.error("grid.origin", format!("{:?} m must be finite", g.origin)));
@@ -376,7 +671,7 @@ fn grid(scene: &MpmScene) -> Result<Grid, SceneError> {
             format!("{} m must be finite and > 0", g.spacing),
         ));
     }
-    if g.cells.iter().any(|&c| c == 0 || c > 1 << 20) {
+    if g.cells.as_ref().iter().any(|&c| c == 0 || c > 1 << 20) {
         return Err(scene.error(
             "grid.cells",
             format!("{:?} must be between 1 and 2^20 per axis", g.cells),
@@ -386,63 +681,195 @@ fn grid(scene: &MpmScene) -> Result<Grid, SceneError> {
         ShapeSpec::Linear => ShapeFunction::Linear,
         ShapeSpec::Quadratic => ShapeFunction::QuadraticBSpline,
     };
-    Grid::try_new(g.origin, g.spacing, g.cells, shape)
+    Mandel::<D>::grid(g.origin, g.spacing, g.cells, shape)
         .map_err(|e| scene.error("grid", e.to_string()))
 }
 
-/// `[[xmin, ymin], [xmax, ymax]]` finite with max > min (or ≥ when `allow_flat`).
-fn check_rectangle(
-    scene: &MpmScene,
+/// `[[xmin, ymin(, zmin)], [xmax, ymax(, zmax)]]` finite with max > min (or ≥ when
+/// `allow_flat`) on every axis.
+fn check_rectangle<V: SceneVector>(
+    scene: &impl crate::scene::Locate,
     field: &str,
-    r: [[f64; 2]; 2],
+    r: [V; 2],
     allow_flat: bool,
 ) -> Result<(), SceneError> {
     let ordered = |lo: f64, hi: f64| if allow_flat { hi >= lo } else { hi > lo };
-    let finite = r.iter().flatten().all(|v| v.is_finite());
-    if !(finite && ordered(r[0][0], r[1][0]) && ordered(r[0][1], r[1][1])) {
+    let [lo, hi] = [r[0].as_ref(), r[1].as_ref()];
+    let finite = lo.iter().chain(hi).all(|v| v.is_finite());
+    if !(finite && (0..V::DIM).all(|a| ordered(lo[a], hi[a]))) {
         let rel = if allow_flat { "≥" } else { ">" };
+        let corners = if V::DIM == 3 {
+            "[[xmin, ymin, zmin], [xmax, ymax, zmax]]"
+        } else {
+            "[[xmin, ymin], [xmax, ymax]]"
+        };
         return Err(scene.error(
             field,
-            format!("{r:?} must be [[xmin, ymin], [xmax, ymax]], finite, with max {rel} min"),
+            format!("{r:?} must be {corners}, finite, with max {rel} min"),
         ));
     }
     Ok(())
 }
 
-/// The bodies' particles, each body of its material's density; with a `[[material]]` list
-/// they carry their material's index.
-fn bodies(
-    scene: &MpmScene,
-    grid: &Grid,
-    materials: &BodyMaterials,
-    densities: &[f64],
-) -> Result<Particles, SceneError> {
+/// The bounding box of a body, `[lo, hi]` in x, y, z (z = 0 in 2D).
+fn extent<V: SceneVector>(shape: &BodyShape<V>) -> [[f64; 3]; 2] {
+    match shape {
+        BodyShape::Cuboid(r) => r.map(|c| {
+            let c = c.as_ref();
+            [c[0], c[1], c.get(2).copied().unwrap_or(0.0)]
+        }),
+        BodyShape::Cylinder(c) => {
+            let [xc, zc] = c.centre;
+            let low = if c.quarter { 0.0 } else { c.radius };
+            [
+                [xc - low, c.base, zc - low],
+                [xc + c.radius, c.base + c.height, zc + c.radius],
+            ]
+        }
+    }
+}
+
+/// Each body's shape, checked: one of `rectangle` (2D), `box` or `cylinder` (3D; the
+/// other dimension's keys are refused by `check_mpm_dimension`), finite, of positive
+/// extent, inside the grid, overlapping no earlier body (by bounding boxes).
+fn body_shapes<const D: usize, const N: usize>(
+    scene: &MpmDocument<N>,
+    grid: &Grid<D>,
+) -> Result<Vec<BodyShape<[f64; N]>>, SceneError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+{
     let spec = &scene.spec;
     if spec.body.is_empty() {
         return Err(scene.error("body", "no [[body]]: an MPM scene needs at least one"));
     }
     let dx = grid.spacing();
+    let eps = EPS * dx;
     let (lo, hi) = (grid.origin(), grid.end());
-    let mut particles = Particles::default();
+    let mut shapes: Vec<BodyShape<[f64; N]>> = Vec::with_capacity(spec.body.len());
     for (k, b) in spec.body.iter().enumerate() {
-        let field = format!("body[{k}].rectangle");
-        let r = b.rectangle;
-        check_rectangle(scene, &field, r, false)?;
-        let eps = EPS * dx;
-        let inside = (0..2).all(|a| r[0][a] >= lo[a] - eps && r[1][a] <= hi[a] + eps);
+        let (key, shape) = body_shape(scene, k, b)?;
+        let field = format!("body[{k}].{key}");
+        let [b0, b1] = extent(&shape);
+        let inside = (0..N).all(|a| b0[a] >= lo[a] - eps && b1[a] <= hi[a] + eps);
         if !inside {
             return Err(scene.error(
                 &field,
-                format!("{r:?} reaches outside the grid [{lo:?}, {hi:?}]"),
+                format!(
+                    "{} reaches outside the grid [{lo:?}, {hi:?}]",
+                    shown(&shape, &[b0, b1])
+                ),
             ));
         }
-        for (j, other) in spec.body[..k].iter().enumerate() {
-            let o = other.rectangle;
-            let overlap = (0..2).all(|a| r[0][a].max(o[0][a]) < r[1][a].min(o[1][a]) - eps);
+        for (j, other) in shapes.iter().enumerate() {
+            let [o0, o1] = extent(other);
+            let overlap = (0..N).all(|a| b0[a].max(o0[a]) < b1[a].min(o1[a]) - eps);
             if overlap {
-                return Err(scene.error(&field, format!("{r:?} overlaps body[{j}] {o:?}")));
+                return Err(scene.error(
+                    &field,
+                    format!(
+                        "{} overlaps body[{j}] {}",
+                        shown(&shape, &[b0, b1]),
+                        shown(other, &[o0, o1])
+                    ),
+                ));
             }
         }
+        shapes.push(shape);
+    }
+    Ok(shapes)
+}
+
+/// A body as the user wrote it (a cylinder with its bounding box).
+fn shown<V: SceneVector>(shape: &BodyShape<V>, bounds: &[[f64; 3]; 2]) -> String {
+    match shape {
+        BodyShape::Cuboid(r) => format!("{r:?}"),
+        BodyShape::Cylinder(c) => format!("{c:?} (bounding box {bounds:?})"),
+    }
+}
+
+/// Body `k`'s one shape key and its shape, of positive extent.
+fn body_shape<V: SceneVector>(
+    scene: &SceneDocument<MpmSceneSpec<V>>,
+    k: usize,
+    b: &BodySpec<V>,
+) -> Result<(&'static str, BodyShape<V>), SceneError> {
+    let given: Vec<&str> = [
+        ("rectangle", b.rectangle.is_some()),
+        ("box", b.cuboid.is_some()),
+        ("cylinder", b.cylinder.is_some()),
+    ]
+    .iter()
+    .filter_map(|(key, on)| on.then_some(*key))
+    .collect();
+    let expected = if V::DIM == 3 {
+        "`box = [[x0, y0, z0], [x1, y1, z1]]` or `cylinder = { centre = [xc, zc], base, \
+         radius, height }`"
+    } else {
+        "`rectangle = [[xmin, ymin], [xmax, ymax]]`"
+    };
+    match (b.rectangle, b.cuboid, b.cylinder) {
+        (Some(r), None, None) => {
+            check_rectangle(scene, &format!("body[{k}].rectangle"), r, false)?;
+            Ok(("rectangle", BodyShape::Cuboid(r)))
+        }
+        (None, Some(r), None) => {
+            check_rectangle(scene, &format!("body[{k}].box"), r, false)?;
+            Ok(("box", BodyShape::Cuboid(r)))
+        }
+        (None, None, Some(c)) => {
+            let field = format!("body[{k}].cylinder");
+            if !(c.centre.iter().all(|v| v.is_finite()) && c.base.is_finite()) {
+                return Err(scene.error(
+                    &format!("{field}.centre"),
+                    format!("{c:?}: centre and base must be finite"),
+                ));
+            }
+            for (key, v) in [("radius", c.radius), ("height", c.height)] {
+                if !(v.is_finite() && v > 0.0) {
+                    return Err(scene.error(
+                        &format!("{field}.{key}"),
+                        format!("{v} m must be finite and > 0"),
+                    ));
+                }
+            }
+            Ok(("cylinder", BodyShape::Cylinder(c)))
+        }
+        (None, None, None) => Err(scene.error(
+            &format!("body[{k}]"),
+            format!("has no shape: give it a {expected}"),
+        )),
+        _ => Err(scene.error(
+            &format!("body[{k}].{}", given[1]),
+            format!("a body has one shape ({}), not both", given.join(" or ")),
+        )),
+    }
+}
+
+/// The bodies' particles, each body of its material's density; with a `[[material]]` list
+/// they carry their material's index.
+fn bodies<const D: usize, const N: usize>(
+    scene: &MpmDocument<N>,
+    grid: &Grid<D>,
+    shapes: &[BodyShape<[f64; N]>],
+    materials: &BodyMaterials,
+    densities: &[f64],
+) -> Result<Particles<D>, SceneError>
+where
+    Mandel<D>: MpmSpace<D> + Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+{
+    let spec = &scene.spec;
+    let dx = grid.spacing();
+    let mut particles = Particles::default();
+    for (k, (b, shape)) in spec.body.iter().zip(shapes).enumerate() {
+        let key = match shape {
+            BodyShape::Cuboid(_) if N == 3 => "box",
+            BodyShape::Cuboid(_) => "rectangle",
+            BodyShape::Cylinder(_) => "cylinder",
+        };
+        let field = format!("body[{k}].{key}");
         let per_cell = b.particles_per_cell;
         if !(1..=16).contains(&per_cell) {
             return Err(scene.error(
@@ -452,21 +879,31 @@ fn bodies(
         }
         // A body must hold at least one particle per axis.
         let particle = dx / per_cell as f64;
-        let side = (r[1][0] - r[0][0]).min(r[1][1] - r[0][1]);
+        let side = match shape {
+            BodyShape::Cuboid(r) => {
+                let [lo, hi] = [r[0].as_ref(), r[1].as_ref()];
+                (0..N).map(|a| hi[a] - lo[a]).fold(f64::INFINITY, f64::min)
+            }
+            BodyShape::Cylinder(c) => c.radius.min(c.height),
+        };
         if side < particle * (1.0 - EPS) {
             return Err(scene.error(
                 &field,
                 format!(
-                    "{r:?} is {side:.3e} m across, less than one particle spacing \
+                    "{} is {side:.3e} m across, less than one particle spacing \
                      (grid.spacing / particles_per_cell = {dx:e} / {per_cell} = {particle:e} m): \
                      it would hold no particle; use grid.spacing ≤ {:.3e} m",
+                    shown(shape, &extent(shape)),
                     side * per_cell as f64
                 ),
             ));
         }
         let material = materials.body[k];
-        let mut body = Particles::fill_rectangle(r, dx, per_cell, densities[material])
-            .map_err(|e| scene.error(&field, e.to_string()))?;
+        let mut body = Mandel::<D>::fill(shape, dx, per_cell, densities[material])
+            .map_err(|e| scene.error(&field, e))?;
+        if body.is_empty() {
+            return Err(scene.error(&field, "holds no particle centre"));
+        }
         if materials.list {
             body = body.with_material(material);
         }
@@ -475,7 +912,7 @@ fn bodies(
     Ok(particles)
 }
 
-fn walls(scene: &MpmScene) -> Result<Vec<Wall>, SceneError> {
+fn walls<V: SceneVector>(scene: &SceneDocument<MpmSceneSpec<V>>) -> Result<Vec<Wall>, SceneError> {
     let mut walls: Vec<Wall> = Vec::new();
     for (k, w) in scene.spec.wall.iter().enumerate() {
         let side = match w.side {
@@ -483,6 +920,8 @@ fn walls(scene: &MpmScene) -> Result<Vec<Wall>, SceneError> {
             SideSpec::Right => Side::Right,
             SideSpec::Bottom => Side::Bottom,
             SideSpec::Top => Side::Top,
+            SideSpec::Back => Side::Back,
+            SideSpec::Front => Side::Front,
         };
         if let Some(j) = walls.iter().position(|o| o.side == side) {
             return Err(scene.error(
@@ -529,29 +968,45 @@ fn walls(scene: &MpmScene) -> Result<Vec<Wall>, SceneError> {
 }
 
 /// The boxes and their velocity ramps.
-type Boxes = (Vec<PrescribedVelocity>, Vec<Option<Ramp>>);
+type Boxes<const D: usize> = (Vec<PrescribedVelocity<D>>, Vec<Option<Ramp>>);
 
-fn prescribed(scene: &MpmScene, grid: &Grid) -> Result<Boxes, SceneError> {
+fn prescribed<const D: usize, const N: usize>(
+    scene: &MpmDocument<N>,
+    grid: &Grid<D>,
+) -> Result<Boxes<D>, SceneError>
+where
+    Mandel<D>: MpmSpace<D> + Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+{
     let mut boxes = Vec::new();
     let mut ramps = Vec::new();
     for (k, p) in scene.spec.prescribed.iter().enumerate() {
         let field = format!("prescribed[{k}].region");
         check_rectangle(scene, &field, p.region, true)?;
-        let velocity = match (p.velocity, p.velocity_x, p.velocity_y) {
-            (Some(_), Some(_), _) | (Some(_), _, Some(_)) => {
+        let (whole, each) = if N == 3 {
+            (
+                "`velocity = [vx, vy, vz]`",
+                "`velocity_x`, `velocity_y` or `velocity_z`",
+            )
+        } else {
+            ("`velocity = [vx, vy]`", "`velocity_x` or `velocity_y`")
+        };
+        let one = [p.velocity_x, p.velocity_y, p.velocity_z];
+        let velocity = match (p.velocity, one.iter().any(Option::is_some)) {
+            (Some(_), true) => {
                 return Err(scene.error(
                     &format!("prescribed[{k}].velocity"),
-                    "give either `velocity = [vx, vy]` or `velocity_x` / `velocity_y`, not both",
+                    format!("give either {whole} or {each}, not both"),
                 ));
             }
-            (Some([vx, vy]), None, None) => [Some(vx), Some(vy)],
-            (None, None, None) => {
+            (Some(v), false) => v.map(Some),
+            (None, false) => {
                 return Err(scene.error(
                     &format!("prescribed[{k}]"),
-                    "no velocity: give `velocity = [vx, vy]`, `velocity_x` or `velocity_y` (m/s)",
+                    format!("no velocity: give {whole}, {each} (m/s)"),
                 ));
             }
-            (None, vx, vy) => [vx, vy],
+            (None, true) => std::array::from_fn(|a| one[a]),
         };
         if !velocity.iter().flatten().all(|v| v.is_finite()) {
             return Err(scene.error(
@@ -585,16 +1040,19 @@ fn prescribed(scene: &MpmScene, grid: &Grid) -> Result<Boxes, SceneError> {
         )?);
         boxes.push(PrescribedVelocity {
             region: p.region,
-            velocity,
+            velocity: Mandel::<D>::components(&velocity),
         });
     }
     Ok((boxes, ramps))
 }
 
 /// Whether a node of the grid (ghosts aside) lies in `region`, edges included.
-fn holds_a_node(grid: &Grid, region: [[f64; 2]; 2]) -> bool {
+fn holds_a_node<const D: usize>(grid: &Grid<D>, region: [talus_mpm::Vector<D>; 2]) -> bool
+where
+    Mandel<D>: Dimension,
+{
     let (o, dx, cells) = (grid.origin(), grid.spacing(), grid.cells());
-    (0..2).all(|a| {
+    (0..Mandel::<D>::AXES).all(|a| {
         let first = ((region[0][a] - o[a]) / dx - EPS).ceil().max(0.0);
         let last = ((region[1][a] - o[a]) / dx + EPS)
             .floor()
@@ -603,11 +1061,14 @@ fn holds_a_node(grid: &Grid, region: [[f64; 2]; 2]) -> bool {
     })
 }
 
-fn reaction(
-    scene: &MpmScene,
+fn reaction<const D: usize, V: SceneVector>(
+    scene: &SceneDocument<MpmSceneSpec<V>>,
     n_walls: usize,
-    boxes: &[PrescribedVelocity],
-) -> Result<Option<Reaction>, SceneError> {
+    boxes: &[PrescribedVelocity<D>],
+) -> Result<Option<Reaction>, SceneError>
+where
+    Mandel<D>: Dimension,
+{
     let Some(name) = &scene.spec.output.reaction else {
         return Ok(None);
     };
@@ -615,7 +1076,7 @@ fn reaction(
     match specs.iter().position(|p| p.name.as_ref() == Some(name)) {
         Some(k) => Ok(Some(Reaction {
             group: n_walls + k,
-            velocity_y: boxes[k].velocity[1],
+            velocity_y: boxes[k].velocity.as_ref()[1],
         })),
         None => {
             let names: Vec<String> = specs
@@ -701,7 +1162,9 @@ fn surface_loads(
     Ok(ramped)
 }
 
-fn settings(scene: &MpmScene) -> Result<MpmSettings, SceneError> {
+fn settings<V: SceneVector>(
+    scene: &SceneDocument<MpmSceneSpec<V>>,
+) -> Result<MpmSettings, SceneError> {
     let m = &scene.spec.mpm;
     if !(m.flip_ratio.is_finite() && (0.0..=1.0).contains(&m.flip_ratio)) {
         return Err(scene.error(
@@ -718,7 +1181,7 @@ fn settings(scene: &MpmScene) -> Result<MpmSettings, SceneError> {
 
 /// The engine's settings of an MPM scene: its `[solver]` section with MPM's defaults, and
 /// `[mpm] predictor`.
-fn step_settings(scene: &MpmScene) -> StepSettings {
+fn step_settings<V: SceneVector>(scene: &SceneDocument<MpmSceneSpec<V>>) -> StepSettings {
     StepSettings {
         predictor: match scene.spec.mpm.predictor {
             PredictorSpec::Previous => PredictorRule::Previous,

@@ -4,7 +4,7 @@
 use talus_fem::quadrature::stiffness_rule;
 use talus_fem::{ElementOrder, Mesh};
 
-use crate::scene::{MeshSpec, MpmScene, Order, Scene, SceneError};
+use crate::scene::{MeshSpec, MpmSceneSpec, Order, Scene, SceneDocument, SceneError, SceneVector};
 
 /// Bytes per stress point: `(8 + 0.8 log₂ N)` KiB for N points (the Schur factor's fill
 /// grows as N log N in 2D). Fitted on the measured peaks (`VmHWM`) of
@@ -103,22 +103,32 @@ impl SizeEstimate {
         Ok(Self::new(points, 0.0, scene.spec.total_steps()))
     }
 
-    /// An MPM scene: its particles from the bodies' areas, and the grid's nodes.
-    pub fn of_mpm(scene: &MpmScene) -> Self {
+    /// An MPM scene: its particles from the bodies' areas (3D: volumes, a cylinder's
+    /// `π R² H`), and the grid's nodes. In 3D the bytes per particle are 2D's: a lower
+    /// bound (a 3D node couples to 125 nodes, not 25, `docs/3d-mpm.md`, 'Cost').
+    pub fn of_mpm<V: SceneVector>(scene: &SceneDocument<MpmSceneSpec<V>>) -> Self {
         let spec = &scene.spec;
         let dx = spec.grid.spacing;
         let points = spec
             .body
             .iter()
-            .map(|b| {
-                let [[x0, y0], [x1, y1]] = b.rectangle;
+            .filter_map(|b| {
                 let n = b.particles_per_cell as f64;
-                ((x1 - x0) / dx * n).ceil().max(0.0) * ((y1 - y0) / dx * n).ceil().max(0.0)
+                let along = |lo: f64, hi: f64| ((hi - lo) / dx * n).ceil().max(0.0);
+                if let Some([lo, hi]) = b.rectangle.or(b.cuboid) {
+                    let (lo, hi) = (lo.as_ref(), hi.as_ref());
+                    return Some((0..V::DIM).map(|a| along(lo[a], hi[a])).product::<f64>());
+                }
+                let c = b.cylinder?;
+                let share = if c.quarter { 0.25 } else { 1.0 };
+                let r = along(0.0, c.radius);
+                Some(share * std::f64::consts::PI * r * r * along(0.0, c.height))
             })
             .filter(|p| p.is_finite())
             .sum();
-        let [nx, ny] = spec.grid.cells;
-        let grid_nodes = (nx as f64 + 1.0) * (ny as f64 + 1.0);
+        let grid_nodes = (spec.grid.cells.as_ref().iter())
+            .map(|&c| c as f64 + 1.0)
+            .product();
         Self::new(points, grid_nodes, spec.time.steps)
     }
 

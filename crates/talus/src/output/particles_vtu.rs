@@ -12,28 +12,31 @@ use super::OutputError;
 
 const VTK_VERTEX: u8 = 1;
 
-/// The particle fields of one time step, one entry per particle in every slice.
+/// The particle fields of one time step, one entry per particle in every slice; `N` = 2
+/// (plane strain, Mandel size `D` = 4) or 3 (3D, `D` = 6).
 ///
 /// Units: time s, position m, velocity m/s, volume m³ and mass kg per metre of thickness
-/// (plane strain), stress Pa (tension positive), plastic strain dimensionless.
+/// (plane strain; in 3D m³ and kg), stress Pa (tension positive), plastic strain
+/// dimensionless.
 #[derive(Debug, Clone, Copy)]
-pub struct ParticleSnapshot<'a> {
+pub struct ParticleSnapshot<'a, const N: usize = 2, const D: usize = 4> {
     pub time: f64,
     /// m.
-    pub position: &'a [[f64; 2]],
+    pub position: &'a [[f64; N]],
     /// m/s.
-    pub velocity: &'a [[f64; 2]],
+    pub velocity: &'a [[f64; N]],
     /// m³ per metre of thickness.
     pub volume: &'a [f64],
     /// kg per metre of thickness.
     pub mass: &'a [f64],
-    /// Mandel `(xx, yy, zz, √2 xy)`, Pa, tension positive.
-    pub stress: &'a [[f64; 4]],
+    /// Mandel `(xx, yy, zz, √2 xy)` (3D: `(xx, yy, zz, √2 yz, √2 xz, √2 xy)`), Pa,
+    /// tension positive.
+    pub stress: &'a [[f64; D]],
     /// Cumulative equivalent plastic strain `∫‖ε̇ᵖ‖ dt`.
     pub plastic_strain: &'a [f64],
 }
 
-impl ParticleSnapshot<'_> {
+impl<const N: usize, const D: usize> ParticleSnapshot<'_, N, D> {
     /// At least one particle, one entry per particle in every field, all finite; with the
     /// stress's derived values (computed once: checked, then written).
     fn validate(&self) -> Result<Derived, OutputError> {
@@ -60,15 +63,24 @@ impl ParticleSnapshot<'_> {
 
 /// Particle fields an MPM run adds to a [`ParticleSnapshot`] ([`write_particle_vtu_with`]),
 /// one entry per particle; each `None` is left out of the file.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct ParticleExtras<'a> {
+#[derive(Debug, Clone, Copy)]
+pub struct ParticleExtras<'a, const N: usize = 2> {
     /// Position minus the particle's position at t = 0, m.
-    pub displacement: Option<&'a [[f64; 2]]>,
+    pub displacement: Option<&'a [[f64; N]]>,
     /// The particle's material index in the scene's list (from 0).
     pub material: Option<&'a [usize]>,
 }
 
-impl ParticleExtras<'_> {
+impl<const N: usize> Default for ParticleExtras<'_, N> {
+    fn default() -> Self {
+        Self {
+            displacement: None,
+            material: None,
+        }
+    }
+}
+
+impl<const N: usize> ParticleExtras<'_, N> {
     fn validate(&self, n: usize) -> Result<(), OutputError> {
         if let Some(u) = self.displacement {
             check_len("displacement", u.len(), n, "particle")?;
@@ -82,26 +94,29 @@ impl ParticleExtras<'_> {
 }
 
 /// Writes `s` to `path` as a VTK XML unstructured grid (ASCII) of one vertex per particle
-/// at its position (z = 0).
+/// at its position (z = 0 in 2D).
 ///
-/// Point data: `velocity` (m/s, 3-vector with z = 0), `volume`, `mass`, `stress` as a
-/// symmetric tensor in plain components, VTK order `XX, YY, ZZ, XY, YZ, XZ` (σxy = m₃/√2,
-/// YZ = XZ = 0; Pa, tension positive), `von_mises` (Pa), `pressure` (−tr σ/3, Pa,
+/// Point data: `velocity` (m/s, 3-vector, z = 0 in 2D), `volume`, `mass`, `stress` as a
+/// symmetric tensor in plain components, VTK order `XX, YY, ZZ, XY, YZ, XZ` (the shear
+/// components are the Mandel ones over √2; in 2D YZ = XZ = 0; Pa, tension positive), `von_mises` (Pa), `pressure` (−tr σ/3, Pa,
 /// compression positive), `principal_stress` (3 components `σ1 ≥ σ2 ≥ σ3`, Pa, tension
 /// positive) and `plastic_strain`. The time (s) is the `TimeValue` field. Numbers are
 /// written in Rust's shortest round-trip form. Errors (`Invalid`, nothing written): no
 /// particles, a field whose length differs from `position`'s, a non-finite value.
-pub fn write_particle_vtu(path: &Path, s: &ParticleSnapshot) -> Result<(), OutputError> {
+pub fn write_particle_vtu<const N: usize, const D: usize>(
+    path: &Path,
+    s: &ParticleSnapshot<N, D>,
+) -> Result<(), OutputError> {
     write_particle_vtu_with(path, s, &ParticleExtras::default())
 }
 
 /// [`write_particle_vtu`] with the point data of `extras`: `displacement` (m, 3-vector with
 /// z = 0) and `material` (`Int32`). Errors as [`write_particle_vtu`]'s, for these fields
 /// too.
-pub fn write_particle_vtu_with(
+pub fn write_particle_vtu_with<const N: usize, const D: usize>(
     path: &Path,
-    s: &ParticleSnapshot,
-    extras: &ParticleExtras,
+    s: &ParticleSnapshot<N, D>,
+    extras: &ParticleExtras<N>,
 ) -> Result<(), OutputError> {
     let derived = s.validate()?;
     extras.validate(s.position.len())?;
@@ -109,7 +124,11 @@ pub fn write_particle_vtu_with(
     super::atomic::write(path, xml)
 }
 
-fn particle_vtu_string(s: &ParticleSnapshot, extras: &ParticleExtras, derived: &Derived) -> String {
+fn particle_vtu_string<const N: usize, const D: usize>(
+    s: &ParticleSnapshot<N, D>,
+    extras: &ParticleExtras<N>,
+    derived: &Derived,
+) -> String {
     let n = s.position.len();
     let mut x = String::with_capacity(200 * n + 2000);
     begin_piece(&mut x, s.time, n, n);

@@ -269,7 +269,7 @@ pub fn ramps<V: SceneVector>(spec: &SceneSpec<V>) -> Vec<RampField<'_>> {
 
 /// Every load programme of a material point scene: `gravity_ramp`, `prescribed[k].ramp`,
 /// `surface_load[k].ramp`.
-pub fn mpm_ramps(spec: &MpmSceneSpec) -> Vec<RampField<'_>> {
+pub fn mpm_ramps<V: super::SceneVector>(spec: &MpmSceneSpec<V>) -> Vec<RampField<'_>> {
     let mut ramps = vec![("gravity_ramp".to_string(), &spec.gravity_ramp)];
     ramps.extend(
         (spec.prescribed.iter().enumerate())

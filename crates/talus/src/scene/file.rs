@@ -1,8 +1,9 @@
 //! A scene file of either kind: finite elements (`[mesh]`) or material points (`[grid]`).
 use std::path::{Path, PathBuf};
 
+use super::mpm_load::parse_mpm;
 use super::source::{error_at, read, SceneDocument};
-use super::{MpmScene, Scene, Scene3, SceneError, SceneSpec};
+use super::{MpmScene, MpmScene3, Scene, Scene3, SceneError, SceneSpec};
 
 /// A 3D FEM scene: read and checked key by key (its own errors first, then a 2D key in
 /// it, `scene::dimension`).
@@ -19,6 +20,8 @@ pub enum SceneFile {
     /// A 3D FEM scene (`[analysis] geometry = "3d"`, tetrahedra).
     Fem3(Scene3),
     Mpm(MpmScene),
+    /// A 3D MPM scene (`[analysis] geometry = "3d"` with a `[grid]`, `docs/3d-mpm.md`).
+    Mpm3(MpmScene3),
 }
 
 impl SceneFile {
@@ -42,7 +45,8 @@ impl SceneFile {
         match (table.contains_key("mesh"), table.contains_key("grid")) {
             (true, false) if three_d => three_d_scene(source, path).map(SceneFile::Fem3),
             (true, false) => Scene::parse(source, path).map(SceneFile::Fem),
-            (false, true) => MpmScene::parse(source, path).map(SceneFile::Mpm),
+            (false, true) if three_d => parse_mpm(source, path).map(SceneFile::Mpm3),
+            (false, true) => parse_mpm(source, path).map(SceneFile::Mpm),
             (true, true) => {
                 let mesh_line = error_at(source, path.as_ref(), "mesh", String::new()).line;
                 let mesh_at = mesh_line.map(|l| format!(", line {l}")).unwrap_or_default();

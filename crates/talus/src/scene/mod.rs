@@ -30,7 +30,7 @@ pub use monitor::{
     bad_name, first_duplicate, monitor_columns, MonitorSpec, MONITOR_COLUMNS, MONITOR_COLUMNS_3D,
     REACTION_COLUMNS,
 };
-pub use mpm_load::MpmScene;
+pub use mpm_load::{check_dimension as check_mpm_dimension, MpmScene, MpmScene3};
 pub use mpm_types::*;
 pub use solver::{RhoScaling, SolverSpec};
 pub use source::{Locate, SceneDocument};

@@ -1,37 +1,40 @@
 //! The spec of a material-point (MPM) scene: a `[grid]` instead of a `[mesh]`, bodies of
 //! particles, walls and prescribed-velocity boxes on the grid, surface loads on particles.
 //! `[material]`, `[time]`, `[solver]` and `[initial_stress]` are those of FEM scenes;
-//! `[analysis]` is read so that `kind = "quasi_static"` can be refused by name.
+//! `[analysis]` is read so that `kind = "quasi_static"` can be refused by name, and
+//! `geometry = "3d"` makes it a 3D scene (`docs/3d-mpm.md`): its points and vectors `V`
+//! have 3 components, its bodies are boxes and cylinders.
 use serde::{Deserialize, Serialize};
 
-use super::{AnalysisSpec, InitialStressSpec, Materials, SolverSpec, TimeSpec};
+use super::{AnalysisSpec, InitialStressSpec, Materials, SceneVector, SolverSpec, TimeSpec};
 
-/// The whole MPM scene (see docs/scenes.md, "MPM scenes").
+/// The whole MPM scene (see docs/scenes.md, "MPM scenes"), its points and vectors `V`
+/// (2D by default, [`SceneVector`]).
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct MpmSceneSpec {
+#[serde(deny_unknown_fields, bound = "")]
+pub struct MpmSceneSpec<V: SceneVector = [f64; 2]> {
     #[serde(default)]
     pub title: Option<String>,
     /// Body acceleration (m/s²); absent means weightless.
     #[serde(default)]
-    pub gravity: Option<[f64; 2]>,
+    pub gravity: Option<V>,
     /// Multiplier of `gravity` in time (docs/scenes.md, 'Load programmes').
     #[serde(default)]
     pub gravity_ramp: Option<Vec<[f64; 2]>>,
-    pub grid: GridSpec,
-    /// Rectangles filled with particles, each of its own `material` (of a `[[material]]`
-    /// list) or all of the single `[material]`.
+    pub grid: GridSpec<V>,
+    /// Rectangles (3D: boxes, cylinders) filled with particles, each of its own `material`
+    /// (of a `[[material]]` list) or all of the single `[material]`.
     #[serde(default)]
-    pub body: Vec<BodySpec>,
+    pub body: Vec<BodySpec<V>>,
     /// The keys of a FEM scene's materials (`flow = "davis"` included), checked by the same
     /// `check::material`; no `regions` (bodies name their materials).
     pub material: Materials,
     #[serde(default)]
     pub wall: Vec<WallSpec>,
     #[serde(default)]
-    pub prescribed: Vec<PrescribedSpec>,
+    pub prescribed: Vec<PrescribedSpec<V>>,
     #[serde(default)]
-    pub surface_load: Vec<SurfaceLoadSpec>,
+    pub surface_load: Vec<SurfaceLoadSpec<V>>,
     /// K₀ or uniform stress at every particle (default: stress free).
     #[serde(default)]
     pub initial_stress: Option<InitialStressSpec>,
@@ -47,16 +50,17 @@ pub struct MpmSceneSpec {
     pub output: MpmOutputSpec,
     /// Points whose grid-interpolated displacement and velocity are recorded.
     #[serde(default)]
-    pub monitor: Vec<super::MonitorSpec>,
+    pub monitor: Vec<super::MonitorSpec<V>>,
 }
 
-/// Square cells of side `spacing` (m) from `origin` (lower-left corner, m).
+/// Square (3D: cubic) cells of side `spacing` (m) from `origin` (the corner of smallest
+/// coordinates, m): `cells = [nx, ny]`, in 3D `[nx, ny, nz]`.
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct GridSpec {
-    pub origin: [f64; 2],
+#[serde(deny_unknown_fields, bound = "")]
+pub struct GridSpec<V: SceneVector = [f64; 2]> {
+    pub origin: V,
     pub spacing: f64,
-    pub cells: [usize; 2],
+    pub cells: V::Cells,
     #[serde(default)]
     pub shape: ShapeSpec,
 }
@@ -70,12 +74,21 @@ pub enum ShapeSpec {
     Quadratic,
 }
 
-/// `[[xmin, ymin], [xmax, ymax]]` filled with `particles_per_cell²` particles per cell, of
-/// the material `material` names.
+/// A body of particles, `particles_per_cell` per axis and per cell, of the material
+/// `material` names: in 2D a `rectangle = [[xmin, ymin], [xmax, ymax]]`; in 3D a
+/// `box = [[x0, y0, z0], [x1, y1, z1]]` or a vertical `cylinder` (one of them).
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct BodySpec {
-    pub rectangle: [[f64; 2]; 2],
+#[serde(deny_unknown_fields, bound = "")]
+pub struct BodySpec<V: SceneVector = [f64; 2]> {
+    /// 2D only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rectangle: Option<[V; 2]>,
+    /// 3D only.
+    #[serde(default, rename = "box", skip_serializing_if = "Option::is_none")]
+    pub cuboid: Option<[V; 2]>,
+    /// 3D only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cylinder: Option<CylinderSpec>,
     /// Per axis; default 2.
     #[serde(default = "two")]
     pub particles_per_cell: usize,
@@ -89,6 +102,23 @@ fn two() -> usize {
     2
 }
 
+/// A vertical cylinder (axis along y through `(x_c, z_c)`): its base at `y = base`, its
+/// `radius` and `height` (m); `quarter = true` keeps the quadrant `x ≥ x_c, z ≥ z_c`, the
+/// whole cylinder by symmetry with slip walls on `x = x_c` and `z = z_c`.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CylinderSpec {
+    /// `[x_c, z_c]` (m).
+    pub centre: [f64; 2],
+    pub base: f64,
+    pub radius: f64,
+    pub height: f64,
+    #[serde(default)]
+    pub quarter: bool,
+}
+
+/// The grid's faces: `left`/`right` (x), `bottom`/`top` (y), and in 3D `back` (z = z₀) and
+/// `front` (largest z), as talus-mpm and the FEM box name them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SideSpec {
@@ -96,6 +126,8 @@ pub enum SideSpec {
     Right,
     Bottom,
     Top,
+    Back,
+    Front,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
@@ -120,29 +152,34 @@ pub struct WallSpec {
 }
 
 /// Grid nodes inside `region` move with the given velocity (m/s): `velocity = [vx, vy]`
-/// prescribes both components, `velocity_x` / `velocity_y` one each (the other stays free).
+/// (3D: `[vx, vy, vz]`) prescribes every component, `velocity_x` / `velocity_y` (3D: also
+/// `velocity_z`) one each (the others stay free).
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct PrescribedSpec {
+#[serde(deny_unknown_fields, bound = "")]
+pub struct PrescribedSpec<V: SceneVector = [f64; 2]> {
     #[serde(default)]
     pub name: Option<String>,
-    pub region: [[f64; 2]; 2],
+    pub region: [V; 2],
     #[serde(default)]
-    pub velocity: Option<[f64; 2]>,
+    pub velocity: Option<V>,
     #[serde(default)]
     pub velocity_x: Option<f64>,
     #[serde(default)]
     pub velocity_y: Option<f64>,
+    /// 3D only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity_z: Option<f64>,
     /// Multiplier of the velocity in time.
     #[serde(default)]
     pub ramp: Option<Vec<[f64; 2]>>,
 }
 
-/// A downward pressure (Pa) carried by the particles whose centres lie in `region`.
+/// A downward pressure (Pa) carried by the particles whose centres lie in `region` (2D
+/// only so far).
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct SurfaceLoadSpec {
-    pub region: [[f64; 2]; 2],
+#[serde(deny_unknown_fields, bound = "")]
+pub struct SurfaceLoadSpec<V: SceneVector = [f64; 2]> {
+    pub region: [V; 2],
     pub pressure: f64,
     /// Multiplier of the pressure in time.
     #[serde(default)]

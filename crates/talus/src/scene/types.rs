@@ -21,12 +21,24 @@ pub trait SceneVector:
 {
     /// 2 or 3.
     const DIM: usize;
+    /// Cells per axis of a grid of this dimension (`[grid] cells`).
+    type Cells: Copy
+        + std::fmt::Debug
+        + PartialEq
+        + Serialize
+        + DeserializeOwned
+        + AsRef<[usize]>
+        + Send
+        + Sync
+        + 'static;
 }
 impl SceneVector for [f64; 2] {
     const DIM: usize = 2;
+    type Cells = [usize; 2];
 }
 impl SceneVector for [f64; 3] {
     const DIM: usize = 3;
+    type Cells = [usize; 3];
 }
 
 /// The whole scene, its points and vectors `V` (2D by default, [`SceneVector`]).

@@ -2,7 +2,7 @@
 //! PNG maps of the plastic strain in the fixed frame of the grid, the reaction plot.
 use std::path::Path;
 
-use talus_mpm::Particles;
+use talus_mpm::{Dimension, Mandel, Particles};
 
 use crate::output::{self, OutputError, ParticleExtras, ParticlePlot, ParticleSnapshot};
 use crate::run::{io_err, RunError};
@@ -27,13 +27,16 @@ fn due(step: usize, every: usize, last: usize) -> bool {
 
 impl FieldWriter<'_> {
     /// The VTU and PNG due after `step` (state at `time`).
-    pub fn after_step(
+    pub fn after_step<const D: usize, const N: usize>(
         &mut self,
-        model: &MpmModel,
-        particles: &Particles,
+        model: &MpmModel<D>,
+        particles: &Particles<D>,
         step: usize,
         time: f64,
-    ) -> Result<(), RunError> {
+    ) -> Result<(), RunError>
+    where
+        Mandel<D>: Dimension<Point = [f64; N]>,
+    {
         if due(step, self.vtu_every, self.last_step) {
             self.write_vtu(model, particles, step, time)?;
         }
@@ -51,13 +54,16 @@ impl FieldWriter<'_> {
     }
 
     /// `vtu/step_NNNNN.vtu` of the particles at `time`, listed in the collection.
-    fn write_vtu(
+    fn write_vtu<const D: usize, const N: usize>(
         &mut self,
-        model: &MpmModel,
-        particles: &Particles,
+        model: &MpmModel<D>,
+        particles: &Particles<D>,
         step: usize,
         time: f64,
-    ) -> Result<(), RunError> {
+    ) -> Result<(), RunError>
+    where
+        Mandel<D>: Dimension<Point = [f64; N]>,
+    {
         let dir = self.out.join("vtu");
         std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
         let name = format!("step_{step:05}.vtu");
@@ -70,33 +76,45 @@ impl FieldWriter<'_> {
 
     /// The last state's VTU when a run stopped early (collapse, failure), the `.pvd`
     /// collection and the final plastic strain map `plastic_strain.png`.
-    pub fn finish(
+    pub fn finish<const D: usize, const N: usize>(
         &mut self,
-        model: &MpmModel,
-        particles: &Particles,
+        model: &MpmModel<D>,
+        particles: &Particles<D>,
         step: usize,
         time: f64,
-    ) -> Result<(), RunError> {
+    ) -> Result<(), RunError>
+    where
+        Mandel<D>: Dimension<Point = [f64; N]>,
+    {
         if self.pvd.last().map(|(t, _)| *t) != Some(time) {
             self.write_vtu(model, particles, step, time)?;
         }
         self.png(model, particles, &self.out.join("plastic_strain.png"), time)
     }
 
-    fn png(
+    fn png<const D: usize, const N: usize>(
         &self,
-        model: &MpmModel,
-        particles: &Particles,
+        model: &MpmModel<D>,
+        particles: &Particles<D>,
         path: &Path,
         time: f64,
-    ) -> Result<(), RunError> {
+    ) -> Result<(), RunError>
+    where
+        Mandel<D>: Dimension<Point = [f64; N]>,
+    {
         let title = format!("{}, t = {time:.3} s", self.title);
-        // Squares of the particles' mean side √V: the material's area, without the gaps a
-        // nearest-neighbour spacing leaves in a stretched lattice.
-        let side = particles.volume.iter().map(|v| v.sqrt()).sum::<f64>() / particles.len() as f64;
+        // Squares of the particles' mean side √V (3D: ∛V): the material's area, without
+        // the gaps a nearest-neighbour spacing leaves in a stretched lattice.
+        let side = if N == 3 {
+            particles.volume.iter().map(|v| v.cbrt()).sum::<f64>() / particles.len() as f64
+        } else {
+            particles.volume.iter().map(|v| v.sqrt()).sum::<f64>() / particles.len() as f64
+        };
+        // In 3D the particles seen along z (the xy plane).
+        let seen: Vec<[f64; 2]> = particles.position.iter().map(|x| [x[0], x[1]]).collect();
         output::plot_particles(
             path,
-            &particles.position,
+            &seen,
             &particles.plastic_strain,
             ParticlePlot {
                 title: &title,
@@ -116,7 +134,15 @@ impl FieldWriter<'_> {
 /// (no deformation gradient, no accumulated `ε`: each sub-step's strain increment lives
 /// only in G2P), so the MPM VTU has neither `strain` nor `plastic_strain_increment`
 /// (`docs/mpm.md`, 'Outputs').
-fn write_vtu(path: &Path, initial: &Particles, p: &Particles, time: f64) -> Result<(), RunError> {
+fn write_vtu<const D: usize, const N: usize>(
+    path: &Path,
+    initial: &Particles<D>,
+    p: &Particles<D>,
+    time: f64,
+) -> Result<(), RunError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+{
     if initial.len() != p.len() {
         return Err(OutputError::invalid(
             "displacement",
@@ -128,11 +154,11 @@ fn write_vtu(path: &Path, initial: &Particles, p: &Particles, time: f64) -> Resu
         )
         .into());
     }
-    let displacement: Vec<[f64; 2]> = p
+    let displacement: Vec<[f64; N]> = p
         .position
         .iter()
         .zip(&initial.position)
-        .map(|(x, x0)| [x[0] - x0[0], x[1] - x0[1]])
+        .map(|(x, x0)| std::array::from_fn(|a| x[a] - x0[a]))
         .collect();
     let material: Vec<usize> = (0..p.len()).map(|i| p.material_of(i)).collect();
     output::write_particle_vtu_with(

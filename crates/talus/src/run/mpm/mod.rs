@@ -8,15 +8,18 @@ use std::path::Path;
 use std::time::Instant;
 
 use talus_engine::Stepper;
-use talus_mpm::{front, kinetic_energy, MpmState, MpmStepReport, Particles, ProgrammedMpm};
+use talus_mpm::{
+    kinetic_energy, Dimension, GroupForces, Mandel, MpmState, MpmStepReport, Particles,
+    ProgrammedMpm,
+};
 
 use super::checkpoint::{self, Checkpoint, CheckpointError};
 use super::{RunError, RunOptions, RunOutputs, Shape, HISTORY_COLUMNS};
-use crate::model::mpm::MpmModel;
+use crate::model::mpm::{MpmDocument, MpmModel, MpmSpace};
 use crate::output;
 use crate::output::Results;
 use crate::output::ResultsProgress;
-use crate::scene::MpmScene;
+use crate::scene::{MpmScene, MpmScene3, SceneVector};
 use fields::FieldWriter;
 use results::MpmResults;
 
@@ -31,7 +34,31 @@ pub const MPM_COLUMNS: [&str; 6] = [
     "kinetic_energy",
 ];
 
-impl Shape for MpmState {
+/// [`MPM_COLUMNS`] of a 3D run: the reported box's force has a z component, and `front`
+/// is the radial front of a cylinder (`docs/3d-mpm.md`, 'Scenes').
+pub const MPM_COLUMNS_3D: [&str; 7] = [
+    "contact_passes",
+    "reaction_force_x",
+    "reaction_force_y",
+    "reaction_force_z",
+    "front",
+    "runout_normalized",
+    "kinetic_energy",
+];
+
+/// The MPM columns of a run of `axes` dimensions.
+fn mpm_columns(axes: usize) -> String {
+    if axes == 3 {
+        MPM_COLUMNS_3D.join(",")
+    } else {
+        MPM_COLUMNS.join(",")
+    }
+}
+
+impl<const D: usize> Shape for MpmState<D>
+where
+    Mandel<D>: Dimension,
+{
     const SIZES: &'static str = "particle positions, velocities, masses, volumes, stresses, \
                                  plastic strains, external forces";
     fn sizes(&self) -> Vec<usize> {
@@ -50,18 +77,26 @@ impl Shape for MpmState {
 
 /// What a finished MPM run measured.
 #[derive(Debug, Clone)]
-pub struct MpmRunSummary {
+pub struct MpmRunSummary<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
     /// One report per step.
-    pub reports: Vec<MpmStepReport>,
+    pub reports: Vec<MpmStepReport<D>>,
     /// `(L − L₀)/L₀` after the last step (see [`RunoutReference`]).
     pub runout_normalized: f64,
     /// Whether the scene asked for the runout (`output.runout`).
     pub runout_reported: bool,
+    /// How the runout is measured (x front or radial).
+    pub runout: crate::model::mpm::Runout,
     pub seconds: f64,
-    pub particles: Particles,
+    pub particles: Particles<D>,
 }
 
-impl MpmRunSummary {
+impl<const D: usize> MpmRunSummary<D>
+where
+    Mandel<D>: Dimension,
+{
     /// Newton iterations of the run, failed attempts included: its cost.
     pub fn total_newton_iterations(&self) -> usize {
         self.reports
@@ -93,6 +128,15 @@ pub fn run_mpm_scene(scene: &MpmScene, options: &RunOptions) -> Result<MpmRunSum
     run_mpm_scene_from(scene, options, None)
 }
 
+/// A 3D MPM scene (`docs/3d-mpm.md`), fresh or continued from `checkpoint`.
+pub fn run_mpm_scene_3d(
+    scene: &MpmScene3,
+    options: &RunOptions,
+    checkpoint: Option<Checkpoint<serde_json::Value>>,
+) -> Result<MpmRunSummary<6>, RunError> {
+    run_mpm_scene_from(scene, options, checkpoint)
+}
+
 /// Continues `scene` from `checkpoint` (read from `options.out_dir`, its scene checked by
 /// [`Checkpoint::current_scene`]), checkpointing as often as the run it continues.
 pub fn resume_mpm_scene(
@@ -103,13 +147,17 @@ pub fn resume_mpm_scene(
     run_mpm_scene_from(scene, options, Some(checkpoint))
 }
 
-fn run_mpm_scene_from(
-    scene: &MpmScene,
+fn run_mpm_scene_from<const D: usize, const N: usize>(
+    scene: &MpmDocument<N>,
     options: &RunOptions,
     resumed: Option<Checkpoint<serde_json::Value>>,
-) -> Result<MpmRunSummary, RunError> {
+) -> Result<MpmRunSummary<D>, RunError>
+where
+    Mandel<D>: MpmSpace<D> + Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+{
     let start = Instant::now();
-    let model = MpmModel::from_scene(scene)?;
+    let model = MpmModel::<D>::build(scene)?;
     let spec = &scene.spec;
     let grid = model.mpm.grid();
     tracing::info!(
@@ -124,7 +172,7 @@ fn run_mpm_scene_from(
     let results = MpmResults::new(
         scene,
         &model,
-        &format!("{HISTORY_COLUMNS},{}", MPM_COLUMNS.join(",")),
+        &format!("{HISTORY_COLUMNS},{}", mpm_columns(N)),
     )?;
     let mut outputs = MpmOutputs {
         model: &model,
@@ -168,8 +216,9 @@ fn run_mpm_scene_from(
     let particles = stepped.state.particles;
     Ok(MpmRunSummary {
         reports: stepped.reports,
-        runout_normalized: model.runout.normalized(front(&particles)),
+        runout_normalized: model.runout.normalized(model.runout.front(&particles)),
         runout_reported: spec.output.runout,
+        runout: model.runout,
         seconds: start.elapsed().as_secs_f64(),
         particles,
     })
@@ -177,9 +226,12 @@ fn run_mpm_scene_from(
 
 /// What an MPM run adds to the run loop: the front, runout, kinetic energy and the
 /// reported box's force; particle VTUs and PNG maps.
-struct MpmOutputs<'a> {
-    model: &'a MpmModel,
-    results: MpmResults,
+struct MpmOutputs<'a, const D: usize>
+where
+    Mandel<D>: Dimension,
+{
+    model: &'a MpmModel<D>,
+    results: MpmResults<D>,
     fields: FieldWriter<'a>,
     out: &'a Path,
     write_fields: bool,
@@ -198,23 +250,27 @@ struct MpmProgress {
     reaction_curve: Vec<(f64, f64)>,
 }
 
-impl RunOutputs<&ProgrammedMpm> for MpmOutputs<'_> {
+impl<const D: usize, const N: usize> RunOutputs<&ProgrammedMpm<D>, D> for MpmOutputs<'_, D>
+where
+    Mandel<D>: MpmSpace<D> + Dimension<Point = [f64; N]>,
+{
     fn columns(&self) -> String {
-        format!(
-            ",{}{}",
-            MPM_COLUMNS.join(","),
-            self.results.results.header()
-        )
+        format!(",{}{}", mpm_columns(N), self.results.results.header())
     }
 
-    fn row(&mut self, step: usize, state: &MpmState, report: Option<&MpmStepReport>) -> String {
+    fn row(
+        &mut self,
+        step: usize,
+        state: &MpmState<D>,
+        report: Option<&MpmStepReport<D>>,
+    ) -> String {
         let stats = report.and_then(|r| r.stats.as_ref());
-        let force = self
+        let force: [f64; N] = self
             .model
             .reaction
-            .zip(stats)
-            .and_then(|(r, s)| s.group_forces.get(r.group).copied())
-            .unwrap_or([0.0; 2]);
+            .zip(report)
+            .and_then(|(r, report)| report.group_forces().get(r.group).copied())
+            .unwrap_or([0.0; N]);
         let settles = self.model.reaction.and_then(|r| r.velocity_y);
         if let (Some(_), Some(vy)) = (report, settles) {
             self.reaction_curve.push((-vy * state.time, -force[1]));
@@ -229,18 +285,17 @@ impl RunOutputs<&ProgrammedMpm> for MpmOutputs<'_> {
             report,
             reported,
         );
-        let f = front(&state.particles);
+        let f = self.model.runout.front(&state.particles);
+        let forces: String = force.iter().map(|c| format!(",{c:.10e}")).collect();
         format!(
-            ",{},{:.10e},{:.10e},{f:.10e},{:.10e},{:.10e}{rest}",
+            ",{}{forces},{f:.10e},{:.10e},{:.10e}{rest}",
             stats.map_or(0, |s| s.contact_passes),
-            force[0],
-            force[1],
             self.model.runout.normalized(f),
             kinetic_energy(&state.particles)
         )
     }
 
-    fn after_step(&mut self, step: usize, state: &MpmState) -> Result<(), RunError> {
+    fn after_step(&mut self, step: usize, state: &MpmState<D>) -> Result<(), RunError> {
         if self.write_fields {
             self.fields
                 .after_step(self.model, &state.particles, step, state.time)?;
@@ -248,16 +303,17 @@ impl RunOutputs<&ProgrammedMpm> for MpmOutputs<'_> {
         Ok(())
     }
 
-    fn message(&self, report: &MpmStepReport, state: &MpmState) -> String {
+    fn message(&self, report: &MpmStepReport<D>, state: &MpmState<D>) -> String {
         format!(
-            "{} Newton its, front {:.4} m, E_k = {:.3e} J/m",
+            "{} Newton its, front {:.4} m, E_k = {:.3e} {}",
             report.newton_iterations,
-            front(&state.particles),
-            kinetic_energy(&state.particles)
+            self.model.runout.front(&state.particles),
+            kinetic_energy(&state.particles),
+            if N == 3 { "J" } else { "J/m" }
         )
     }
 
-    fn finish(&mut self, state: &MpmState, step: usize) -> Result<(), RunError> {
+    fn finish(&mut self, state: &MpmState<D>, step: usize) -> Result<(), RunError> {
         if !self.write_fields {
             return Ok(());
         }

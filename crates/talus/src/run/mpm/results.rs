@@ -2,25 +2,37 @@
 //! (`StepReport::group_forces`, each component owned by the last condition prescribing
 //! it) and the monitors' grid-interpolated displacement and velocity
 //! (`talus_mpm::grid_value_at`), appended to `history.csv`; `summary.json` at the end.
-use talus_mpm::{grid_value_at, Particles};
+use talus_mpm::{grid_value_at, Dimension, Mandel, Particles};
 
 use crate::output::Results;
-use crate::scene::{MpmScene, SceneError};
+use crate::scene::{SceneError, SceneVector};
 
-use crate::model::mpm::MpmModel;
+use crate::model::mpm::{MpmDocument, MpmModel};
 use talus_mpm::{GroupForces, MpmStepReport};
 
-pub struct MpmResults {
+pub struct MpmResults<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
     /// Index in `StepReport::group_forces` of each named wall or box.
     groups: Vec<usize>,
-    points: Vec<[f64; 2]>,
+    points: Vec<<Mandel<D> as Dimension>::Point>,
     /// Particle positions at t = 0: the displacement is `x_p − X_p`.
-    initial_position: Vec<[f64; 2]>,
+    initial_position: Vec<<Mandel<D> as Dimension>::Point>,
     pub results: Results,
 }
 
-impl MpmResults {
-    pub fn new(scene: &MpmScene, model: &MpmModel, base: &str) -> Result<Self, SceneError> {
+impl<const D: usize, const N: usize> MpmResults<D>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+{
+    /// The named walls and boxes (`NAME_fx, NAME_fy`, in 3D also `NAME_fz`) and monitors.
+    pub fn new(
+        scene: &MpmDocument<N>,
+        model: &MpmModel<D>,
+        base: &str,
+    ) -> Result<Self, SceneError> {
         let spec = &scene.spec;
         let mut named = Vec::new();
         let mut groups = Vec::new();
@@ -55,8 +67,11 @@ impl MpmResults {
             monitors.push((format!("monitor[{k}].name"), m.name.clone()));
             points.push(m.point);
         }
-        let mut results = Results::new(base, &named, &monitors, spec.output.reaction.clone())
-            .map_err(|e| scene.error(&e.field, e.message))?;
+        let mut results =
+            Results::with_components(base, &named, &monitors, spec.output.reaction.clone(), N)
+                .map_err(|e| scene.error(&e.field, e.message))?;
+        // N/m in plane strain, N in 3D.
+        results.set_force_unit(spec.analysis.geometry.force_unit());
         // Ramps faster than the step are sampled at the step ends only: said, not silent.
         let ramps = crate::scene::check::mpm_ramps(spec);
         let end = spec.time.step * spec.time.steps as f64;
@@ -75,27 +90,33 @@ impl MpmResults {
     /// reported box's `(settlement, force)`.
     pub fn record(
         &mut self,
-        model: &MpmModel,
-        particles: &Particles,
+        model: &MpmModel<D>,
+        particles: &Particles<D>,
         step: usize,
         time: f64,
-        report: Option<&MpmStepReport>,
+        report: Option<&MpmStepReport<D>>,
         reported: Option<(f64, f64)>,
     ) -> String {
-        let forces: Vec<[f64; 2]> = self
+        let forces: Vec<[f64; N]> = self
             .groups
             .iter()
             .map(|&g| {
                 report
                     .and_then(|r| r.group_forces().get(g).copied())
-                    .unwrap_or([0.0; 2])
+                    .unwrap_or([0.0; N])
             })
             .collect();
-        let displacement: Vec<[f64; 2]> = particles
+        // Monitors are 2D only (a 3D model refuses them): no displacement without one.
+        if self.points.is_empty() {
+            return self
+                .results
+                .record(step, time, &forces, &[None::<[f64; 4]>; 0], reported);
+        }
+        let displacement: Vec<[f64; N]> = particles
             .position
             .iter()
             .zip(&self.initial_position)
-            .map(|(x, x0)| [x[0] - x0[0], x[1] - x0[1]])
+            .map(|(x, x0)| std::array::from_fn(|a| x[a] - x0[a]))
             .collect();
         let grid = model.mpm.grid();
         let monitors: Vec<Option<[f64; 4]>> = self
