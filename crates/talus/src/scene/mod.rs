@@ -27,7 +27,7 @@ pub use material::{Flow, MaterialModel, MaterialSpec, Materials, RegionSpec};
 pub use monitor::{bad_name, first_duplicate, MonitorSpec, MONITOR_COLUMNS, REACTION_COLUMNS};
 pub use mpm_load::MpmScene;
 pub use mpm_types::*;
-pub use solver::{RhoScaling, SolverSpec};
+pub use solver::{FactorPrecision, FillOrdering, LinearSolverKind, RhoScaling, SolverSpec};
 pub use source::{Locate, SceneDocument};
 pub use stability::{DilatancyRule, StabilityMethod, StabilitySpec};
 pub use stage::StageSpec;
