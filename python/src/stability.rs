@@ -13,7 +13,7 @@ use crate::run::scratch;
 use crate::scene::Scene;
 use crate::watch::Watch;
 
-/// Strength reduction or gravity increase on `scene`; a dict with `history_csv` and
+/// Strength reduction or gravity increase on `scene` (2D or 3D); a dict with `history_csv` and
 /// `summary_json`. `callback(progress)` is called after every trial.
 #[pyfunction]
 #[pyo3(signature = (scene, out=None, callback=None))]
@@ -25,10 +25,6 @@ pub fn factor_of_safety<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let file = SceneFile::parse(&scene.source, scene.path.clone())
         .map_err(|e| scene_error(py, &e, None))?;
-    let SceneFile::Fem(fem) = file else {
-        let why = "a factor of safety needs a finite-element scene ([mesh])".to_string();
-        return Err(raise(py, "RunError", (why, PyDict::new(py))));
-    };
     let keep = out.is_some();
     let dir = out.unwrap_or_else(scratch);
     let watch = Watch::new(callback);
@@ -37,7 +33,19 @@ pub fn factor_of_safety<'py>(
         observer: Some(watch.observer()),
         ..RunOptions::new(dir.clone())
     };
-    let ran = py.detach(move || talus::analysis::stability::run(&fem, &options));
+    // One search for 2D and 3D (`analysis::stability` is generic over the Mandel size).
+    let ran = match file {
+        SceneFile::Fem(fem) => {
+            py.detach(move || talus::analysis::stability::run(&fem, &options).map(|_| ()))
+        }
+        SceneFile::Fem3(fem) => {
+            py.detach(move || talus::analysis::stability::run(&fem, &options).map(|_| ()))
+        }
+        _ => {
+            let why = "a factor of safety needs a finite-element scene ([mesh])".to_string();
+            return Err(raise(py, "RunError", (why, PyDict::new(py))));
+        }
+    };
     let d = PyDict::new(py);
     if let Ok(history) = std::fs::read_to_string(dir.join("history.csv")) {
         d.set_item("history_csv", history)?;

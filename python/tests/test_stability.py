@@ -54,3 +54,28 @@ def test_run_on_a_stability_scene_points_to_factor_of_safety():
         assert e.field == "stability" and "factor_of_safety" in e.reason
     else:
         raise AssertionError("talus.run ran a [stability] scene")
+
+
+SLOPE_3D = REPO / "scenes" / "slope_extruded.toml"
+
+
+def test_3d_factor_of_safety_equals_cli(cli, tmp_path):
+    # The 2:1 slope extruded along z with rollers on both faces (plane strain in 3D,
+    # docs/stability.md 'The plane-strain slab'), on the coarse section the Rust test
+    # slope_extruded_3d.rs uses: the same search and files as `talus run`, and within 1%
+    # of the 2D section's 1.4151 (the plane-strain factor the slab must reproduce).
+    scene = talus.Scene.load(SLOPE_3D).set("mesh.gmsh.path", "slope_3d_section.msh")
+    written = tmp_path / "slope_3d_section.toml"
+    written.write_text(scene.to_toml())
+    import shutil
+    import subprocess
+
+    shutil.copy(REPO / "scenes" / "slope_3d_section.msh", tmp_path)
+    subprocess.run([str(cli), "run", str(written), "--out", str(tmp_path / "cli")], check=True,
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    expected = json.loads((tmp_path / "cli" / "summary.json").read_text())["factor_of_safety"]
+    fos = talus.factor_of_safety(scene, progress=False)
+    assert fos.summary["factor_of_safety"] == expected
+    assert fos.trials["outcome"][0] == "equilibrium"
+    assert len(fos.trials["trial"]) == expected["trials"] + 1
+    assert abs(fos.factor / 1.4151 - 1.0) < 0.01

@@ -11,7 +11,13 @@
 //! that each peak (`VmHWM` of `/proc/self/status`) is its own.
 //!
 //! Meshes: `TALUS_SLOPE3D_BENCH_MESHES` (comma-separated file names in `scenes/`, default
-//! `slope_3d.msh,slope_3d_fine.msh`). Run with `cargo bench -p talus --bench slope_3d`.
+//! `slope_3d.msh,slope_3d_fine.msh`). Solver levers: `TALUS_SLOPE3D_BENCH_SOLVERS`
+//! (`;`-separated variants, each `default` or comma-separated `key=value` of the scene's
+//! `[solver]`, e.g. `default;linear_solver=krylov;linear_solver=krylov,precision=single`;
+//! default `default`): every variant runs on every mesh, and its ratio is its total
+//! seconds over the first variant's on the same mesh in the same run (the first should be
+//! `default`). `ordering=nested_dissection` needs `--features metis`. Run with
+//! `cargo bench -p talus --bench slope_3d`.
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Instant;
@@ -27,10 +33,10 @@ fn scenes() -> PathBuf {
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     if args.first().map(String::as_str) == Some("--child") {
-        match args.get(1) {
-            Some(mesh) => child(mesh),
-            None => {
-                eprintln!("usage: --child MESH");
+        match (args.get(1), args.get(2)) {
+            (Some(mesh), Some(variant)) => child(mesh, variant),
+            _ => {
+                eprintln!("usage: --child MESH SOLVER");
                 std::process::exit(2);
             }
         }
@@ -38,6 +44,8 @@ fn main() {
     }
     let meshes = std::env::var("TALUS_SLOPE3D_BENCH_MESHES")
         .unwrap_or_else(|_| "slope_3d.msh,slope_3d_fine.msh".to_string());
+    let solvers =
+        std::env::var("TALUS_SLOPE3D_BENCH_SOLVERS").unwrap_or_else(|_| "default".to_string());
     let exe = match std::env::current_exe() {
         Ok(exe) => exe,
         Err(e) => {
@@ -46,26 +54,48 @@ fn main() {
         }
     };
     println!(
-        "| mesh | free dofs | Gauss points | F | bracket | trials | Newton its | build s | loading s | trials s | total s | peak MiB |"
+        "| mesh | solver | free dofs | Gauss points | F | bracket | trials | Newton its | build s | loading s | trials s | total s | ratio | peak MiB |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut failed = false;
     for mesh in meshes.split(',').filter(|m| !m.is_empty()) {
-        let out = Command::new(&exe)
-            .args(["--child", mesh])
-            .stderr(Stdio::inherit())
-            .output();
-        match out {
-            Ok(out) if out.status.success() => {
-                print!("{}", String::from_utf8_lossy(&out.stdout));
-            }
-            Ok(out) => {
-                eprintln!("{mesh}: child failed ({})", out.status);
-                failed = true;
-            }
-            Err(e) => {
-                eprintln!("{mesh}: {e}");
-                failed = true;
+        let mut first: Option<f64> = None;
+        for variant in solvers.split(';').map(str::trim).filter(|v| !v.is_empty()) {
+            let out = Command::new(&exe)
+                .args(["--child", mesh, variant])
+                .stderr(Stdio::inherit())
+                .output();
+            match out {
+                Ok(out) if out.status.success() => {
+                    let row = String::from_utf8_lossy(&out.stdout);
+                    // The child's row ends `| trials s | total s | peak MiB |`; the ratio of
+                    // the total seconds (model, loading and search; against the first
+                    // variant) goes before the peak.
+                    let cells: Vec<&str> = row.trim().split('|').map(str::trim).collect();
+                    if cells.len() != 15 {
+                        eprintln!("{mesh} {variant}: unexpected row {row}");
+                        failed = true;
+                        continue;
+                    }
+                    let seconds = cells.get(12).and_then(|c| c.parse::<f64>().ok());
+                    let ratio = match (seconds, first) {
+                        (Some(s), Some(f)) => format!("{:.2}", s / f),
+                        (Some(s), None) => {
+                            first = Some(s);
+                            "1".to_string()
+                        }
+                        _ => "-".to_string(),
+                    };
+                    println!("| {} | {ratio} | {} |", cells[1..13].join(" | "), cells[13]);
+                }
+                Ok(out) => {
+                    eprintln!("{mesh} {variant}: child failed ({})", out.status);
+                    failed = true;
+                }
+                Err(e) => {
+                    eprintln!("{mesh} {variant}: {e}");
+                    failed = true;
+                }
             }
         }
     }
@@ -74,12 +104,30 @@ fn main() {
     }
 }
 
-/// One mesh: the scene with `[mesh.gmsh] path = MESH`, its model built, the loading and
-/// the search timed apart; one table row on stdout.
-fn child(mesh: &str) {
+/// The scene's text with `[solver]` keys from a variant (`default`: none), e.g.
+/// `linear_solver=krylov,precision=single`; values are TOML strings.
+fn with_solver(text: &str, variant: &str) -> String {
+    if variant == "default" {
+        return text.to_string();
+    }
+    let mut text = format!("{text}\n[solver]\n");
+    for kv in variant.split(',').filter(|kv| !kv.is_empty()) {
+        let (key, value) = kv.split_once('=').unwrap_or((kv, ""));
+        text.push_str(&format!("{} = \"{}\"\n", key.trim(), value.trim()));
+    }
+    text
+}
+
+/// One mesh and solver variant: the scene with `[mesh.gmsh] path = MESH` and the
+/// variant's `[solver]`, its model built, the loading and the search timed apart; one
+/// table row on stdout, without the ratio (the parent's).
+fn child(mesh: &str, variant: &str) {
     let path = scenes().join("slope_3d.toml");
     let text = match std::fs::read_to_string(&path) {
-        Ok(t) => t.replacen("path = \"slope_3d.msh\"", &format!("path = \"{mesh}\""), 1),
+        Ok(t) => with_solver(
+            &t.replacen("path = \"slope_3d.msh\"", &format!("path = \"{mesh}\""), 1),
+            variant,
+        ),
         Err(e) => fail(&format!("{}: {e}", path.display())),
     };
     let scene: Scene3 = match SceneFile::parse(&text, Some(path)) {
@@ -102,7 +150,10 @@ fn child(mesh: &str) {
     };
     let loading = equilibrium.seconds;
     let loading_iterations = equilibrium.newton_iterations;
-    let out = std::env::temp_dir().join(format!("talus_slope_3d_bench_{mesh}"));
+    let out = std::env::temp_dir().join(format!(
+        "talus_slope_3d_bench_{mesh}_{}",
+        variant.replace([',', '='], "_")
+    ));
     if let Err(e) = std::fs::create_dir_all(&out) {
         fail(&format!("{}: {e}", out.display()));
     }
@@ -125,7 +176,7 @@ fn child(mesh: &str) {
             .sum::<usize>();
     let fmt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.4}"));
     println!(
-        "| {mesh} | {dofs} | {points} | {} | [{}, {}] | {} | {iterations} | {build:.1} | {loading:.1} | {:.1} | {total:.1} | {:.0} |",
+        "| {mesh} | {variant} | {dofs} | {points} | {} | [{}, {}] | {} | {iterations} | {build:.1} | {loading:.1} | {:.1} | {total:.1} | {:.0} |",
         fmt(fos.value),
         fmt(fos.bracket[0]),
         fmt(fos.bracket[1]),
@@ -135,7 +186,7 @@ fn child(mesh: &str) {
     );
     for t in &found.trials {
         eprintln!(
-            "{mesh}: F = {:.4} from {:.4}: {}, {} steps, {} Newton iterations, {:.1} s",
+            "{mesh} {variant}: F = {:.4} from {:.4}: {}, {} steps, {} Newton iterations, {:.1} s",
             t.factor,
             t.start.unwrap_or(1.0),
             t.verdict.name(),

@@ -5,8 +5,8 @@ use talus_bipotential::{DruckerPrager, DruckerPragerParameters, Elastic, Materia
 use super::material::Flow;
 use super::source::Locate;
 use super::{
-    MaterialModel, MaterialSpec, MpmSceneSpec, PointLoadSpec, PressureSpec, Ramp, SceneError,
-    SceneSpec, SceneVector, SolverSpec, TimeSpec,
+    FactorPrecision, LinearSolverKind, MaterialModel, MaterialSpec, MpmSceneSpec, PointLoadSpec,
+    PressureSpec, Ramp, SceneError, SceneSpec, SceneVector, SolverSpec, TimeSpec,
 };
 
 /// The material at `field` (`material` or `material[k]`): Drucker-Prager with its
@@ -141,7 +141,8 @@ pub fn time(scene: &impl Locate, ts: &TimeSpec) -> Result<(), SceneError> {
     Ok(())
 }
 
-/// Tolerance and ρ factor finite and positive, at least one iteration.
+/// Tolerance and ρ factor finite and positive, at least one iteration; an f32 factor
+/// only with `krylov`; nested dissection only in a build with METIS.
 pub fn solver(scene: &impl Locate, sv: &SolverSpec) -> Result<(), SceneError> {
     if !(sv.tolerance.is_finite() && sv.tolerance > 0.0) {
         return Err(scene.error(
@@ -157,6 +158,20 @@ pub fn solver(scene: &impl Locate, sv: &SolverSpec) -> Result<(), SceneError> {
     }
     if sv.max_iterations == 0 {
         return Err(scene.error("solver.max_iterations", "must be at least 1"));
+    }
+    if sv.precision == FactorPrecision::Single && sv.linear_solver != LinearSolverKind::Krylov {
+        return Err(scene.error(
+            "solver.precision",
+            "\"single\" needs linear_solver = \"krylov\": an f32 factor only preconditions \
+             GMRES (docs/krylov.md)",
+        ));
+    }
+    if sv.ordering.ordering().is_none() {
+        return Err(scene.error(
+            "solver.ordering",
+            "\"nested_dissection\" needs METIS, which this build of talus does not have: \
+             build it with `cargo build --release -p talus --features metis`",
+        ));
     }
     Ok(())
 }

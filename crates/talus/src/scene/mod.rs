@@ -32,7 +32,7 @@ pub use monitor::{
 };
 pub use mpm_load::{check_dimension as check_mpm_dimension, MpmScene, MpmScene3};
 pub use mpm_types::*;
-pub use solver::{RhoScaling, SolverSpec};
+pub use solver::{FactorPrecision, FillOrdering, LinearSolverKind, RhoScaling, SolverSpec};
 pub use source::{Locate, SceneDocument};
 pub use stability::{DilatancyRule, StabilityMethod, StabilitySpec};
 pub use stage::StageSpec;

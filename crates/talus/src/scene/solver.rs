@@ -3,7 +3,7 @@
 //! `Settings::fem`), which the scene overrides key by key.
 use serde::{Deserialize, Serialize};
 use talus_engine::StepSettings;
-use talus_ssn::{Rho, Settings, Stall};
+use talus_ssn::{Krylov, NewtonSolve, Ordering, Precision, Rho, Settings, Stall};
 
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, default)]
@@ -22,6 +22,57 @@ pub struct SolverSpec {
     /// and its step halved (from iteration 25); 0: never. Default: 10 for FEM, 0 for MPM
     /// (`Settings::fem`, `Settings::mpm`, `docs/solver.md`).
     pub stall_window: Option<usize>,
+    /// How each Newton direction is solved: `direct`, a factorization per Newton iteration
+    /// (the default), or `krylov`, GMRES preconditioned by an earlier factorization
+    /// (`Krylov::DEFAULT`, `docs/krylov.md`).
+    pub linear_solver: LinearSolverKind,
+    /// The factorization's storage precision: `double`, or `single` (f32, only with
+    /// `krylov`: the factor is then GMRES's preconditioner, `docs/krylov.md`).
+    pub precision: FactorPrecision,
+    /// The fill-reducing ordering of the factorizations: `amd` (the default) or
+    /// `nested_dissection` (METIS; a build with the cargo feature `metis`).
+    pub ordering: FillOrdering,
+}
+
+/// `[solver] linear_solver`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LinearSolverKind {
+    #[default]
+    Direct,
+    Krylov,
+}
+
+/// `[solver] precision`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FactorPrecision {
+    #[default]
+    Double,
+    Single,
+}
+
+/// `[solver] ordering`. `nested_dissection` is read in every build and refused by
+/// `scene::check::solver` in one without the feature `metis`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FillOrdering {
+    #[default]
+    Amd,
+    NestedDissection,
+}
+
+impl FillOrdering {
+    /// talus-ssn's ordering; `None` for nested dissection in a build without METIS.
+    pub fn ordering(self) -> Option<Ordering> {
+        match self {
+            FillOrdering::Amd => Some(Ordering::Amd),
+            #[cfg(feature = "metis")]
+            FillOrdering::NestedDissection => Some(Ordering::NestedDissection),
+            #[cfg(not(feature = "metis"))]
+            FillOrdering::NestedDissection => None,
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
@@ -48,13 +99,17 @@ impl Default for SolverSpec {
             max_step_halvings: step.max_halvings,
             line_search: step.solver.line_search.is_some(),
             stall_window: None,
+            linear_solver: LinearSolverKind::Direct,
+            precision: FactorPrecision::Double,
+            ordering: FillOrdering::Amd,
         }
     }
 }
 
 impl SolverSpec {
     /// The method's preset `base` (`StepSettings::fem()` or `::mpm()`) with this section's
-    /// keys.
+    /// keys (checked by `scene::check::solver`: a nested dissection this build cannot do
+    /// keeps the preset's ordering here).
     pub fn step_settings(&self, base: StepSettings) -> StepSettings {
         // `stall_window = 0` turns off both early ends of a failing solve.
         let fold = match self.stall_window {
@@ -88,6 +143,17 @@ impl SolverSpec {
                 },
                 stall,
                 fold,
+                ordering: self.ordering.ordering().unwrap_or(base.solver.ordering),
+                newton_solve: match self.linear_solver {
+                    LinearSolverKind::Direct => base.solver.newton_solve,
+                    LinearSolverKind::Krylov => NewtonSolve::Krylov(Krylov {
+                        precision: match self.precision {
+                            FactorPrecision::Double => Precision::Double,
+                            FactorPrecision::Single => Precision::Single,
+                        },
+                        ..Krylov::DEFAULT
+                    }),
+                },
                 ..base.solver
             },
             max_halvings: self.max_step_halvings,

@@ -121,8 +121,10 @@ impl Bracket {
     ///   guide.expansion` without an estimate;
     /// - inside `[lo, upper]`: when one trial can end the search (`lo (1 + tol) ≥ upper /
     ///   (1 + tol)`), the point of that interval nearest the estimate; otherwise just
-    ///   below or above the estimate (the side away from the nearer end), kept a tenth of
-    ///   the width from either end; the middle without an estimate, or when the last
+    ///   below or above the estimate (the side away from the nearer end), but no further
+    ///   than the point where the expected outcome leaves a bracket one trial can end
+    ///   (`lo (1 + tol)²` above, `upper / (1 + tol)²` below) when the estimate is on the
+    ///   same side of it, kept a tenth of the width from either end; the middle without an estimate, or when the last
     ///   guided trial did not halve the width (so the search never crawls).
     pub fn next_guided(&mut self, guide: &Guide) -> Next {
         self.next(Some(guide))
@@ -179,10 +181,26 @@ impl Bracket {
             // Either outcome ends the search.
             _ if a <= b => estimate.map_or(0.5 * (a + b), |e| e.clamp(a, b)),
             Some(e) if !crawled && e > lo && e < up => {
+                // Where the expected outcome leaves a bracket one trial can end (a failure
+                // at or below `lo (1 + tol)²`, a stable trial at or above `up / (1 +
+                // tol)²`): the aim moves there when the estimate is still on the same
+                // side of it, saving the trial a near miss costs.
                 let aim = if e - lo > up - e {
-                    e * (1.0 - 0.45 * tol)
+                    let one_left = up / ((1.0 + tol) * (1.0 + tol)) * (1.0 + 1e-12);
+                    let aim = e * (1.0 - 0.45 * tol);
+                    if one_left < e {
+                        aim.max(one_left)
+                    } else {
+                        aim
+                    }
                 } else {
-                    e * (1.0 + 0.45 * tol)
+                    let one_left = lo * (1.0 + tol) * (1.0 + tol) * (1.0 - 1e-12);
+                    let aim = e * (1.0 + 0.45 * tol);
+                    if one_left > e {
+                        aim.min(one_left)
+                    } else {
+                        aim
+                    }
                 };
                 aim.clamp(lo + 0.1 * width, up - 0.1 * width)
             }
@@ -385,6 +403,68 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The 3D slope's search (`docs/stability.md`, 'Cost'): stable 1.25, failing 1.328, an
+    /// estimate 1.2611 from above. Just above the estimate is 1.2639, whose failure would
+    /// leave [1.25, 1.2639], more than one trial from the end (the 7th trial of the search
+    /// before this rule); the aim is `lo (1 + tol)²` instead, whose failure leaves a
+    /// bracket one trial ends. An estimate above that point keeps its aim.
+    #[test]
+    fn a_near_miss_aims_where_one_trial_is_left() {
+        let tol = 0.005;
+        let bracket = || {
+            let mut b = Bracket::new(tol, 1.0, None);
+            b.record(1.25, Outcome::Stable);
+            b.record(1.328125, Outcome::Fails);
+            b
+        };
+        let guide = |e: f64| Guide {
+            estimate: Some(e),
+            expansion: 2.0,
+        };
+        let Next::Try(f) = bracket().next_guided(&guide(1.2611)) else {
+            panic!()
+        };
+        let one_left = 1.25 * (1.0 + tol) * (1.0 + tol);
+        assert!(
+            f > 1.2611 && f < one_left && f > one_left * (1.0 - 1e-9),
+            "{f}"
+        );
+        let mut b = bracket();
+        let _ = b.next_guided(&guide(1.2611));
+        b.record(f, Outcome::Fails);
+        let Next::Try(last) = b.next_guided(&guide(1.2611)) else {
+            panic!()
+        };
+        b.record(last, Outcome::Fails);
+        // Within the tolerance (to round-off: `last` is `lo (1 + tol)`).
+        let width = |b: &Bracket| (b.hi.unwrap() - b.lo.unwrap()) / b.lo.unwrap();
+        assert!(width(&b) <= tol * (1.0 + 1e-9), "{b:?}");
+        // The estimate above `lo (1 + tol)²`: just above it, as before.
+        let Next::Try(f) = bracket().next_guided(&guide(1.27)) else {
+            panic!()
+        };
+        assert_eq!(f, 1.27 * (1.0 + 0.45 * tol));
+        // From the other side: stable trials, the estimate near `up`.
+        let mut b = Bracket::new(tol, 1.0, None);
+        b.record(1.2, Outcome::Stable);
+        b.record(1.26, Outcome::Fails);
+        let up = 1.26;
+        let one_left = up / ((1.0 + tol) * (1.0 + tol));
+        let Next::Try(f) = b.next_guided(&guide(1.249)) else {
+            panic!()
+        };
+        assert!(
+            f < 1.249 && f > one_left && f < one_left * (1.0 + 1e-9),
+            "{f}"
+        );
+        b.record(f, Outcome::Stable);
+        let Next::Try(last) = b.next_guided(&guide(1.249)) else {
+            panic!()
+        };
+        b.record(last, Outcome::Stable);
+        assert!(width(&b) <= tol * (1.0 + 1e-9), "{b:?}");
     }
 
     /// Unconverged trials cap the guided search as they cap the blind one.
