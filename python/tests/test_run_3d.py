@@ -48,3 +48,25 @@ def test_block_3d_arrays_are_3d_and_hold_the_uniaxial_strain_column():
     # The surface settles: the largest downward displacement is at the top.
     top = np.abs(s["nodes"][:, 1] - height) < 1e-12
     assert s["displacement"][top, 1].max() < 0
+
+
+def test_mpm_column_3d_history_equals_cli(cli, tmp_path):
+    # The 3D granular column (scenes/column_3d.toml: a quarter cylinder of sand after
+    # Lube et al. 2004), its first 5 steps: a 3D MPM run goes through the CLI's run loop.
+    scene = talus.Scene.load(REPO / "scenes" / "column_3d.toml").set("time.steps", 5)
+    path = tmp_path / "column_3d.toml"
+    path.write_text(scene.to_toml())
+    expected = run_cli(cli, path, tmp_path / "cli")
+    result = talus.run(scene, progress=False)
+    assert result.kind == "mpm" and result.dimension == 3
+    assert result.summary["status"] == "finished"
+    assert_same_bits(result.history, expected)
+    # The quarter cylinder's lattice particles (395, crates/talus/tests/mpm_3d_scenes.rs),
+    # each with 3 coordinates and velocities and 6 Mandel stresses.
+    s = result.state
+    n = s["positions"].shape[0]
+    assert n == 395
+    assert s["positions"].shape == (n, 3) and s["velocity"].shape == (n, 3)
+    assert s["stress"].shape == (n, 6) and s["plastic_strain"].shape == (n,)
+    # Every particle stays in the quadrant x ≥ 0, z ≥ 0 of the slip walls.
+    assert (s["positions"][:, [0, 2]] >= -1e-12).all()

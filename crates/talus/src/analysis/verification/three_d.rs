@@ -61,7 +61,8 @@ pub fn block_column_case() -> Vec<CaseResult> {
     .unwrap_or(f64::NAN);
     vec![CaseResult {
         case: "block_3d_uniaxial_strain".into(),
-        quantity: "max |σ_yy − (−ρ g (H − y))| / (ρ g H) over the Gauss points, P2 tetrahedra"
+        quantity: "largest error of σ_yy against −ρ g (H − y) over the Gauss points, in ρ g H \
+                   (P2 tetrahedra)"
             .into(),
         reference: 0.0,
         computed,
