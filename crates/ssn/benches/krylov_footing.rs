@@ -6,23 +6,8 @@
 #[path = "../tests/common/footing_like.rs"]
 mod footing_like;
 
-use footing_like::{FootingLike, D};
-use talus_ssn::{Krylov, NewtonSolve, Report, Settings, SolveError, Solver};
-
-fn krylov() -> Settings {
-    Settings {
-        newton_solve: NewtonSolve::Krylov(Krylov::DEFAULT),
-        ..Settings::fem()
-    }
-}
-
-fn solve(solver: &mut Solver<D>, sigma: &mut [f64]) -> Report {
-    match solver.solve(sigma) {
-        Ok(r) => r,
-        Err(SolveError::NotConverged(r)) => panic!("not converged: {r:?}"),
-        Err(e) => panic!("{e}"),
-    }
-}
+use footing_like::{krylov, solve, FootingLike};
+use talus_ssn::{Settings, Solver};
 
 fn main() {
     let cells = std::env::var("TALUS_2D_KRYLOV_CELLS").unwrap_or_else(|_| "160x120".into());

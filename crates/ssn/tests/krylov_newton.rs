@@ -4,23 +4,8 @@
 #[path = "common/footing_like.rs"]
 mod footing_like;
 
-use footing_like::{FootingLike, D};
-use talus_ssn::{Krylov, NewtonSolve, Report, Settings, SolveError, Solver};
-
-fn krylov() -> Settings {
-    Settings {
-        newton_solve: NewtonSolve::Krylov(Krylov::DEFAULT),
-        ..Settings::fem()
-    }
-}
-
-fn solve(solver: &mut Solver<D>, sigma: &mut [f64]) -> Report {
-    match solver.solve(sigma) {
-        Ok(r) => r,
-        Err(SolveError::NotConverged(r)) => panic!("not converged: {r:?}"),
-        Err(e) => panic!("{e}"),
-    }
-}
+use footing_like::{krylov, solve, FootingLike};
+use talus_ssn::{Krylov, NewtonSolve, Settings, Solver};
 
 fn inf(v: &[f64]) -> f64 {
     v.iter().fold(0.0f64, |m, x| m.max(x.abs()))

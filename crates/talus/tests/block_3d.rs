@@ -41,6 +41,25 @@ fn error_of(text: &str) -> talus::scene::SceneError {
     }
 }
 
+/// The largest errors, in `scale`, of the Gauss points' `σ_yy`, `σ_xx` and `σ_zz`, and
+/// shears against a column's closed form `exact(x) = (σ_yy, σ_xx = σ_zz)`, no shear.
+fn column_errors(
+    points: &[[f64; 3]],
+    sigma: &[f64],
+    scale: f64,
+    exact: impl Fn(&[f64; 3]) -> (f64, f64),
+) -> [f64; 3] {
+    let mut e = [0.0f64; 3];
+    for (p, x) in points.iter().enumerate() {
+        let s = &sigma[6 * p..6 * p + 6];
+        let (syy, lateral) = exact(x);
+        e[0] = e[0].max((s[1] - syy).abs() / scale);
+        e[1] = e[1].max((s[0] - lateral).abs().max((s[2] - lateral).abs()) / scale);
+        e[2] = e[2].max(s[3..].iter().fold(0.0f64, |m, v| m.max(v.abs())) / scale);
+    }
+    e
+}
+
 #[test]
 fn a_block_under_its_own_weight_is_the_uniaxial_strain_column() {
     let scene = scene(BLOCK);
@@ -49,16 +68,11 @@ fn a_block_under_its_own_weight_is_the_uniaxial_strain_column() {
         .unwrap_or_else(|e| panic!("{e}"));
     let model = model_3d(&scene).unwrap();
     let sigma = &summary.final_state.sigma;
-    let scale = RHO * G * HEIGHT;
-    let (mut e_yy, mut e_lateral, mut e_shear) = (0.0f64, 0.0f64, 0.0f64);
-    for (p, x) in model.assembly.gauss_points.iter().enumerate() {
-        let s = &sigma[6 * p..6 * p + 6];
-        let syy = -RHO * G * (HEIGHT - x[1]);
-        let lateral = NU / (1.0 - NU) * syy;
-        e_yy = e_yy.max((s[1] - syy).abs() / scale);
-        e_lateral = e_lateral.max((s[0] - lateral).abs().max((s[2] - lateral).abs()) / scale);
-        e_shear = e_shear.max(s[3..].iter().fold(0.0f64, |m, v| m.max(v.abs())) / scale);
-    }
+    let [e_yy, e_lateral, e_shear] =
+        column_errors(&model.assembly.gauss_points, sigma, RHO * G * HEIGHT, |x| {
+            let syy = -RHO * G * (HEIGHT - x[1]);
+            (syy, NU / (1.0 - NU) * syy)
+        });
     println!(
         "{} Gauss points: σ_yy {e_yy:.2e}, σ_xx and σ_zz {e_lateral:.2e}, shears {e_shear:.2e} \
          of ρ g H",
@@ -215,8 +229,10 @@ fn a_3d_monitor_records_the_settlement_of_the_column() {
         (uy - exact).abs() < 1e-6 * exact.abs(),
         "{uy} against {exact}"
     );
+    // No horizontal motion: measured 9.2e-12 m (5.6e-9 of the settlement), the round-off
+    // of the quasi-static solve; a monitor on the wrong node or component is far off.
     for c in ["top_ux", "top_uz", "top_vx", "top_vz"] {
-        assert!(column(c).abs() < 1e-6 * exact.abs(), "{c} = {}", column(c));
+        assert!(column(c).abs() < 1e-7 * exact.abs(), "{c} = {}", column(c));
     }
     let summary = Summary::read(&out.join("summary.json")).unwrap();
     let top = summary.monitors["top"].unwrap();
@@ -257,22 +273,17 @@ fn a_block_half_under_water_keeps_the_effective_stress_of_its_k0_state() {
     let model = model_3d(&scene).unwrap();
     let sigma = &summary.final_state.sigma;
     let buoyant = RHO_SAT * G - GAMMA_W;
-    let scale = RHO_SAT * G * HEIGHT;
-    let (mut e_yy, mut e_lateral, mut e_shear, mut wet) = (0.0f64, 0.0f64, 0.0f64, 0);
-    for (p, x) in model.assembly.gauss_points.iter().enumerate() {
-        let s = &sigma[6 * p..6 * p + 6];
+    let points = &model.assembly.gauss_points;
+    let wet = points.iter().filter(|x| x[1] < 1.0).count();
+    let [e_yy, e_lateral, e_shear] = column_errors(points, sigma, RHO_SAT * G * HEIGHT, |x| {
         let y = x[1];
         let (effective, pore) = if y >= 1.0 {
             (-RHO * G * (HEIGHT - y), 0.0)
         } else {
-            wet += 1;
             (-(RHO * G + buoyant * (1.0 - y)), GAMMA_W * (1.0 - y))
         };
-        e_yy = e_yy.max((s[1] - (effective - pore)).abs() / scale);
-        let lateral = K0 * effective - pore;
-        e_lateral = e_lateral.max((s[0] - lateral).abs().max((s[2] - lateral).abs()) / scale);
-        e_shear = e_shear.max(s[3..].iter().fold(0.0f64, |m, v| m.max(v.abs())) / scale);
-    }
+        (effective - pore, K0 * effective - pore)
+    });
     println!(
         "{} Gauss points ({wet} under water): σ_yy {e_yy:.2e}, σ_xx and σ_zz {e_lateral:.2e}, \
          shears {e_shear:.2e} of ρ_sat g H",

@@ -185,3 +185,20 @@ impl FootingLike {
         .expect("q")
     }
 }
+
+/// The FEM settings with the Krylov reuse of factorizations (`docs/krylov.md`).
+pub fn krylov() -> talus_ssn::Settings {
+    talus_ssn::Settings {
+        newton_solve: talus_ssn::NewtonSolve::Krylov(talus_ssn::Krylov::DEFAULT),
+        ..talus_ssn::Settings::fem()
+    }
+}
+
+/// `solver.solve(sigma)`'s report; a solve that does not converge stops the caller.
+pub fn solve(solver: &mut talus_ssn::Solver<D>, sigma: &mut [f64]) -> talus_ssn::Report {
+    match solver.solve(sigma) {
+        Ok(r) => r,
+        Err(talus_ssn::SolveError::NotConverged(r)) => panic!("not converged: {r:?}"),
+        Err(e) => panic!("{e}"),
+    }
+}

@@ -176,14 +176,16 @@ pub fn solver(scene: &impl Locate, sv: &SolverSpec) -> Result<(), SceneError> {
     Ok(())
 }
 
-/// Every `[[pressure]]` and `[[point_load]]` of a FEM scene, finite (the force in `unit`,
-/// N/m or N): before the scales are checked, which would otherwise name the pressure's
-/// `value` for a non-finite `gradient`.
-pub fn loads<V: SceneVector>(
-    scene: &impl Locate,
-    spec: &SceneSpec<V>,
-    unit: &str,
-) -> Result<(), SceneError> {
+/// Every `[[pressure]]` and `[[point_load]]` of a FEM scene, finite: before the scales
+/// are checked, which would otherwise name the pressure's `value` for a non-finite
+/// `gradient`.
+pub fn loads<V: SceneVector>(scene: &impl Locate, spec: &SceneSpec<V>) -> Result<(), SceneError> {
+    // A point force's unit (`docs/scenes.md`): per metre of thickness, per radian, whole.
+    let unit = match spec.analysis.geometry {
+        super::GeometryKind::PlaneStrain => "N/m",
+        super::GeometryKind::Axisymmetric => "N per radian",
+        super::GeometryKind::ThreeD => "N",
+    };
     for (k, p) in spec.pressure.iter().enumerate() {
         pressure(scene, k, p)?;
     }

@@ -116,7 +116,7 @@ impl StabilityScene<6> for Scene3 {
     }
 
     fn initial_state(&self, model: &Model<6>) -> Result<State<6>, SceneError> {
-        crate::model::fem::initial_state_3d(self, model)
+        crate::model::fem::initial_state(self, model)
     }
 
     fn weight(&self, model: &Model<6>, g: [f64; 3]) -> Result<(Vec<f64>, Vec<f64>), SceneError> {

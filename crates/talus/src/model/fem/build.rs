@@ -74,7 +74,7 @@ pub(super) fn check_scene(scene: &Scene) -> Result<(), SceneError> {
     };
     check::time(scene, &time)?;
     // Loads finite before the scales read them (`check::loads`).
-    check::loads(scene, &scene.spec, "N/m")?;
+    check::loads(scene, &scene.spec)?;
     check::solver(scene, &spec.solver)?;
     // Before `caps`, whose field would be `time.steps`, which a staged scene leaves at 0.
     scales::stage_steps_cap(scene, &spec.stage)?;
@@ -303,10 +303,7 @@ pub(super) fn build(
 /// What a run of `model` should be told (`summary.json`'s `warnings`): plastic flow on
 /// P1 triangles, which lock (Prandtl's N_c 6.0–6.8% too high on 40×28 cells against 0.6–1.3%
 /// with P2, `docs/verification.md`), or on P1 tetrahedra, which lock more.
-pub fn warnings<const N: usize, const D: usize>(
-    scene: &SceneDocument<SceneSpec<[f64; N]>>,
-    model: &Model<D>,
-) -> Vec<String>
+pub fn warnings<const N: usize, const D: usize>(scene: &SceneOf<N>, model: &Model<D>) -> Vec<String>
 where
     Mandel<D>: Dimension<Point = [f64; N]>,
     [f64; N]: SceneVector,

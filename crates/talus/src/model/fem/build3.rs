@@ -9,9 +9,7 @@
 //! (`super::materials`), prescribed motion (`super::motion`), quasi-static masses
 //! (`super::quasi_static`), the initial stress (`crate::model::initial_stress`), the checks
 //! of `scene::check`.
-use talus_fem::{
-    BoundaryFace, Constraint, DofMap, ElementMesh, ElementOrder, Model, State, TetrahedralMesh,
-};
+use talus_fem::{BoundaryFace, Constraint, DofMap, ElementOrder, Model, State, TetrahedralMesh};
 
 use crate::scene::{
     check, scales, scales::ramp_max, AnalysisKind, Fix, MeshSpec, Order, Ramp, Scene3, SceneError,
@@ -62,7 +60,7 @@ pub fn model_3d(scene: &Scene3) -> Result<Model3, SceneError> {
     let time = spec.time;
     check::time(scene, &time)?;
     // Loads finite before the scales read them (`check::loads`).
-    check::loads(scene, &scene.spec, "N")?;
+    check::loads(scene, &scene.spec)?;
     check::solver(scene, &spec.solver)?;
     scales::caps(scene, &time, spec.solver.max_step_halvings)?;
     let mesh = build_mesh(scene)?;
@@ -193,13 +191,6 @@ pub fn model_3d(scene: &Scene3) -> Result<Model3, SceneError> {
     model.reaction_dofs = motion.reaction_dofs;
     model.dof_owner = motion.owner;
     Ok(model)
-}
-
-/// The state a run of `model` starts from: at rest, stress free or with the K₀
-/// procedure's stress (`crate::model::initial_stress`, 2D's: layers and a water table
-/// included; `σ_xx = σ_zz = K₀ σ'_yy`, no shear).
-pub fn initial_state_3d(scene: &Scene3, model: &Model3) -> Result<State3, SceneError> {
-    super::initial_state(scene, model)
 }
 
 /// The mesh of `[mesh.box]` or `[mesh.gmsh]`.
@@ -513,9 +504,4 @@ fn select_faces(
 
 fn names<'a>(keys: impl Iterator<Item = &'a String>) -> String {
     keys.map(String::as_str).collect::<Vec<_>>().join(", ")
-}
-
-/// The element count of a 3D model, for logs.
-pub fn element_count(model: &Model3) -> usize {
-    model.mesh.elements().len()
 }

@@ -12,7 +12,7 @@ mod reaction_groups;
 pub mod stages;
 
 pub use build::{initial_state, warnings, water_table, weight, FromScene};
-pub use build3::{element_count, initial_state_3d, model_3d, Model3, State3};
+pub use build3::{model_3d, Model3, State3};
 pub use monitors::NodeMonitors;
 pub use quasi_static::DEFAULT_INERTIA_RATIO;
 pub use reaction_groups::ReactionGroups;

@@ -2,7 +2,7 @@
 //! whose displacement and velocity are recorded.
 use talus_fem::{Dimension, ElementMesh, Mandel, Model, State};
 
-use crate::scene::{SceneDocument, SceneError, SceneSpec, SceneVector};
+use crate::scene::{SceneError, SceneOf, SceneVector};
 
 /// The monitored nodes, in the scene's order.
 #[derive(Debug, Clone, PartialEq)]
@@ -16,7 +16,7 @@ impl NodeMonitors {
     /// Each point must lie in the mesh (in an element through its corner nodes, or on a
     /// node); its node is the nearest one (the first of equally near ones).
     pub fn new<const N: usize, const D: usize>(
-        scene: &SceneDocument<SceneSpec<[f64; N]>>,
+        scene: &SceneOf<N>,
         model: &Model<D>,
     ) -> Result<Self, SceneError>
     where
@@ -65,7 +65,7 @@ impl NodeMonitors {
     /// The node of the `[[monitor]]` named `name` (`[stability] monitor`), refused naming
     /// `stability.monitor` with the scene's monitors when there is none.
     pub fn node_named<const N: usize, const D: usize>(
-        scene: &SceneDocument<SceneSpec<[f64; N]>>,
+        scene: &SceneOf<N>,
         model: &Model<D>,
         name: &str,
     ) -> Result<usize, SceneError>

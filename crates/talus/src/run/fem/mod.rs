@@ -11,14 +11,14 @@ use std::time::Instant;
 
 use talus_engine::Stepper;
 
-use talus_fem::{Dimension, Mandel};
+use talus_fem::{Dimension, ElementMesh, Mandel};
 
 use super::checkpoint::{self, Checkpoint, CheckpointError};
 use super::{RunError, RunOptions, RunOutputs, Shape, Span, HISTORY_COLUMNS};
 use crate::model::fem::stages::Stages;
 use crate::model::fem::{FromScene, Model, ReactionForce, State, StepRecord};
 use crate::output::{Results, ResultsProgress};
-use crate::scene::{Scene, SceneDocument, SceneSpec, SceneVector};
+use crate::scene::{Scene, SceneOf, SceneVector};
 use plots::{write_plots, PlasticStrainMap};
 pub use results::{FemResults, INERTIAL_SHARE, INERTIAL_SHARE_WARNING};
 pub use three_d::run_scene_3d;
@@ -79,6 +79,17 @@ fn run_scene_from(
     if let Some(stages) = Stages::of(scene)? {
         return stages::run(scene, stages, options, resumed);
     }
+    not_a_stability_scene(scene)?;
+    let start = Instant::now();
+    let model = Model::from_scene(scene)?;
+    run_model(scene, &model, options, resumed, start)
+}
+
+/// A `[stability]` scene runs by `analysis::stability::run`, not as a loading.
+fn not_a_stability_scene<const N: usize>(scene: &SceneOf<N>) -> Result<(), RunError>
+where
+    [f64; N]: SceneVector,
+{
     if scene.spec.stability.is_some() {
         return Err(scene
             .error(
@@ -87,20 +98,34 @@ fn run_scene_from(
             )
             .into());
     }
-    let start = Instant::now();
-    let model = Model::from_scene(scene)?;
-    let asm = &model.assembly;
-    let dofs = asm.dofs();
-    let state = model.initial_state(scene)?;
-    let mut stepper = Stepper::new(&model, scene.spec.solver.fem());
+    Ok(())
+}
+
+/// Runs `model`, built from the unstaged `scene` (2D or 3D) since `start`, from its
+/// initial state or `resumed`'s checkpoint, to the scene's end.
+fn run_model<const N: usize, const D: usize>(
+    scene: &SceneOf<N>,
+    model: &Model<D>,
+    options: &RunOptions,
+    resumed: Option<Checkpoint<serde_json::Value>>,
+    start: Instant,
+) -> Result<RunSummary<D>, RunError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+    Model<D>: PlasticStrainMap<D>,
+{
+    let state = crate::model::fem::initial_state(scene, model)?;
+    let mut stepper = Stepper::new(model, scene.spec.solver.fem());
     tracing::info!(
-        points = asm.n_points(),
-        free_dofs = dofs.n_free(),
-        elements = model.mesh.triangles.len(),
+        dimension = N,
+        points = model.n_points(),
+        free_dofs = model.assembly.dofs().n_free(),
+        elements = model.mesh.elements().len(),
         materials = model.materials.len(),
         "model built"
     );
-    let mut outputs = FemOutputs::new(scene, &model, options, None)?;
+    let mut outputs = FemOutputs::new(scene, model, options, None)?;
     let stepped = super::execute(
         &mut stepper,
         state,
@@ -134,7 +159,7 @@ where
     Mandel<D>: Dimension,
     [f64; N]: SceneVector,
 {
-    scene: &'a SceneDocument<SceneSpec<[f64; N]>>,
+    scene: &'a SceneOf<N>,
     results: FemResults,
     model: &'a Model<D>,
     out: &'a Path,
@@ -168,7 +193,7 @@ where
     [f64; N]: SceneVector,
 {
     fn new(
-        scene: &'a SceneDocument<SceneSpec<[f64; N]>>,
+        scene: &'a SceneOf<N>,
         model: &'a Model<D>,
         options: &'a RunOptions,
         stage: Option<StageOutputs>,
@@ -190,7 +215,7 @@ where
 
     /// The outputs on `model` that go on from what `carried` recorded.
     fn on(
-        scene: &'a SceneDocument<SceneSpec<[f64; N]>>,
+        scene: &'a SceneOf<N>,
         carried: Carried,
         model: &'a Model<D>,
         options: &'a RunOptions,
@@ -221,7 +246,7 @@ where
 
     /// The outputs of a staged run's next stage, on its model: what was recorded carries on.
     fn next_stage(
-        scene: &'a SceneDocument<SceneSpec<[f64; N]>>,
+        scene: &'a SceneOf<N>,
         carried: Carried,
         model: &'a Model<D>,
         options: &'a RunOptions,

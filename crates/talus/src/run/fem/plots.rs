@@ -6,7 +6,7 @@ use talus_fem::{Dimension, Mandel, Model, State};
 
 use crate::output::{self, significant, FieldMap, MeshView};
 use crate::run::RunError;
-use crate::scene::{AnalysisKind, SceneDocument, SceneSpec, SceneVector};
+use crate::scene::{AnalysisKind, SceneOf, SceneVector};
 
 use super::fields::element_fields;
 
@@ -18,7 +18,7 @@ const CLIP_PERCENTILE: f64 = 99.0;
 const PLASTIC_STRAIN_RESOLUTION: f64 = 1e-10;
 
 pub(super) fn write_plots<const N: usize, const D: usize>(
-    scene: &SceneDocument<SceneSpec<[f64; N]>>,
+    scene: &SceneOf<N>,
     model: &Model<D>,
     state: &State<D>,
     histories: &[(usize, Vec<f64>)],
@@ -115,7 +115,7 @@ impl PlasticStrainMap<6> for Model<6> {
 /// parameter, so its map is dated by the reported boundary's settlement and load (or the
 /// load step without one); a dynamic scene's by its time, with the settlement and load.
 fn when<const N: usize, const D: usize>(
-    scene: &SceneDocument<SceneSpec<[f64; N]>>,
+    scene: &SceneOf<N>,
     state: &State<D>,
     reported: Option<(f64, f64)>,
     step: usize,

@@ -10,10 +10,7 @@ use crate::model::fem::{
     prescribed_forces_at_rest, NodeMonitors, ReactionForce, ReactionGroups, StepRecord,
 };
 use crate::output::Results;
-use crate::scene::{AnalysisKind, SceneDocument, SceneError, SceneSpec, SceneVector};
-
-/// A FEM scene of `N`-component points: 2D (`Scene`) or 3D (`Scene3`).
-type SceneOf<const N: usize> = SceneDocument<SceneSpec<[f64; N]>>;
+use crate::scene::{AnalysisKind, SceneError, SceneOf, SceneVector};
 
 /// The `history.csv` column after the named boundaries and monitors, in a scene that
 /// reports a reaction (`[output] reaction`): the share of that reaction that is inertia.
