@@ -48,12 +48,19 @@ where
 }
 
 /// The largest distance of a particle from the vertical axis through `(x_c, z_c)` (m): the
-/// front of a 3D flow spreading radially, `R` of Lube et al. (2004).
-pub fn radial_front(particles: &Particles<6>, axis: [f64; 2]) -> f64 {
+/// front of a 3D flow spreading radially, `R` of Lube et al. (2004). A 2D particle lies in
+/// the plane z = 0.
+pub fn radial_front<const D: usize>(particles: &Particles<D>, axis: [f64; 2]) -> f64
+where
+    Mandel<D>: Dimension,
+{
     particles
         .position
         .iter()
-        .map(|p| (p[0] - axis[0]).hypot(p[2] - axis[1]))
+        .map(|p| {
+            let p = p.as_ref();
+            (p[0] - axis[0]).hypot(p.get(2).copied().unwrap_or(0.0) - axis[1])
+        })
         .fold(f64::NEG_INFINITY, f64::max)
 }
 

@@ -415,12 +415,9 @@ where
         Err(code) => return Ok(code.into()),
     };
     let runout = if summary.runout_reported {
-        let measure = match summary.runout {
-            talus::model::mpm::Runout::Front(_) => "(L − L0)/L0",
-            talus::model::mpm::Runout::Radial { .. } => "(R − R0)/R0",
-        };
         format!(
-            "; final runout {measure} = {:.4}",
+            "; final runout {} = {:.4}",
+            summary.runout.measure(),
             summary.runout_normalized
         )
     } else {

@@ -11,10 +11,12 @@ use std::path::{Path, PathBuf};
 use proptest::prelude::*;
 use proptest::sample::select;
 use talus::model::fem::{FromScene, Model};
-use talus::model::mpm::MpmModel;
+use talus::model::mpm::{MpmDocument, MpmModel, MpmSpace};
 use talus::model::size::SizeEstimate;
 use talus::run::fem::FemResults;
 use talus::scene::SceneFile;
+use talus::scene::SceneVector;
+use talus_mpm::{Dimension, Mandel};
 
 #[path = "../../ssn/tests/common/mutations.rs"]
 mod mutations;
@@ -106,55 +108,47 @@ fn read(bytes: &[u8], path: &Path) -> Result<Outcome, String> {
             }
             Err(e) => Ok(Outcome::Refused(e.to_string())),
         },
-        SceneFile::Mpm3(scene) => {
-            let estimate = SizeEstimate::of_mpm(&scene);
-            if let Err(e) = estimate.check(None) {
-                return Ok(Outcome::Refused(e.to_string()));
-            }
-            if !(estimate.points <= MAX_POINTS && estimate.grid_nodes <= MAX_GRID_NODES) {
-                return Ok(Outcome::Skipped(format!(
-                    "{} particles, {} grid nodes",
-                    estimate.points, estimate.grid_nodes
-                )));
-            }
-            match MpmModel::from_scene_3d(&scene) {
-                Ok(model) => {
-                    let p = &model.particles;
-                    let xs: Vec<f64> = p.position.iter().flatten().copied().collect();
-                    finite(&xs, "the particle positions")?;
-                    finite(&p.mass, "the particle masses")?;
-                    Ok(Outcome::Read)
-                }
-                Err(e) => Ok(Outcome::Refused(e.to_string())),
-            }
-        }
-        SceneFile::Mpm(scene) => {
-            let estimate = SizeEstimate::of_mpm(&scene);
-            if let Err(e) = estimate.check(None) {
-                return Ok(Outcome::Refused(e.to_string()));
-            }
-            if !(estimate.points <= MAX_POINTS && estimate.grid_nodes <= MAX_GRID_NODES) {
-                return Ok(Outcome::Skipped(format!(
-                    "{} particles, {} grid nodes",
-                    estimate.points, estimate.grid_nodes
-                )));
-            }
-            let model = match MpmModel::from_scene(&scene) {
-                Ok(m) => m,
-                Err(e) => return Ok(Outcome::Refused(e.to_string())),
-            };
-            let p = &model.particles;
-            let xs: Vec<f64> = p.position.iter().flatten().copied().collect();
-            finite(&xs, "the particle positions")?;
-            let stress: Vec<f64> = p.stress.iter().flatten().copied().collect();
-            finite(&stress, "the particle stresses")?;
-            finite(&p.mass, "the particle masses")?;
-            finite(&p.volume, "the particle volumes")?;
-            let loads: Vec<f64> = p.external_force.iter().flatten().copied().collect();
-            finite(&loads, "the particle loads")?;
-            Ok(Outcome::Read)
-        }
+        SceneFile::Mpm3(scene) => read_mpm::<6, 3>(&scene),
+        SceneFile::Mpm(scene) => read_mpm::<4, 2>(&scene),
     }
+}
+/// A material point scene of either dimension read into its model (or refused), its
+/// particles finite.
+fn read_mpm<const D: usize, const N: usize>(scene: &MpmDocument<N>) -> Result<Outcome, String>
+where
+    Mandel<D>: MpmSpace<D> + Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+{
+    let estimate = SizeEstimate::of_mpm(scene);
+    if let Err(e) = estimate.check(None) {
+        return Ok(Outcome::Refused(e.to_string()));
+    }
+    if !(estimate.points <= MAX_POINTS && estimate.grid_nodes <= MAX_GRID_NODES) {
+        return Ok(Outcome::Skipped(format!(
+            "{} particles, {} grid nodes",
+            estimate.points, estimate.grid_nodes
+        )));
+    }
+    let model = match MpmModel::<D>::build(scene) {
+        Ok(m) => m,
+        Err(e) => return Ok(Outcome::Refused(e.to_string())),
+    };
+    let p = &model.particles;
+    let xs: Vec<f64> = p
+        .position
+        .iter()
+        .flat_map(|x| x.as_ref().to_vec())
+        .collect();
+    finite(&xs, "the particle positions")?;
+    let stress: Vec<f64> = p.stress.iter().flatten().copied().collect();
+    finite(&stress, "the particle stresses")?;
+    finite(&p.mass, "the particle masses")?;
+    finite(&p.volume, "the particle volumes")?;
+    let loads: Vec<f64> = (p.external_force.iter())
+        .flat_map(|f| f.as_ref().to_vec())
+        .collect();
+    finite(&loads, "the particle loads")?;
+    Ok(Outcome::Read)
 }
 
 #[test]

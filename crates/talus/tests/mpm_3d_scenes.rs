@@ -122,19 +122,19 @@ fn a_plane_strain_column_run_in_3d_gives_the_2d_history() {
         run_mpm_scene_3d(&scene3, &RunOptions::new(&out3), None).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(run2.particles.len() * 2, run3.particles.len());
 
-    // (2D column, 3D column, factor of the 3D value over the 2D one)
+    // (history.csv column, factor of the 3D value over the 2D one)
     let columns = [
-        ("floor_fx", "floor_fx", thickness),
-        ("floor_fy", "floor_fy", thickness),
-        ("front", "front", 1.0),
-        ("runout_normalized", "runout_normalized", 1.0),
-        ("kinetic_energy", "kinetic_energy", thickness),
-        ("contact_passes", "contact_passes", 1.0),
+        ("floor_fx", thickness),
+        ("floor_fy", thickness),
+        ("front", 1.0),
+        ("runout_normalized", 1.0),
+        ("kinetic_energy", thickness),
+        ("contact_passes", 1.0),
     ];
     let mut worst = 0.0f64;
-    for (c2, c3, factor) in columns {
+    for (c2, factor) in columns {
         let a = history_column(&out2, c2);
-        let b = history_column(&out3, c3);
+        let b = history_column(&out3, c2);
         assert_eq!(a.len(), 61, "{c2}: rows");
         assert_eq!(a.len(), b.len(), "{c2}: rows");
         let scale = a.iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -167,7 +167,8 @@ fn a_plane_strain_column_run_in_3d_gives_the_2d_history() {
     );
     assert!(advance > 1e-3 && yielded > 0.01, "the column did not flow");
     assert!(worst <= 1e-9, "3D differs from 2D by {worst:.3e}");
-    assert!(fz_max <= 1e-9 * fy_scale, "floor_fz {fz_max:.3e} N");
+    // Measured 6e-17: round-off of forces that cancel between the particle layers.
+    assert!(fz_max <= 1e-12 * fy_scale, "floor_fz {fz_max:.3e} N");
 }
 
 /// `scenes/column_3d.toml`: the particles of the quarter cylinder R₀ = 0.1 m, H₀ = 0.05 m
@@ -313,13 +314,18 @@ plots = false
     let weight = rho * g * width * width * height;
     println!(
         "max |Δσ_yy|/(ρgH) = {eyy:.4}, |σ_xx − K0 σ_yy| {exx:.4}, |σ_zz − K0 σ_yy| {ezz:.4}, \
-         shear {shear:.2e}; floor {fy:.2} N vs ρgW²H = {weight:.2} N"
+         shear {shear:.2e}; floor {fy:.2} N vs ρgW²H = {weight:.2} N (rel. {:.2e})",
+        (fy.abs() / weight - 1.0).abs()
     );
     assert!(eyy <= 0.02, "σ_yy error {eyy:.4} of ρgH");
     assert!(exx <= 0.02, "σ_xx error {exx:.4} of ρgH");
     assert!(ezz <= 0.02, "σ_zz error {ezz:.4} of ρgH");
-    assert!(shear <= 0.02, "shear {shear:.4} of ρgH");
-    assert!((fy.abs() / weight - 1.0).abs() <= 0.02, "floor {fy} N");
+    // No shear in uniaxial strain: measured 2.6e-14 (round-off), not the 2 % of the
+    // normal stresses' discretization error.
+    assert!(shear <= 1e-10, "shear {shear:.4e} of ρgH");
+    // The column has come to rest on the floor: measured 1.1e-7 (history.csv's digits and
+    // what motion is left), not the 2 % of the stresses' discretization error.
+    assert!((fy.abs() / weight - 1.0).abs() <= 1e-5, "floor {fy} N");
 }
 
 fn refused(text: &str) -> SceneError {
@@ -476,6 +482,6 @@ fn a_2d_mpm_scene_refuses_3d_keys_and_vectors_by_name() {
         let err = refused(&text);
         assert_eq!(err.field, field, "{err}");
         assert!(err.line.is_some(), "{field}: no line: {err}");
-        assert!(err.message.contains("3"), "{field}: {err}");
+        assert!(err.message.contains("geometry = \"3d\""), "{field}: {err}");
     }
 }

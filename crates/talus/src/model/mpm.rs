@@ -10,9 +10,11 @@ use talus_mpm::{
 use talus_bipotential::Material;
 
 use crate::scene::{
-    check, check_mpm_dimension, scales, scales::ramp_max, AnalysisKind, BodySpec, CylinderSpec,
-    GeometryKind, InitialStressSpec, Materials, MpmScene, MpmScene3, MpmSceneSpec, PredictorSpec,
-    Ramp, SceneDocument, SceneError, SceneVector, ShapeSpec, SideSpec, WallConditionSpec,
+    check, check_mpm_dimension, scales,
+    scales::{norm, ramp_max},
+    AnalysisKind, BodySpec, CylinderSpec, GeometryKind, InitialStressSpec, Materials, MpmScene,
+    MpmScene3, MpmSceneSpec, PredictorSpec, Ramp, SceneDocument, SceneError, SceneVector,
+    ShapeSpec, SideSpec, WallConditionSpec,
 };
 use talus_engine::{PredictorRule, StepSettings};
 use talus_mpm::{MpmLoadProgramme, ProgrammedMpm, RampedSurfaceLoad, RunoutReference};
@@ -60,11 +62,19 @@ impl Runout {
     /// The front of `particles` (m): x, or the distance from the axis.
     pub fn front<const D: usize>(&self, particles: &Particles<D>) -> f64
     where
-        Mandel<D>: MpmSpace<D>,
+        Mandel<D>: Dimension,
     {
         match self {
             Runout::Front(_) => front(particles),
-            Runout::Radial { axis, .. } => Mandel::<D>::radial_front(particles, *axis),
+            Runout::Radial { axis, .. } => radial_front(particles, *axis),
+        }
+    }
+
+    /// What [`normalized`](Self::normalized) measures, for a run's last line.
+    pub fn measure(&self) -> &'static str {
+        match self {
+            Runout::Front(_) => "(L − L0)/L0",
+            Runout::Radial { .. } => "(R − R0)/R0",
         }
     }
 
@@ -101,9 +111,6 @@ where
 
     /// The prescribed components of a box from `[vx, vy(, vz)]`.
     fn components(v: &[Option<f64>]) -> Self::Components;
-
-    /// [`radial_front`] (3D only: 2D never measures it).
-    fn radial_front(particles: &Particles<D>, axis: [f64; 2]) -> f64;
 
     /// `[[surface_load]]` (2D only so far).
     fn surface_loads(
@@ -149,10 +156,6 @@ impl MpmSpace<4> for Mandel<4> {
 
     fn components(v: &[Option<f64>]) -> [Option<f64>; 2] {
         [v[0], v[1]]
-    }
-
-    fn radial_front(particles: &Particles, _: [f64; 2]) -> f64 {
-        front(particles)
     }
 
     fn surface_loads(
@@ -212,10 +215,6 @@ impl MpmSpace<6> for Mandel<6> {
         [v[0], v[1], v[2]]
     }
 
-    fn radial_front(particles: &Particles<6>, axis: [f64; 2]) -> f64 {
-        radial_front(particles, axis)
-    }
-
     fn surface_loads(
         scene: &MpmScene3,
         _: &mut Particles<6>,
@@ -243,6 +242,17 @@ impl MpmSpace<6> for Mandel<6> {
 pub enum BodyShape<V> {
     Cuboid([V; 2]),
     Cylinder(CylinderSpec),
+}
+
+impl<V: SceneVector> BodyShape<V> {
+    /// The `[[body]]` key that gives this shape: `rectangle` (2D), `box` (3D), `cylinder`.
+    pub fn key(&self) -> &'static str {
+        match self {
+            BodyShape::Cuboid(_) if V::DIM == 3 => "box",
+            BodyShape::Cuboid(_) => "rectangle",
+            BodyShape::Cylinder(_) => "cylinder",
+        }
+    }
 }
 
 /// The prescribed box whose force goes into history.csv.
@@ -623,17 +633,12 @@ fn check_scales<V: SceneVector>(
         };
         (format!("prescribed[{k}].velocity"), v * ramp_max(&p.ramp))
     });
-    // Only |g| counts: 2D passes its two components as before, 3D its norm.
-    let gravity = spec.gravity.map(|g| match g.as_ref() {
-        [gx, gy] => [*gx, *gy],
-        g => [norm(g), 0.0],
-    });
     let imposed = scales::Imposed {
         materials: (spec.material.all().iter().enumerate())
             .map(|(k, m)| (spec.material.field(k), m))
             .collect(),
         time: &spec.time,
-        gravity,
+        gravity: spec.gravity.map(|g| norm(g.as_ref())),
         heights: [bottom, top],
         initial_stress: spec.initial_stress.as_ref(),
         loads: loads.collect(),
@@ -646,14 +651,6 @@ fn check_scales<V: SceneVector>(
         dynamic: true,
     };
     scales::check_scales(scene, &imposed, &grid)
-}
-
-/// The Euclidean norm; in 2D `vx.hypot(vy)` as before.
-fn norm(v: &[f64]) -> f64 {
-    match v {
-        [x, y] => x.hypot(*y),
-        _ => v.iter().map(|c| c * c).sum::<f64>().sqrt(),
-    }
 }
 
 fn grid<const D: usize, const N: usize>(scene: &MpmDocument<N>) -> Result<Grid<D>, SceneError>
@@ -749,8 +746,8 @@ where
     let (lo, hi) = (grid.origin(), grid.end());
     let mut shapes: Vec<BodyShape<[f64; N]>> = Vec::with_capacity(spec.body.len());
     for (k, b) in spec.body.iter().enumerate() {
-        let (key, shape) = body_shape(scene, k, b)?;
-        let field = format!("body[{k}].{key}");
+        let shape = body_shape(scene, k, b)?;
+        let field = format!("body[{k}].{}", shape.key());
         let [b0, b1] = extent(&shape);
         let inside = (0..N).all(|a| b0[a] >= lo[a] - eps && b1[a] <= hi[a] + eps);
         if !inside {
@@ -789,12 +786,12 @@ fn shown<V: SceneVector>(shape: &BodyShape<V>, bounds: &[[f64; 3]; 2]) -> String
     }
 }
 
-/// Body `k`'s one shape key and its shape, of positive extent.
+/// Body `k`'s one shape, of positive extent.
 fn body_shape<V: SceneVector>(
     scene: &SceneDocument<MpmSceneSpec<V>>,
     k: usize,
     b: &BodySpec<V>,
-) -> Result<(&'static str, BodyShape<V>), SceneError> {
+) -> Result<BodyShape<V>, SceneError> {
     let given: Vec<&str> = [
         ("rectangle", b.rectangle.is_some()),
         ("box", b.cuboid.is_some()),
@@ -812,11 +809,11 @@ fn body_shape<V: SceneVector>(
     match (b.rectangle, b.cuboid, b.cylinder) {
         (Some(r), None, None) => {
             check_rectangle(scene, &format!("body[{k}].rectangle"), r, false)?;
-            Ok(("rectangle", BodyShape::Cuboid(r)))
+            Ok(BodyShape::Cuboid(r))
         }
         (None, Some(r), None) => {
             check_rectangle(scene, &format!("body[{k}].box"), r, false)?;
-            Ok(("box", BodyShape::Cuboid(r)))
+            Ok(BodyShape::Cuboid(r))
         }
         (None, None, Some(c)) => {
             let field = format!("body[{k}].cylinder");
@@ -834,7 +831,7 @@ fn body_shape<V: SceneVector>(
                     ));
                 }
             }
-            Ok(("cylinder", BodyShape::Cylinder(c)))
+            Ok(BodyShape::Cylinder(c))
         }
         (None, None, None) => Err(scene.error(
             &format!("body[{k}]"),
@@ -864,12 +861,7 @@ where
     let dx = grid.spacing();
     let mut particles = Particles::default();
     for (k, (b, shape)) in spec.body.iter().zip(shapes).enumerate() {
-        let key = match shape {
-            BodyShape::Cuboid(_) if N == 3 => "box",
-            BodyShape::Cuboid(_) => "rectangle",
-            BodyShape::Cylinder(_) => "cylinder",
-        };
-        let field = format!("body[{k}].{key}");
+        let field = format!("body[{k}].{}", shape.key());
         let per_cell = b.particles_per_cell;
         if !(1..=16).contains(&per_cell) {
             return Err(scene.error(

@@ -63,21 +63,12 @@ impl<const N: usize, const D: usize> ParticleSnapshot<'_, N, D> {
 
 /// Particle fields an MPM run adds to a [`ParticleSnapshot`] ([`write_particle_vtu_with`]),
 /// one entry per particle; each `None` is left out of the file.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Default)]
 pub struct ParticleExtras<'a, const N: usize = 2> {
     /// Position minus the particle's position at t = 0, m.
     pub displacement: Option<&'a [[f64; N]]>,
     /// The particle's material index in the scene's list (from 0).
     pub material: Option<&'a [usize]>,
-}
-
-impl<const N: usize> Default for ParticleExtras<'_, N> {
-    fn default() -> Self {
-        Self {
-            displacement: None,
-            material: None,
-        }
-    }
 }
 
 impl<const N: usize> ParticleExtras<'_, N> {

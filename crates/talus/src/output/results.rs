@@ -168,7 +168,7 @@ impl Results {
                 row += &format!(",{:.10e}", f.get(c).copied().unwrap_or(0.0));
             }
             self.last[k] = f.to_vec();
-            if norm(f) > norm(&self.peak[k].0) {
+            if crate::scene::scales::norm(f) > crate::scene::scales::norm(&self.peak[k].0) {
                 self.peak[k] = (f.to_vec(), step);
             }
         }
@@ -298,14 +298,6 @@ impl Results {
             warnings: self.warnings.clone(),
             stages: self.stages.clone(),
         }
-    }
-}
-
-/// `√(fx² + fy²)` in 2D (as before, bit for bit), `√(fx² + fy² + fz²)` in 3D.
-fn norm(f: &[f64]) -> f64 {
-    match f {
-        [x, y] => x.hypot(*y),
-        _ => f.iter().map(|v| v * v).sum::<f64>().sqrt(),
     }
 }
 

@@ -180,12 +180,7 @@ pub fn solver(scene: &impl Locate, sv: &SolverSpec) -> Result<(), SceneError> {
 /// are checked, which would otherwise name the pressure's `value` for a non-finite
 /// `gradient`.
 pub fn loads<V: SceneVector>(scene: &impl Locate, spec: &SceneSpec<V>) -> Result<(), SceneError> {
-    // A point force's unit (`docs/scenes.md`): per metre of thickness, per radian, whole.
-    let unit = match spec.analysis.geometry {
-        super::GeometryKind::PlaneStrain => "N/m",
-        super::GeometryKind::Axisymmetric => "N per radian",
-        super::GeometryKind::ThreeD => "N",
-    };
+    let unit = spec.analysis.geometry.load_unit();
     for (k, p) in spec.pressure.iter().enumerate() {
         pressure(scene, k, p)?;
     }
@@ -286,7 +281,7 @@ pub fn ramps<V: SceneVector>(spec: &SceneSpec<V>) -> Vec<RampField<'_>> {
 
 /// Every load programme of a material point scene: `gravity_ramp`, `prescribed[k].ramp`,
 /// `surface_load[k].ramp`.
-pub fn mpm_ramps<V: super::SceneVector>(spec: &MpmSceneSpec<V>) -> Vec<RampField<'_>> {
+pub fn mpm_ramps<V: SceneVector>(spec: &MpmSceneSpec<V>) -> Vec<RampField<'_>> {
     let mut ramps = vec![("gravity_ramp".to_string(), &spec.gravity_ramp)];
     ramps.extend(
         (spec.prescribed.iter().enumerate())

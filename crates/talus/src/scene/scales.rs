@@ -48,7 +48,8 @@ pub struct Imposed<'a> {
     /// it filled the body.
     pub materials: Vec<(String, &'a MaterialSpec)>,
     pub time: &'a TimeSpec,
-    pub gravity: Option<[f64; 2]>,
+    /// `|g|` (m/s²), [`norm`] of the scene's gravity.
+    pub gravity: Option<f64>,
     /// The body's lowest and highest y (m).
     pub heights: [f64; 2],
     pub initial_stress: Option<&'a InitialStressSpec>,
@@ -114,7 +115,7 @@ pub fn stage_steps_cap(scene: &impl Locate, stages: &[StageSpec]) -> Result<(), 
 fn material_stresses(
     field: &str,
     m: &MaterialSpec,
-    gravity: Option<[f64; 2]>,
+    gravity: Option<f64>,
     [bottom, top]: [f64; 2],
     initial: Option<&InitialStressSpec>,
 ) -> Vec<(String, f64)> {
@@ -124,7 +125,7 @@ fn material_stresses(
         // Named as the user reads it: the weight of the body's height, from the density.
         s.push((
             format!("ρ |g| H from {field}.density, H = {depth:.4e} m"),
-            rho * g[0].hypot(g[1]) * depth,
+            rho * g * depth,
         ));
     }
     if let Some(i) = initial {
@@ -136,7 +137,7 @@ fn material_stresses(
         if let (Some(_), Some(surface)) = (i.k0, i.surface) {
             if surface > top {
                 let weight = match (gravity, m.density) {
-                    (Some(g), Some(rho)) => rho * g[0].hypot(g[1]) * (surface - bottom),
+                    (Some(g), Some(rho)) => rho * g * (surface - bottom),
                     _ => 0.0,
                 };
                 s.push((
@@ -279,4 +280,13 @@ fn check_material(
         }
     }
     Ok(())
+}
+
+/// The Euclidean norm of a vector of the scene (a force, a velocity, gravity): in 2D
+/// `x.hypot(y)`, as every 2D check and summary always computed it.
+pub fn norm(v: &[f64]) -> f64 {
+    match v {
+        [x, y] => x.hypot(*y),
+        _ => v.iter().map(|c| c * c).sum::<f64>().sqrt(),
+    }
 }

@@ -371,8 +371,19 @@ impl Serialize for GeometryKind {
 }
 
 impl GeometryKind {
+    /// The unit of a `[[point_load]]` force (`docs/scenes.md`): per metre of thickness, per
+    /// radian (axisymmetric; the reactions, [`force_unit`](Self::force_unit), are the whole
+    /// circumference's), or whole.
+    pub fn load_unit(self) -> &'static str {
+        match self {
+            GeometryKind::PlaneStrain => "N/m",
+            GeometryKind::Axisymmetric => "N per radian",
+            GeometryKind::ThreeD => "N",
+        }
+    }
+
     /// The unit of the reported forces: per metre of thickness, or for the whole
-    /// circumference.
+    /// circumference (axisymmetric), or whole (3D).
     pub fn force_unit(self) -> &'static str {
         match self {
             GeometryKind::PlaneStrain => "N/m",

@@ -560,7 +560,7 @@ fn check_scales(scene: &Scene, mesh: &Mesh) -> Result<(), SceneError> {
             .map(|(k, m)| (spec.material.field(k), m))
             .collect(),
         time: &spec.time,
-        gravity: spec.gravity,
+        gravity: spec.gravity.map(|g| scales::norm(&g)),
         heights: [lo[1], hi[1]],
         initial_stress: spec.initial_stress.as_ref(),
         loads: tractions.chain(pressures).chain(points).collect(),

@@ -12,8 +12,9 @@
 use talus_fem::{BoundaryFace, Constraint, DofMap, ElementOrder, Model, State, TetrahedralMesh};
 
 use crate::scene::{
-    check, scales, scales::ramp_max, AnalysisKind, Fix, MeshSpec, Order, Ramp, Scene3, SceneError,
-    Selection,
+    check, scales,
+    scales::{norm, ramp_max},
+    AnalysisKind, Fix, MeshSpec, Order, Ramp, Scene3, SceneError, Selection,
 };
 
 /// A model of 3D stress points: Mandel size 6.
@@ -395,7 +396,6 @@ fn check_scales(scene: &Scene3, mesh: &TetrahedralMesh) -> Result<(), SceneError
             (det.abs() / 6.0).cbrt()
         })
         .fold(f64::INFINITY, f64::min);
-    let norm = |v: &[f64; 3]| v.iter().map(|c| c * c).sum::<f64>().sqrt();
     let tractions = spec.traction.iter().enumerate().map(|(k, t)| {
         (
             format!("traction[{k}].value"),
@@ -426,7 +426,7 @@ fn check_scales(scene: &Scene3, mesh: &TetrahedralMesh) -> Result<(), SceneError
             .collect(),
         time: &spec.time,
         // The scales read |g| only.
-        gravity: spec.gravity.map(|g| [norm(&g), 0.0]),
+        gravity: spec.gravity.map(|g| norm(&g)),
         heights: [lo[1], hi[1]],
         initial_stress: spec.initial_stress.as_ref(),
         loads: tractions.chain(pressures).chain(points).collect(),
