@@ -9,7 +9,7 @@ use numpy::ndarray::Array2;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use talus::model::fem::{model_3d, FromScene, Model};
+use talus::model::fem::stages::final_model;
 use talus::run::checkpoint::Checkpoint;
 use talus::run::fem::{resume_scene, run_scene, run_scene_3d};
 use talus::run::mpm::{resume_mpm_scene, run_mpm_scene, run_mpm_scene_3d};
@@ -67,8 +67,8 @@ fn step(
                 Some(c) => resume_scene(scene, c, options)?,
                 None => run_scene(scene, options)?,
             };
-            // The mesh of the run: the model is rebuilt from the same scene.
-            let model = Model::from_scene(scene)?;
+            // The mesh of the run's end (a staged run's last stage), rebuilt from the scene.
+            let model = final_model::<2, 4>(scene)?;
             let state = summary.final_state;
             Ok(Final::Fem {
                 dim: 2,
@@ -82,7 +82,7 @@ fn step(
         }
         SceneFile::Fem3(scene) => {
             let summary = run_scene_3d(scene, options, resumed)?;
-            let model = model_3d(scene)?;
+            let model = final_model::<3, 6>(scene)?;
             let state = summary.final_state;
             Ok(Final::Fem {
                 dim: 3,

@@ -23,10 +23,8 @@ pub struct Scene {
 pub fn validate(source: &str, path: Option<PathBuf>) -> Result<SceneFile, SceneError> {
     let file = SceneFile::parse(source, path)?;
     match &file {
-        SceneFile::Fem(scene) => talus::model::fem::stages::check_before_run(scene)?,
-        SceneFile::Fem3(scene) => {
-            talus::model::fem::model_3d(scene)?;
-        }
+        SceneFile::Fem(scene) => talus::model::fem::stages::check_before_run::<2, 4>(scene)?,
+        SceneFile::Fem3(scene) => talus::model::fem::stages::check_before_run::<3, 6>(scene)?,
         SceneFile::Mpm(scene) => {
             MpmModel::from_scene(scene)?;
         }

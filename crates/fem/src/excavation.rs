@@ -40,6 +40,7 @@
 //! - Other loads that `R` carried (a traction on its edges, a point force on a node only
 //!   it holds) reach `K` through it: add their nodal forces (the `Assembly`'s load
 //!   methods, spread over nodes by `DofMap::scatter`) to `F`.
+use crate::dimension::{Dimension, ElementMesh, Mandel};
 use crate::dofs::{Dof, DofMap};
 use crate::error::FemError;
 use crate::model::Model;
@@ -283,80 +284,98 @@ pub fn restrict_state(
     )
 }
 
-/// A model built on part of a mesh (`Mesh::submesh`): the model, and the whole mesh's
-/// indices of its triangles and of its nodes, both increasing (the submesh's order).
+/// A model built on part of a mesh (`Mesh::submesh`, `TetrahedralMesh::submesh`): the
+/// model, and the whole mesh's indices of its elements and of its nodes, both increasing
+/// (the submesh's order). 2D (`D = 4`) or 3D (`D = 6`).
 #[derive(Clone, Copy)]
-pub struct Part<'a> {
-    pub model: &'a Model,
+pub struct Part<'a, const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
+    pub model: &'a Model<D>,
     pub elements: &'a [usize],
     pub nodes: &'a [usize],
 }
 
 /// The state of `to` from `state` of `from`, two models on parts of one mesh (a stage
-/// of construction and the next): same time; the stresses and plastic strains of the
-/// triangles both have (the others', new ones, stress free); the displacements and
-/// velocities of the nodes both have (new ones at rest; displacements zero everywhere when
-/// `reset`), the velocities split into free and prescribed ones by `to`'s dof map.
-/// Each triangle's Gauss points are contiguous, in the rule's order ([`kept_points`]).
+/// of construction and the next), in 2D or 3D: same time; the stresses and plastic
+/// strains of the elements both have (the others', new ones, stress free); the
+/// displacements and velocities of the nodes both have (new ones at rest; displacements
+/// zero everywhere when `reset`), the velocities split into free and prescribed ones by
+/// `to`'s dof map. Each element's Gauss points are contiguous, in the rule's order
+/// ([`kept_points`]).
 ///
 /// Errors name `state` (its lengths do not fit `from`) or `part` (a part's index lists do
 /// not fit its model).
-pub fn transfer_state(from: Part, state: &State, to: Part, reset: bool) -> Result<State, FemError> {
+pub fn transfer_state<const D: usize>(
+    from: Part<D>,
+    state: &State<D>,
+    to: Part<D>,
+    reset: bool,
+) -> Result<State<D>, FemError>
+where
+    Mandel<D>: Dimension,
+{
     for (name, part) in [("from", &from), ("to", &to)] {
         let m = part.model;
-        if part.elements.len() != m.mesh.triangles.len()
-            || part.nodes.len() != m.mesh.nodes.len()
+        let (elements, nodes) = (m.mesh.elements().len(), m.mesh.node_positions().len());
+        if part.elements.len() != elements
+            || part.nodes.len() != nodes
             || m.n_points() % part.elements.len().max(1) != 0
         {
             return Err(FemError::invalid(
                 "part",
                 format!(
-                    "{name}: {} triangles and {} nodes listed for a model of {} and {}",
+                    "{name}: {} elements and {} nodes listed for a model of {elements} and \
+                     {nodes}",
                     part.elements.len(),
                     part.nodes.len(),
-                    m.mesh.triangles.len(),
-                    m.mesh.nodes.len()
                 ),
             ));
         }
     }
     let fm = from.model;
-    if state.sigma.len() != 4 * fm.n_points()
+    let from_nodes = fm.mesh.node_positions().len();
+    if state.sigma.len() != D * fm.n_points()
         || state.plastic_strain.len() != fm.n_points()
-        || state.displacement.len() != fm.mesh.nodes.len()
+        || state.displacement.len() != from_nodes
     {
         return Err(FemError::invalid(
             "state",
             format!(
                 "{} stresses, {} plastic strains and {} displacements for a model of {} Gauss \
-                 points (× 4) and {} nodes",
+                 points (× {D}) and {from_nodes} nodes",
                 state.sigma.len(),
                 state.plastic_strain.len(),
                 state.displacement.len(),
                 fm.n_points(),
-                fm.mesh.nodes.len()
             ),
         ));
     }
-    let velocity = fm
-        .assembly
-        .dofs()
-        .scatter(&state.velocity_free, &state.velocity_prescribed)
+    let dofs_from = fm.assembly.dofs();
+    dofs_from
+        .check_lengths(&state.velocity_free, &state.velocity_prescribed)
         .map_err(|e| FemError::invalid("state", format!("velocities: {e}")))?;
+    let velocity = |node: usize, comp: usize| match dofs_from.dof(node, comp) {
+        Some(Dof::Free(i)) => state.velocity_free[i],
+        Some(Dof::Prescribed(j)) => state.velocity_prescribed[j],
+        None => 0.0,
+    };
+    let components = dofs_from.components();
     let tm = to.model;
     let dofs = tm.assembly.dofs();
     let mut out = State::at_rest(
         tm.n_points(),
         dofs.n_free(),
         dofs.n_prescribed(),
-        tm.mesh.nodes.len(),
+        tm.mesh.node_positions().len(),
     );
     out.time = state.time;
     let per = tm.n_points() / to.elements.len().max(1);
     for (i, e) in to.elements.iter().enumerate() {
         if let Ok(j) = from.elements.binary_search(e) {
-            out.sigma[4 * per * i..4 * per * (i + 1)]
-                .copy_from_slice(&state.sigma[4 * per * j..4 * per * (j + 1)]);
+            out.sigma[D * per * i..D * per * (i + 1)]
+                .copy_from_slice(&state.sigma[D * per * j..D * per * (j + 1)]);
             out.plastic_strain[per * i..per * (i + 1)]
                 .copy_from_slice(&state.plastic_strain[per * j..per * (j + 1)]);
         }
@@ -368,10 +387,11 @@ pub fn transfer_state(from: Part, state: &State, to: Part, reset: bool) -> Resul
         if !reset {
             out.displacement[new] = state.displacement[old];
         }
-        for (comp, v) in velocity[old].iter().enumerate() {
+        for comp in 0..components {
+            let v = velocity(old, comp);
             match dofs.dof(new, comp) {
-                Some(Dof::Free(i)) => out.velocity_free[i] = *v,
-                Some(Dof::Prescribed(j)) => out.velocity_prescribed[j] = *v,
+                Some(Dof::Free(i)) => out.velocity_free[i] = v,
+                Some(Dof::Prescribed(j)) => out.velocity_prescribed[j] = v,
                 None => {}
             }
         }

@@ -31,7 +31,7 @@ fn line_of(text: &str, needle: &str) -> Option<usize> {
 /// Both ways a staged model is built refuse the scene with the same error.
 fn refused(text: &str) -> SceneError {
     let scene = Scene::parse(text, None).expect("parses");
-    let by_stages = Stages::of(&scene).err().expect("Stages::of refuses it");
+    let by_stages = Stages::<4>::of(&scene).err().expect("Stages::of refuses it");
     let by_model = Model::from_scene(&scene)
         .err()
         .expect("from_scene refuses it");
@@ -89,7 +89,7 @@ fn stages_within_the_cap_build() {
         stage("rest", &(MAX_STEPS / 2).to_string(), "")
     ));
     let scene = Scene::parse(&text, None).expect("parses");
-    let stages = Stages::of(&scene).expect("checked").expect("staged");
+    let stages = Stages::<4>::of(&scene).expect("checked").expect("staged");
     stages.model(&scene, 1).expect("built");
 }
 

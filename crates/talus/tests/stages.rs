@@ -85,7 +85,7 @@ fn an_elastic_excavation_ends_at_the_kept_bodys_solve_under_the_released_force()
              [[stage]]\nname = \"settle\"\nsteps = 2\n"
         ));
         let scene = Scene::parse(&text, None).unwrap();
-        let stages = Stages::of(&scene).unwrap().unwrap();
+        let stages = Stages::<4>::of(&scene).unwrap().unwrap();
         let full = stages.model(&scene, 0).unwrap();
         let kept = stages.model(&scene, 2).unwrap();
         // The removed part's force on the rest at the K₀ state, per node of the full mesh.
@@ -314,7 +314,7 @@ fn refused(text: &str) -> (String, String) {
         Ok(s) => s,
         Err(e) => return (e.field, e.message),
     };
-    let e = match Stages::of(&scene) {
+    let e = match Stages::<4>::of(&scene) {
         Err(e) => e,
         Ok(Some(stages)) => (0..stages.plans.len())
             .find_map(|k| stages.model(&scene, k).err())

@@ -7,7 +7,7 @@ pub(crate) mod msh;
 mod quality;
 pub(crate) mod rectangle;
 mod sets;
-mod submesh;
+pub(crate) mod submesh;
 
 use std::collections::BTreeMap;
 

@@ -37,80 +37,22 @@ impl Mesh {
     /// twice (the error names `elements`, the entry and the triangle).
     pub fn submesh(&self, elements: &[usize]) -> Result<(Mesh, Vec<Option<usize>>), MeshError> {
         self.validate()?;
-        if elements.is_empty() {
-            return Err(MeshError::invalid(
-                "elements",
-                "selects no triangle: a submesh needs at least one",
-            ));
-        }
-        let n_triangles = self.triangles.len();
-        let mut kept = vec![false; n_triangles];
-        for (k, &e) in elements.iter().enumerate() {
-            if e >= n_triangles {
-                return Err(MeshError::invalid(
-                    "elements",
-                    format!("entry {k} is triangle {e}, the mesh has {n_triangles} triangles"),
-                ));
-            }
-            if kept[e] {
-                return Err(MeshError::invalid(
-                    "elements",
-                    format!("entry {k} names triangle {e} a second time"),
-                ));
-            }
-            kept[e] = true;
-        }
-
-        let mut element_map = vec![None; n_triangles];
-        let mut node_map = vec![None; self.nodes.len()];
-        for (e, tri) in self.triangles.iter().enumerate().filter(|(e, _)| kept[*e]) {
-            element_map[e] = Some(0); // numbered below
-            for &n in tri {
-                node_map[n] = Some(0);
-            }
-        }
-        let number = |map: &mut [Option<usize>]| {
-            for (next, m) in map.iter_mut().flatten().enumerate() {
-                *m = next;
-            }
-        };
-        number(&mut element_map);
-        number(&mut node_map);
-
-        let nodes = self
-            .nodes
-            .iter()
-            .zip(&node_map)
-            .filter(|(_, m)| m.is_some())
-            .map(|(p, _)| *p)
-            .collect();
-        let renumber = |old: &[usize]| -> Vec<usize> {
-            old.iter()
-                .map(|&n| node_map[n].expect("a kept triangle's nodes are kept"))
-                .collect()
-        };
-        let triangles = self
-            .triangles
-            .iter()
-            .zip(&kept)
-            .filter(|(_, k)| **k)
-            .map(|(tri, _)| renumber(tri))
-            .collect();
-
-        let restrict = |sets: &BTreeMap<String, Vec<usize>>, map: &[Option<usize>]| {
-            sets.iter()
-                .map(|(name, set)| (name.clone(), set.iter().filter_map(|&i| map[i]).collect()))
-                .collect::<BTreeMap<String, Vec<usize>>>()
-        };
-        let node_sets = restrict(&self.node_sets, &node_map);
-        let element_sets = restrict(&self.element_sets, &element_map);
+        let part = Part::of(
+            "triangle",
+            &self.triangles,
+            &self.nodes,
+            (&self.node_sets, &self.element_sets),
+            elements,
+        )?;
+        let kept = &part.kept;
+        let renumber = |old: &[usize]| part.renumber(old);
 
         // The sides of the kept triangles, keyed by their sorted ends: their P2 mid node.
         let mut sides: HashMap<(usize, usize), Option<usize>> = HashMap::new();
         for tri in self
             .triangles
             .iter()
-            .zip(&kept)
+            .zip(kept)
             .filter(|(_, k)| **k)
             .map(|t| t.0)
         {
@@ -143,13 +85,109 @@ impl Mesh {
 
         let mesh = Mesh {
             order: self.order,
-            nodes,
-            triangles,
-            node_sets,
+            nodes: part.nodes,
+            triangles: part.elements,
+            node_sets: part.node_sets,
             edge_sets,
-            element_sets,
+            element_sets: part.element_sets,
         };
         mesh.validate()?;
-        Ok((mesh, node_map))
+        Ok((mesh, part.node_map))
+    }
+}
+
+/// Named sets of node or element indices.
+type Sets = BTreeMap<String, Vec<usize>>;
+
+/// What a submesh keeps of any mesh, triangles or tetrahedra: the chosen elements in
+/// increasing old index with their nodes renumbered, the nodes they use (in increasing
+/// old index), the node and element sets restricted and renumbered, and the maps.
+pub(crate) struct Part<P> {
+    /// Whether each old element is kept.
+    pub kept: Vec<bool>,
+    /// Each old node's new index (`None`: gone).
+    pub node_map: Vec<Option<usize>>,
+    pub nodes: Vec<P>,
+    pub elements: Vec<Vec<usize>>,
+    pub node_sets: Sets,
+    pub element_sets: Sets,
+}
+
+impl<P: Copy> Part<P> {
+    /// The part of `all` (elements of `kind`, over `nodes`) that `elements` selects (any
+    /// order, each once). Errors name `elements`: empty, an entry out of range or repeated.
+    pub fn of(
+        kind: &str,
+        all: &[Vec<usize>],
+        nodes: &[P],
+        (node_sets, element_sets): (&Sets, &Sets),
+        elements: &[usize],
+    ) -> Result<Self, MeshError> {
+        if elements.is_empty() {
+            return Err(MeshError::invalid(
+                "elements",
+                format!("selects no {kind}: a submesh needs at least one"),
+            ));
+        }
+        let n = all.len();
+        let mut kept = vec![false; n];
+        for (k, &e) in elements.iter().enumerate() {
+            if e >= n {
+                return Err(MeshError::invalid(
+                    "elements",
+                    format!("entry {k} is {kind} {e}, the mesh has {n} {kind}s"),
+                ));
+            }
+            if kept[e] {
+                return Err(MeshError::invalid(
+                    "elements",
+                    format!("entry {k} names {kind} {e} a second time"),
+                ));
+            }
+            kept[e] = true;
+        }
+        let mut element_map = vec![None; n];
+        let mut node_map = vec![None; nodes.len()];
+        for (e, element) in all.iter().enumerate().filter(|(e, _)| kept[*e]) {
+            element_map[e] = Some(0); // numbered below
+            for &v in element {
+                node_map[v] = Some(0);
+            }
+        }
+        let number = |map: &mut [Option<usize>]| {
+            for (next, m) in map.iter_mut().flatten().enumerate() {
+                *m = next;
+            }
+        };
+        number(&mut element_map);
+        number(&mut node_map);
+        let restrict = |sets: &Sets, map: &[Option<usize>]| -> Sets {
+            sets.iter()
+                .map(|(name, set)| (name.clone(), set.iter().filter_map(|&i| map[i]).collect()))
+                .collect()
+        };
+        let mut part = Self {
+            nodes: (nodes.iter().zip(&node_map))
+                .filter(|(_, m)| m.is_some())
+                .map(|(p, _)| *p)
+                .collect(),
+            node_sets: restrict(node_sets, &node_map),
+            element_sets: restrict(element_sets, &element_map),
+            elements: Vec::with_capacity(elements.len()),
+            kept,
+            node_map,
+        };
+        part.elements = (all.iter().zip(&part.kept))
+            .filter(|(_, k)| **k)
+            .map(|(element, _)| part.renumber(element))
+            .collect();
+        Ok(part)
+    }
+
+    /// Kept nodes `old` in the new numbering.
+    pub fn renumber(&self, old: &[usize]) -> Vec<usize> {
+        old.iter()
+            .map(|&n| self.node_map[n].expect("a kept element's nodes are kept"))
+            .collect()
     }
 }

@@ -12,6 +12,7 @@ mod block;
 mod extrude;
 mod msh;
 mod sets;
+mod submesh;
 
 /// A boundary triangle: its 3 vertices (P1) or 3 vertices then the mid-edge nodes of its
 /// edges 01, 12, 20 (P2), counter-clockwise seen from outside the body (outward normal).

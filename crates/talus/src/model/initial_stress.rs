@@ -10,7 +10,7 @@ use crate::scene::{InitialStressSpec, Locate, SceneError, SceneOf, SceneVector};
 /// else `γ (surface − y)` as for one dry material. The total stress subtracts the pore
 /// pressure from the normal components. In 3D (Mandel size 6) the same procedure, y
 /// vertical: `σ_xx = σ_zz = K₀ σ'_yy`, no shear (a uniform `stress` has 2D's four
-/// components: `model::fem::build3` refuses it).
+/// components: refused in 3D).
 pub fn initial_stress<const N: usize, const D: usize>(
     scene: &SceneOf<N>,
     model: &Model<D>,
@@ -20,6 +20,13 @@ where
     Mandel<D>: Dimension<Point = [f64; N]>,
     [f64; N]: SceneVector,
 {
+    if D == 6 && spec.stress.is_some() {
+        return Err(scene.error(
+            "initial_stress.stress",
+            "a uniform initial stress is not supported in 3D yet (its 4 components are \
+             2D's; docs/3d.md, 'Next'); the K₀ procedure runs",
+        ));
+    }
     // In equilibrium with the gravity of the start, t = 0 (`gravity_ramp` scales it).
     let ramp = crate::scene::check::ramp(scene, "gravity_ramp", &scene.spec.gravity_ramp)?;
     let g = scene.spec.gravity.map(|g| -g[1]).unwrap_or(0.0);

@@ -5,7 +5,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::source::Locate;
-use super::{SceneError, SceneSpec, WaterSpec};
+use super::{SceneError, SceneSpec, SceneVector, WaterSpec};
 
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -58,7 +58,7 @@ impl SceneSpec {
 /// The stages and every `stages` key checked against each other: names unique and known,
 /// steps at least 1, `[time] steps` left to the stages, a factor of safety only with
 /// `[stability]`. Regions are checked against the mesh when the model is built.
-pub fn check(scene: &impl Locate, spec: &SceneSpec) -> Result<(), SceneError> {
+pub fn check<V: SceneVector>(scene: &impl Locate, spec: &SceneSpec<V>) -> Result<(), SceneError> {
     let names: Vec<&str> = spec.stage.iter().map(|s| s.name.as_str()).collect();
     let keys = spec
         .boundary

@@ -1,16 +1,24 @@
 //! A finite-element [`Model`] from a scene: the mesh, its boundary conditions and loads,
 //! the material, checked field by field against the scene's own scales.
 use talus_fem::{
-    Assembly, BoundaryEdge, Constraint, Dimension, DofMap, ElementMesh, ElementOrder, FemError,
-    Geometry, Mandel, Mesh, Model, State,
+    Assembly, Constraint, Dimension, DofMap, ElementMesh, ElementOrder, FemError, Geometry,
+    Mandel, Model, State,
 };
 
+use super::scene_mesh::{nearest_node, select_nodes, select_pieces, SceneMesh};
 use crate::scene::dimension::three_d_key;
 use crate::scene::{
-    check, scales, scales::ramp_max, AnalysisKind, Fix, MeshSpec, Order, Ramp, Scene,
-    SceneDocument, SceneError, SceneOf, SceneSpec, SceneVector, Selection, TimeSpec, WaterSpec,
-    WaterTable,
+    check, scales, scales::ramp_max, AnalysisKind, Fix, MeshSpec, Ramp, Scene, Scene3, SceneDocument,
+    SceneError, SceneOf, SceneSpec, SceneVector, TimeSpec, WaterSpec, WaterTable,
 };
+
+/// The mesh of a model of Mandel size `D`: triangles (4) or tetrahedra (6).
+pub type MeshOf<const D: usize> = <Mandel<D> as Dimension>::Mesh;
+
+/// A model of 3D stress points: Mandel size 6.
+pub type Model3 = Model<6>;
+/// Its state.
+pub type State3 = State<6>;
 
 /// A [`Model`] built from a scene, and the state a run of it starts from.
 pub trait FromScene: Sized {
@@ -22,16 +30,32 @@ pub trait FromScene: Sized {
 
 impl FromScene for Model {
     fn from_scene(scene: &Scene) -> Result<Self, SceneError> {
-        let mesh = build_mesh(scene)?;
-        let ground = super::materials::ground(scene, &mesh)?;
-        crate::scene::stage::check(scene, &scene.spec)?;
-        check_scene(scene)?;
-        build(scene, mesh, &ground.element_material, &ground, None)
+        unstaged(scene)
     }
 
     fn initial_state(&self, scene: &Scene) -> Result<State, SceneError> {
         initial_state(scene, self)
     }
+}
+
+/// The 3D model of `scene` (`[analysis] geometry = "3d"`, `docs/3d.md`), its stages'
+/// loads and conditions all acting (a staged scene runs by `super::stages`).
+pub fn model_3d(scene: &Scene3) -> Result<Model3, SceneError> {
+    unstaged(scene)
+}
+
+/// The model of `scene` (2D or 3D) on its whole mesh.
+pub(super) fn unstaged<const N: usize, const D: usize>(scene: &SceneOf<N>) -> Result<Model<D>, SceneError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+    MeshOf<D>: SceneMesh<D>,
+{
+    let mesh = MeshOf::<D>::from_scene(scene)?;
+    let ground = super::materials::ground(scene, &mesh)?;
+    crate::scene::stage::check(scene, &scene.spec)?;
+    check_scene(scene)?;
+    build(scene, mesh, &ground.element_material, &ground, None)
 }
 
 /// The state at the start of a run of `model` (2D or 3D): at rest, with the scene's
@@ -66,7 +90,9 @@ pub struct StageView<'a> {
 
 /// The checks of the scene as a whole, once per run (not per stage's model): time, solver,
 /// and the caps on steps (the stages' in all) and halvings.
-pub(super) fn check_scene(scene: &Scene) -> Result<(), SceneError> {
+pub(super) fn check_scene<V: SceneVector>(
+    scene: &SceneDocument<SceneSpec<V>>,
+) -> Result<(), SceneError> {
     let spec = &scene.spec;
     let time = TimeSpec {
         steps: spec.total_steps(),
@@ -85,13 +111,18 @@ pub(super) fn check_scene(scene: &Scene) -> Result<(), SceneError> {
 /// materials are `element_material` (indices into `ground.materials`), with the loads and
 /// conditions that act in `stage` (`None`: an unstaged scene, all of them). The scene's
 /// own checks ([`check_scene`], `scene::stage::check`) were made by the caller.
-pub(super) fn build(
-    scene: &Scene,
-    mesh: Mesh,
+pub(super) fn build<const N: usize, const D: usize>(
+    scene: &SceneOf<N>,
+    mesh: MeshOf<D>,
     element_material: &[usize],
     ground: &super::materials::Ground,
     stage: Option<&StageView>,
-) -> Result<Model, SceneError> {
+) -> Result<Model<D>, SceneError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+    MeshOf<D>: SceneMesh<D>,
+{
     let spec = &scene.spec;
     check_scales(scene, &mesh)?;
     let stage_name = stage.map(|s| s.name);
@@ -102,10 +133,8 @@ pub(super) fn build(
     // Axisymmetric: the axis nodes' radial velocity is 0, first, so that a
     // `[[boundary]]` naming them later owns them (and their reaction).
     let geometry = spec.analysis.geometry.fem();
-    geometry
-        .check_mesh(&mesh)
-        .map_err(|e| scene.error("analysis.geometry", e.to_string()))?;
-    let axis = geometry.axis_nodes(&mesh);
+    (mesh.check_geometry(geometry)).map_err(|e| scene.error("analysis.geometry", e))?;
+    let axis = mesh.axis_nodes(geometry);
     let mut constraints = Vec::new();
     if !axis.is_empty() {
         constraints.push((axis.clone(), Constraint::FixX));
@@ -118,21 +147,11 @@ pub(super) fn build(
             constraints.push((Vec::new(), Constraint::Fixed));
             continue;
         }
-        let nodes = select_nodes(
-            scene,
-            &mesh,
-            &b.nodes,
-            &format!("boundary[{k}].nodes"),
-            &in_stage,
-        )?;
-        let c = match b.fix {
-            Fix::X => Constraint::FixX,
-            Fix::Y => Constraint::FixY,
-            Fix::Xy => Constraint::Fixed,
-            Fix::Z | Fix::Xz | Fix::Yz | Fix::Xyz => {
-                let what = format!("{:?} names z, which", b.fix);
-                return Err(three_d_key(scene, &format!("boundary[{k}].fix"), &what));
-            }
+        let field = format!("boundary[{k}].nodes");
+        let nodes = select_nodes(scene, &mesh, &b.nodes, &field, &in_stage)?;
+        let Some(c) = MeshOf::<D>::constraint(b.fix) else {
+            let what = format!("{:?} names z, which", b.fix);
+            return Err(three_d_key(scene, &format!("boundary[{k}].fix"), &what));
         };
         if !b.velocity.iter().all(|v| v.is_finite()) {
             return Err(scene.error(&format!("boundary[{k}].velocity"), "must be finite"));
@@ -141,20 +160,21 @@ pub(super) fn build(
         // there would tear the body open along its axis.
         let radial = matches!(b.fix, Fix::X | Fix::Xy) && b.velocity[0] != 0.0;
         if let Some(&n) = nodes.iter().find(|n| radial && axis.contains(n)) {
+            let v = b.velocity.as_ref();
             return Err(scene.error(
                 &format!("boundary[{k}].velocity"),
                 format!(
                     "[{:e}, {:e}] m/s moves node {n} on the axis r = 0 radially; the \
                          axis has no radial velocity: use velocity = [0, {:e}] or leave the \
                          axis out of the set",
-                    b.velocity[0], b.velocity[1], b.velocity[1]
+                    v[0], v[1], v[1]
                 ),
             ));
         }
         boundary_ramps.push(check::ramp(scene, &format!("boundary[{k}].ramp"), &b.ramp)?);
         constraints.push((nodes, c));
     }
-    let dofs = DofMap::new(mesh.nodes.len(), &constraints)
+    let dofs = DofMap::with_components(mesh.node_positions().len(), N, &constraints)
         .map_err(|e| scene.error("boundary", e.to_string()))?;
     if dofs.n_free() == 0 {
         return Err(scene.error("boundary", "every degree of freedom is prescribed"));
@@ -219,18 +239,17 @@ pub(super) fn build(
     // The water's push on the free boundary below the table (`water_loads`), following
     // the weight's ramp as the pore pressure does.
     if let Some(w) = &water {
-        let edges = free_below(
-            mesh.boundary_edges(),
-            |e| &e.nodes[..],
-            &mesh.nodes,
+        let pieces = free_below(
+            mesh.boundary_pieces(),
+            MeshOf::<D>::piece_nodes,
+            mesh.node_positions(),
             &dofs,
             w,
         );
-        if !edges.is_empty() {
+        if !pieces.is_empty() {
             add_load(
-                assembly
-                    .pressure_with(&mesh, &edges, |x| w.pore_pressure(x))
-                    .map_err(|e| scene.error("water", e.to_string()))?,
+                mesh.pressure_with(&assembly, &pieces, |x| w.pore_pressure(x))
+                    .map_err(|e| scene.error("water", e))?,
                 gravity_ramp.clone(),
             );
         }
@@ -239,14 +258,13 @@ pub(super) fn build(
         if !acts(&t.stages) {
             continue;
         }
-        let field = format!("traction[{k}].edges");
-        let edges = select_edges(scene, &mesh, &t.edges, &field, &in_stage)?;
-        check_off_axis(scene, &mesh, &edges, &field, geometry)?;
+        let field = format!("traction[{k}].{}", MeshOf::<D>::PIECES);
+        let pieces = select_pieces(scene, &mesh, &t.edges, &field, &in_stage)?;
+        (mesh.check_loaded(&pieces, geometry)).map_err(|e| scene.error(&field, e))?;
         let ramp = check::ramp(scene, &format!("traction[{k}].ramp"), &t.ramp)?;
         add_load(
-            assembly
-                .traction(&mesh, &edges, t.value)
-                .map_err(|e| scene.error(&format!("traction[{k}].value"), e.to_string()))?,
+            (mesh.traction(&assembly, &pieces, t.value))
+                .map_err(|e| scene.error(&format!("traction[{k}].value"), e))?,
             ramp,
         );
     }
@@ -254,18 +272,16 @@ pub(super) fn build(
         if !acts(&p.stages) {
             continue;
         }
-        let field = format!("pressure[{k}].edges");
-        let edges = select_edges(scene, &mesh, &p.edges, &field, &in_stage)?;
-        check_off_axis(scene, &mesh, &edges, &field, geometry)?;
+        let field = format!("pressure[{k}].{}", MeshOf::<D>::PIECES);
+        let pieces = select_pieces(scene, &mesh, &p.edges, &field, &in_stage)?;
+        (mesh.check_loaded(&pieces, geometry)).map_err(|e| scene.error(&field, e))?;
         let ramp = check::ramp(scene, &format!("pressure[{k}].ramp"), &p.ramp)?;
+        // `gradient` varies the pressure along y (water against a wall).
         let forces = match p.gradient {
-            None => assembly.pressure(&mesh, &edges, p.value),
-            Some(g) => assembly.pressure_with(&mesh, &edges, |x| p.value + g * x[1]),
+            None => mesh.pressure(&assembly, &pieces, p.value),
+            Some(g) => mesh.pressure_with(&assembly, &pieces, |x| p.value + g * x[1]),
         };
-        add_load(
-            forces.map_err(|e| scene.error(&field, e.to_string()))?,
-            ramp,
-        );
+        add_load(forces.map_err(|e| scene.error(&field, e))?, ramp);
     }
     for (k, l) in spec.point_load.iter().enumerate() {
         if !acts(&l.stages) {
@@ -273,7 +289,7 @@ pub(super) fn build(
         }
         let field = format!("point_load[{k}]");
         let ramp = check::ramp(scene, &format!("{field}.ramp"), &l.ramp)?;
-        let node = nearest_node(&mesh, l.point);
+        let node = nearest_node(mesh.node_positions(), l.point.as_ref());
         add_load(
             assembly
                 .point_force(node, l.force)
@@ -522,23 +538,31 @@ pub(super) fn required_densities<V: SceneVector>(
 
 /// The scene against its own scales (`scene::scales`): `h` against the wave time of the
 /// smallest element and the boundaries' motion, the stresses against E (the caps:
-/// [`check_scene`]).
-fn check_scales(scene: &Scene, mesh: &Mesh) -> Result<(), SceneError> {
+/// [`check_scene`]), in 2D and 3D.
+fn check_scales<const N: usize, const D: usize>(
+    scene: &SceneOf<N>,
+    mesh: &MeshOf<D>,
+) -> Result<(), SceneError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+    MeshOf<D>: SceneMesh<D>,
+{
+    use scales::norm;
     let spec = &scene.spec;
-    let (lo, hi) = talus_fem::bounding_box(&mesh.nodes);
-    let cell = mesh
-        .triangles
-        .iter()
-        .map(|t| {
-            let [a, b, c] = [mesh.nodes[t[0]], mesh.nodes[t[1]], mesh.nodes[t[2]]];
-            ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]))
-                .abs()
-                .sqrt()
-        })
-        .fold(f64::INFINITY, f64::min);
+    let (mut lo, mut hi) = ([f64::INFINITY; N], [f64::NEG_INFINITY; N]);
+    for p in mesh.node_positions() {
+        for k in 0..N {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let cell = mesh.smallest_cell();
     let tractions = spec.traction.iter().enumerate().map(|(k, t)| {
-        let v = t.value[0].hypot(t.value[1]) * ramp_max(&t.ramp);
-        (format!("traction[{k}].value"), v)
+        (
+            format!("traction[{k}].value"),
+            norm(&t.value) * ramp_max(&t.ramp),
+        )
     });
     let pressures = spec.pressure.iter().enumerate().map(|(k, p)| {
         // Linear in y: largest at the body's top or bottom.
@@ -546,21 +570,24 @@ fn check_scales(scene: &Scene, mesh: &Mesh) -> Result<(), SceneError> {
         let v = at(lo[1]).max(at(hi[1])) * ramp_max(&p.ramp);
         (format!("pressure[{k}].value"), v)
     });
-    // A point force spread over the smallest cell, as a stress.
+    // A point force spread over the smallest cell (3D: its face), as a stress.
     let points = spec.point_load.iter().enumerate().map(|(k, l)| {
-        let v = l.force[0].hypot(l.force[1]) * ramp_max(&l.ramp) / cell;
+        let v = norm(&l.force) * ramp_max(&l.ramp) / cell.powi(N as i32 - 1);
         (format!("point_load[{k}].force"), v)
     });
     let speeds = spec.boundary.iter().enumerate().map(|(k, b)| {
-        let v = b.velocity[0].hypot(b.velocity[1]) * ramp_max(&b.ramp);
-        (format!("boundary[{k}].velocity"), v)
+        (
+            format!("boundary[{k}].velocity"),
+            norm(&b.velocity) * ramp_max(&b.ramp),
+        )
     });
     let imposed = scales::Imposed {
         materials: (spec.material.all().iter().enumerate())
             .map(|(k, m)| (spec.material.field(k), m))
             .collect(),
         time: &spec.time,
-        gravity: spec.gravity.map(|g| scales::norm(&g)),
+        // The scales read |g| only.
+        gravity: spec.gravity.map(|g| norm(&g)),
         heights: [lo[1], hi[1]],
         initial_stress: spec.initial_stress.as_ref(),
         loads: tractions.chain(pressures).chain(points).collect(),
@@ -568,236 +595,10 @@ fn check_scales(scene: &Scene, mesh: &Mesh) -> Result<(), SceneError> {
     };
     let body = scales::Scales {
         cell,
-        max_step_motion: (hi[0] - lo[0]).min(hi[1] - lo[1]),
+        max_step_motion: (0..N).map(|k| hi[k] - lo[k]).fold(f64::INFINITY, f64::min),
         motion_limit: "the body's smallest side",
         dynamic: spec.analysis.kind == AnalysisKind::Dynamic,
     };
     scales::check_scales(scene, &imposed, &body)
 }
 
-pub(super) fn build_mesh(scene: &Scene) -> Result<Mesh, SceneError> {
-    crate::scene::dimension::check(scene, &scene.source, &scene.spec)?;
-    match &scene.spec.mesh {
-        MeshSpec::Rectangle {
-            x,
-            y,
-            cells,
-            order,
-            focus,
-            ratio,
-        } => {
-            // Before any coordinate is allocated: `[4294967295, 0]` has no Gauss point, so
-            // the size estimate lets it through, yet its x coordinates alone take 34 GB.
-            if cells.contains(&0) {
-                return Err(scene.error(
-                    "mesh.rectangle.cells",
-                    format!("{cells:?}: the number of cells must be ≥ 1 in x and in y"),
-                ));
-            }
-            let focus = focus.unwrap_or([x[0], y[0]]);
-            let xs = talus_fem::graded_coordinates(x[0], x[1], cells[0], focus[0], ratio[0])
-                .map_err(|e| scene.error("mesh.rectangle.x", e.to_string()))?;
-            let ys = talus_fem::graded_coordinates(y[0], y[1], cells[1], focus[1], ratio[1])
-                .map_err(|e| scene.error("mesh.rectangle.y", e.to_string()))?;
-            warn_of_strong_grading("x", &xs, ratio[0]);
-            warn_of_strong_grading("y", &ys, ratio[1]);
-            let order = match order {
-                Order::P1 => ElementOrder::P1,
-                Order::P2 => ElementOrder::P2,
-            };
-            Mesh::rectangle(&xs, &ys, order)
-                .map_err(|e| scene.error("mesh.rectangle", e.to_string()))
-        }
-        MeshSpec::Box { .. } => Err(three_d_key(scene, "mesh.box", "a box of tetrahedra")),
-        MeshSpec::Gmsh { path, order, .. } => {
-            // The .msh file named as well as the scene's line: the error is in it.
-            let file = scene.resolve(path);
-            let mesh = Mesh::from_msh(&file)
-                .map_err(|e| scene.error("mesh.gmsh.path", format!("{}: {e}", file.display())))?;
-            match (order, mesh.order) {
-                (Some(Order::P2), ElementOrder::P1) => mesh
-                    .to_p2()
-                    .map_err(|e| scene.error("mesh.gmsh.order", e.to_string())),
-                (Some(Order::P1), ElementOrder::P2) => Err(scene.error(
-                    "mesh.gmsh.order",
-                    format!(
-                        "\"P1\": {} holds P2 (6-node) triangles; a P2 mesh is not lowered \
-                         (mesh it with order 1, or leave `order` out)",
-                        file.display()
-                    ),
-                )),
-                _ => Ok(mesh),
-            }
-        }
-    }
-}
-
-/// In axisymmetry an edge on the axis r = 0 has no area (`2π r ds`): a load there applies
-/// nothing, so selecting one is a mistake to name, not a load to drop silently.
-fn check_off_axis(
-    scene: &Scene,
-    mesh: &Mesh,
-    edges: &[BoundaryEdge],
-    field: &str,
-    geometry: Geometry,
-) -> Result<(), SceneError> {
-    if geometry != Geometry::Axisymmetric {
-        return Ok(());
-    }
-    let axis = geometry.axis_nodes(mesh);
-    let on_axis = |n: &usize| axis.binary_search(n).is_ok();
-    if let Some(e) = edges.iter().find(|e| e.nodes.iter().all(on_axis)) {
-        let [a, b] = [mesh.nodes[e.nodes[0]], mesh.nodes[e.nodes[1]]];
-        return Err(scene.error(
-            field,
-            format!(
-                "selects the edge ({:.4}, {:.4})–({:.4}, {:.4}) on the axis r = 0, where an \
-                 axisymmetric load acts on no area and applies nothing: select edges off the \
-                 axis",
-                a[0], a[1], b[0], b[1]
-            ),
-        ));
-    }
-    Ok(())
-}
-
-/// The node nearest `point` (the first of equally near ones).
-fn nearest_node(mesh: &Mesh, point: [f64; 2]) -> usize {
-    let d = |n: &[f64; 2]| (n[0] - point[0]).powi(2) + (n[1] - point[1]).powi(2);
-    (0..mesh.nodes.len())
-        .min_by(|&a, &b| d(&mesh.nodes[a]).total_cmp(&d(&mesh.nodes[b])))
-        .unwrap_or(0)
-}
-
-fn select_nodes(
-    scene: &Scene,
-    mesh: &Mesh,
-    sel: &Selection,
-    field: &str,
-    in_stage: &str,
-) -> Result<Vec<usize>, SceneError> {
-    let nodes = match sel {
-        Selection::Named(name) => mesh.node_sets.get(name).cloned().ok_or_else(|| {
-            scene.error(
-                field,
-                format!(
-                    "no node set named `{name}` (the mesh has: {})",
-                    names(mesh.node_sets.keys())
-                ),
-            )
-        })?,
-        Selection::Box { corners } => mesh
-            .nodes_in_box(corners[0], corners[1])
-            .map_err(|e| scene.error(field, e.to_string()))?,
-    };
-    if nodes.is_empty() {
-        return Err(scene.error(field, format!("selects no node{in_stage}")));
-    }
-    Ok(nodes)
-}
-
-fn select_edges(
-    scene: &Scene,
-    mesh: &Mesh,
-    sel: &Selection,
-    field: &str,
-    in_stage: &str,
-) -> Result<Vec<BoundaryEdge>, SceneError> {
-    let edges = match sel {
-        Selection::Named(name) => mesh.edge_sets.get(name).cloned().ok_or_else(|| {
-            scene.error(
-                field,
-                format!(
-                    "no edge set named `{name}` (the mesh has: {})",
-                    names(mesh.edge_sets.keys())
-                ),
-            )
-        })?,
-        Selection::Box { corners } => {
-            check_box_does_not_cut_edges(scene, mesh, corners, field)?;
-            mesh.boundary_edges_in_box(corners[0], corners[1])
-                .map_err(|e| scene.error(field, e.to_string()))?
-        }
-    };
-    if edges.is_empty() {
-        return Err(scene.error(field, format!("selects no boundary edge{in_stage}")));
-    }
-    Ok(edges)
-}
-
-/// A traction box whose side falls inside a boundary edge loads part of the surface with no
-/// edge to carry it: an error, naming the edge, rather than a silently wrong load.
-fn check_box_does_not_cut_edges(
-    scene: &Scene,
-    mesh: &Mesh,
-    corners: &[[f64; 2]; 2],
-    field: &str,
-) -> Result<(), SceneError> {
-    let (lo, hi) = (corners[0], corners[1]);
-    let size = mesh
-        .nodes
-        .iter()
-        .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()))
-        .max(1.0);
-    let tol = 1e-9 * size;
-    let inside = |p: [f64; 2]| (0..2).all(|k| p[k] >= lo[k] - tol && p[k] <= hi[k] + tol);
-    let strictly = |p: [f64; 2]| {
-        (0..2).all(|k| p[k] > lo[k] + tol && p[k] < hi[k] - tol) || {
-            // On a degenerate (flat) box, "strictly" means strictly between its ends.
-            let flat: Vec<usize> = (0..2).filter(|&k| hi[k] - lo[k] <= 2.0 * tol).collect();
-            !flat.is_empty()
-                && (0..2)
-                    .filter(|k| !flat.contains(k))
-                    .all(|k| p[k] > lo[k] + tol && p[k] < hi[k] - tol)
-                && inside(p)
-        }
-    };
-    for edge in mesh.boundary_edges() {
-        let pts: Vec<[f64; 2]> = edge.nodes.iter().map(|&n| mesh.nodes[n]).collect();
-        let n_in = pts.iter().filter(|p| inside(**p)).count();
-        if n_in > 0 && n_in < pts.len() && pts.iter().any(|p| strictly(*p)) {
-            let (a, b) = (pts[0], pts[1]);
-            return Err(scene.error(
-                field,
-                format!(
-                    "the box cuts the boundary edge ({:.4}, {:.4})–({:.4}, {:.4}); put mesh nodes on the box's sides",
-                    a[0], a[1], b[0], b[1]
-                ),
-            ));
-        }
-    }
-    Ok(())
-}
-
-fn names<'a>(keys: impl Iterator<Item = &'a String>) -> String {
-    keys.map(String::as_str).collect::<Vec<_>>().join(", ")
-}
-
-/// The largest cell this many times the smallest draws a warning: the shipped scenes stay
-/// below 100 (footing: 1.1 over 14 cells), while the footing's `ratio = 1.1` kept over 152
-/// cells (1.9e6) made step 1 fail at every halving with inaccurate Newton directions
-/// (`docs/performance.md`, 'The 100k footing's first steps').
-const GRADING_WARNING: f64 = 1e3;
-
-/// Warns when the cells along one axis of `[mesh.rectangle]` span more than
-/// [`GRADING_WARNING`] in size, with the ratio that would make the span 100.
-fn warn_of_strong_grading(axis: &str, coords: &[f64], ratio: f64) {
-    let sizes = coords.windows(2).map(|w| w[1] - w[0]);
-    let (small, large) = sizes.fold((f64::INFINITY, 0.0f64), |(s, l), d| (s.min(d), l.max(d)));
-    let span = large / small;
-    if span > GRADING_WARNING {
-        // span = ratio^k for k growth steps: ratio' = 100^(1/k).
-        let steps = span.ln() / ratio.ln().abs();
-        tracing::warn!(
-            "mesh.rectangle.ratio: along {axis} the largest cell is {span:.1e} times the \
-             smallest (ratio {ratio} over {} cells); Newton directions lose accuracy on such \
-             meshes; ratio = {:.4} would make it 100",
-            coords.len() - 1,
-            if ratio >= 1.0 {
-                100f64.powf(1.0 / steps)
-            } else {
-                100f64.powf(-1.0 / steps)
-            }
-        );
-    }
-}

@@ -18,7 +18,7 @@ pub struct Ground {
 
 /// What the ground reads from a mesh of either dimension: its elements and their
 /// vertices, and its named element sets (Gmsh physical surfaces, 3D: volumes).
-pub(crate) trait GroundMesh: ElementMesh {
+pub trait GroundMesh: ElementMesh {
     fn element_sets(&self) -> &BTreeMap<String, Vec<usize>>;
 }
 

@@ -2,17 +2,21 @@
 //! scene, its initial state, the quasi-static masses, and the named boundaries and
 //! monitors a run reports.
 mod build;
-mod build3;
 mod materials;
 pub mod memory;
 mod monitors;
 mod motion;
 mod quasi_static;
+mod mesh2;
+mod mesh3;
 mod reaction_groups;
+mod scene_mesh;
+pub use scene_mesh::SceneMesh;
 pub mod stages;
 
-pub use build::{initial_state, warnings, water_table, weight, FromScene};
-pub use build3::{model_3d, Model3, State3};
+pub use build::{
+    initial_state, model_3d, warnings, water_table, weight, FromScene, MeshOf, Model3, State3,
+};
 pub use monitors::NodeMonitors;
 pub use quasi_static::DEFAULT_INERTIA_RATIO;
 pub use reaction_groups::ReactionGroups;

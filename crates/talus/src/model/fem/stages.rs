@@ -11,15 +11,20 @@
 //! plus whatever loads, supports or water changed. The stage adds `r` as a load ramped
 //! from 1 at its start to 0 at its end, so that the change is applied over its steps.
 use talus_engine::Ramp;
-use talus_fem::{transfer_state, Mesh, Model, Part, State};
+use talus_fem::{transfer_state, Dimension, ElementMesh, Mandel, Model, Part, State};
 
-use super::build::{build, StageView};
+use super::build::{build, MeshOf, StageView};
 use super::materials::{ground, Ground};
-use crate::scene::{Scene, SceneError, StageSpec, WaterSpec};
+use super::scene_mesh::SceneMesh;
+use crate::scene::{SceneError, SceneOf, SceneVector, StageSpec, WaterSpec};
 
-/// The stages of a scene, their elements checked against its regions.
-pub struct Stages {
-    mesh: Mesh,
+/// The stages of a scene, their elements checked against its regions: on triangles
+/// (`D = 4`) or tetrahedra (`D = 6`).
+pub struct Stages<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
+    mesh: MeshOf<D>,
     ground: Ground,
     pub plans: Vec<StagePlan>,
 }
@@ -42,30 +47,41 @@ impl StagePlan {
 }
 
 /// A stage's model, and the whole mesh's indices of its elements and nodes.
-pub struct StageModel {
-    pub model: Model,
+pub struct StageModel<const D: usize = 4>
+where
+    Mandel<D>: Dimension,
+{
+    pub model: Model<D>,
     pub elements: Vec<usize>,
     pub nodes: Vec<usize>,
 }
 
-impl Stages {
+impl<const D: usize> Stages<D>
+where
+    Mandel<D>: Dimension,
+    MeshOf<D>: SceneMesh<D>,
+{
     /// The scene's stages, `None` without `[[stage]]`. A region a stage activates is absent
     /// before it; each stage then removes its `deactivate` regions (which must be present)
     /// and adds its `activate` ones (which must be absent).
-    pub fn of(scene: &Scene) -> Result<Option<Self>, SceneError> {
+    pub fn of<const N: usize>(scene: &SceneOf<N>) -> Result<Option<Self>, SceneError>
+    where
+        Mandel<D>: Dimension<Point = [f64; N]>,
+        [f64; N]: SceneVector,
+    {
         let spec = &scene.spec;
         if spec.stage.is_empty() {
             return Ok(None);
         }
         crate::scene::stage::check(scene, spec)?;
-        let mesh = super::build::build_mesh(scene)?;
+        let mesh = MeshOf::<D>::from_scene(scene)?;
         let ground = ground(scene, &mesh)?;
         let region = |field: String, name: &str| {
             super::materials::region(scene, &ground.regions, &field, name)
         };
         // Present at the start: everything but the regions whose first mention, in the
         // order the stages apply them (removals, then additions), is an addition.
-        let mut active = vec![true; mesh.triangles.len()];
+        let mut active = vec![true; mesh.elements().len()];
         let mut seen = std::collections::BTreeSet::new();
         for (k, s) in spec.stage.iter().enumerate() {
             seen.extend(s.deactivate.iter().map(String::as_str));
@@ -155,12 +171,18 @@ impl Stages {
     }
 
     /// The model of stage `k`.
-    pub fn model(&self, scene: &Scene, k: usize) -> Result<StageModel, SceneError> {
+    pub fn model<const N: usize>(
+        &self,
+        scene: &SceneOf<N>,
+        k: usize,
+    ) -> Result<StageModel<D>, SceneError>
+    where
+        Mandel<D>: Dimension<Point = [f64; N]>,
+        [f64; N]: SceneVector,
+    {
         let plan = &self.plans[k];
-        let (mesh, node_map) = self
-            .mesh
-            .submesh(&plan.elements)
-            .map_err(|e| scene.error(&format!("stage[{k}]"), e.to_string()))?;
+        let (mesh, node_map) = (self.mesh.submesh(&plan.elements))
+            .map_err(|e| scene.error(&format!("stage[{k}]"), e))?;
         let element_material: Vec<usize> = plan
             .elements
             .iter()
@@ -171,7 +193,7 @@ impl Stages {
             water: plan.water.as_ref().map(|(w, f)| (w, f.clone())),
         };
         let model = build(scene, mesh, &element_material, &self.ground, Some(&view))?;
-        let mut nodes = vec![0; model.mesh.nodes.len()];
+        let mut nodes = vec![0; model.mesh.node_positions().len()];
         for (old, new) in node_map.iter().enumerate() {
             if let Some(new) = *new {
                 nodes[new] = old;
@@ -185,8 +207,11 @@ impl Stages {
     }
 }
 
-impl StageModel {
-    fn part(&self) -> Part<'_> {
+impl<const D: usize> StageModel<D>
+where
+    Mandel<D>: Dimension,
+{
+    fn part(&self) -> Part<'_, D> {
         Part {
             model: &self.model,
             elements: &self.elements,
@@ -199,18 +224,24 @@ impl StageModel {
 /// stresses of the elements both have (new ones stress free), the displacements and
 /// velocities of the nodes both have (new ones at rest; displacements zero everywhere
 /// when `reset`).
-pub fn carry(
-    previous: &StageModel,
-    state: &State,
-    next: &StageModel,
+pub fn carry<const D: usize>(
+    previous: &StageModel<D>,
+    state: &State<D>,
+    next: &StageModel<D>,
     reset: bool,
-) -> Result<State, String> {
+) -> Result<State<D>, String>
+where
+    Mandel<D>: Dimension,
+{
     transfer_state(previous.part(), state, next.part(), reset).map_err(|e| e.to_string())
 }
 
 /// The out-of-balance force of `state` in `model` at its time, `Bᵀσ − f(t)` on the free
-/// dofs (N/m), which a stage releases: the module's documentation.
-pub fn out_of_balance(model: &Model, state: &State) -> Result<Vec<f64>, String> {
+/// dofs (N/m; 3D: N), which a stage releases: the module's documentation.
+pub fn out_of_balance<const D: usize>(model: &Model<D>, state: &State<D>) -> Result<Vec<f64>, String>
+where
+    Mandel<D>: Dimension,
+{
     let (internal, _) = model
         .assembly
         .internal_force(&state.sigma)
@@ -225,7 +256,15 @@ pub fn out_of_balance(model: &Model, state: &State) -> Result<Vec<f64>, String> 
 
 /// Adds `release` (from [`out_of_balance`]) to `model` as a load ramped from 1 at `t0`
 /// to 0 at `t1`.
-pub fn add_release(model: &mut Model, release: Vec<f64>, t0: f64, t1: f64) -> Result<(), String> {
+pub fn add_release<const D: usize>(
+    model: &mut Model<D>,
+    release: Vec<f64>,
+    t0: f64,
+    t1: f64,
+) -> Result<(), String>
+where
+    Mandel<D>: Dimension,
+{
     let ramp = Ramp::try_new(&[[t0, 1.0], [t1, 0.0]]).map_err(|e| e.to_string())?;
     let prescribed = vec![0.0; model.assembly.dofs().n_prescribed()];
     model.add_load((release, prescribed), Some(ramp));
@@ -234,21 +273,39 @@ pub fn add_release(model: &mut Model, release: Vec<f64>, t0: f64, t1: f64) -> Re
 
 /// The checks a run of `scene` makes before its first step: its model and initial state,
 /// or, staged, every stage's model and the first one's initial state (`talus.Scene`
-/// validates with it).
-pub fn check_before_run(scene: &Scene) -> Result<(), SceneError> {
-    use super::FromScene;
-    match Stages::of(scene)? {
+/// validates with it), in 2D (`D = 4`) or 3D (6).
+pub fn check_before_run<const N: usize, const D: usize>(scene: &SceneOf<N>) -> Result<(), SceneError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+    MeshOf<D>: SceneMesh<D>,
+{
+    match Stages::<D>::of(scene)? {
         Some(stages) => {
             for k in 0..stages.plans.len() {
                 let stage = stages.model(scene, k)?;
                 if k == 0 {
-                    stage.model.initial_state(scene)?;
+                    super::initial_state(scene, &stage.model)?;
                 }
             }
         }
         None => {
-            Model::from_scene(scene)?.initial_state(scene)?;
+            super::initial_state(scene, &super::build::unstaged::<N, D>(scene)?)?;
         }
     }
     Ok(())
+}
+
+/// The model a run of `scene` ends on: its last stage's (on that stage's part of the
+/// mesh), or the whole scene's; the mesh its final state lives on.
+pub fn final_model<const N: usize, const D: usize>(scene: &SceneOf<N>) -> Result<Model<D>, SceneError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+    MeshOf<D>: SceneMesh<D>,
+{
+    match Stages::<D>::of(scene)? {
+        Some(stages) => Ok(stages.model(scene, stages.plans.len() - 1)?.model),
+        None => super::build::unstaged::<N, D>(scene),
+    }
 }

@@ -76,7 +76,7 @@ fn run_scene_from(
     options: &RunOptions,
     resumed: Option<Checkpoint<serde_json::Value>>,
 ) -> Result<RunSummary, RunError> {
-    if let Some(stages) = Stages::of(scene)? {
+    if let Some(stages) = Stages::<4>::of(scene)? {
         return stages::run(scene, stages, options, resumed);
     }
     not_a_stability_scene(scene)?;

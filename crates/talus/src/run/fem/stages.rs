@@ -5,15 +5,17 @@
 use std::time::Instant;
 
 use talus_engine::Stepper;
+use talus_fem::{Dimension, ElementMesh, Mandel};
 
+use super::plots::PlasticStrainMap;
 use super::{Carried, FemOutputs, RunSummary, StageOutputs};
-use crate::analysis::stability;
+use crate::analysis::stability::{self, StabilityScene};
 use crate::model::fem::stages::{add_release, carry, out_of_balance, StageModel, Stages};
-use crate::model::fem::{FromScene, Model, State};
+use crate::model::fem::{Model, State};
 use crate::output::{RunStatus, StageSummary};
 use crate::run::checkpoint::{self, Checkpoint, CheckpointError};
 use crate::run::{RunError, RunOptions, RunOutputs, Span};
-use crate::scene::Scene;
+use crate::scene::{SceneOf, SceneVector};
 
 /// The force a stage releases (`model::fem::stages::out_of_balance`, free dofs, N/m) from
 /// 1 at `t0` to 0 at `t1` (s).
@@ -24,13 +26,20 @@ pub struct Release {
     pub t1: f64,
 }
 
-/// Runs every stage of `stages` (from the checkpoint's when `resumed`).
-pub fn run(
-    scene: &Scene,
-    stages: Stages,
+/// Runs every stage of `stages` (from the checkpoint's when `resumed`), in 2D or 3D.
+pub fn run<const N: usize, const D: usize>(
+    scene: &SceneOf<N>,
+    stages: Stages<D>,
     options: &RunOptions,
     resumed: Option<Checkpoint<serde_json::Value>>,
-) -> Result<RunSummary, RunError> {
+) -> Result<RunSummary<D>, RunError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+    Model<D>: PlasticStrainMap<D>,
+    SceneOf<N>: StabilityScene<D>,
+    crate::model::fem::MeshOf<D>: crate::model::fem::SceneMesh<D>,
+{
     let start = Instant::now();
     let h = scene.spec.time.step;
     let total = scene.spec.total_steps();
@@ -54,7 +63,7 @@ pub fn run(
         }
     };
     let mut resumed = resumed;
-    let mut previous: Option<(StageModel, State)> = None;
+    let mut previous: Option<(StageModel<D>, State<D>)> = None;
     let mut carried: Option<Carried> = None;
     let mut records = Vec::new();
     for (k, plan) in stages.plans.iter().enumerate().skip(first) {
@@ -69,12 +78,12 @@ pub fn run(
                         stage.model.n_points(),
                         dofs.n_free(),
                         dofs.n_prescribed(),
-                        stage.model.mesh.nodes.len(),
+                        stage.model.mesh.node_positions().len(),
                     ),
                     saved.as_ref().and_then(|s| s.release.clone()),
                 )
             }
-            None => (stage.model.initial_state(scene)?, None),
+            None => (crate::model::fem::initial_state(scene, &stage.model)?, None),
             Some((prev, prev_state)) => {
                 let state = carry(prev, prev_state, &stage, plan.spec.reset_displacements)
                     .map_err(|e| scene.error(&format!("stage[{k}]"), e))?;
@@ -217,14 +226,19 @@ pub fn run(
 
 /// The factor-of-safety search on `state` at the end of stage `name` (`[stability]`), its
 /// trials in `trials_<name>.csv`.
-fn factor_of_safety(
-    scene: &Scene,
-    model: &Model,
-    state: &State,
+fn factor_of_safety<const N: usize, const D: usize>(
+    scene: &SceneOf<N>,
+    model: &Model<D>,
+    state: &State<D>,
     name: &str,
     steps: usize,
     options: &RunOptions,
-) -> Result<stability::StabilityRun, RunError> {
+) -> Result<stability::StabilityRun<D>, RunError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+    SceneOf<N>: StabilityScene<D>,
+{
     let trials = options
         .out_dir
         .join(format!("trials_{}.csv", file_name(name)));

@@ -3,11 +3,12 @@
 //! `history.csv` with the reported boundary's reaction and settlement, each named
 //! boundary's `fx, fy, fz` and each monitor's `ux, uy, uz, vx, vy, vz`, `summary.json`,
 //! tetrahedral VTUs with `solution.pvd`, the force–displacement and Newton plots,
-//! checkpoints. No PNG field map: a map of a 3D body is a ParaView job.
+//! checkpoints, stages (`[[stage]]`, as in 2D). No PNG field map: a map of a 3D body is a ParaView job.
 use std::time::Instant;
 
 use super::{not_a_stability_scene, run_model, RunSummary};
 use crate::model::fem::model_3d;
+use crate::model::fem::stages::Stages;
 use crate::run::checkpoint::Checkpoint;
 use crate::run::{RunError, RunOptions};
 use crate::scene::Scene3;
@@ -18,6 +19,9 @@ pub fn run_scene_3d(
     options: &RunOptions,
     resumed: Option<Checkpoint<serde_json::Value>>,
 ) -> Result<RunSummary<6>, RunError> {
+    if let Some(stages) = Stages::<6>::of(scene)? {
+        return super::stages::run(scene, stages, options, resumed);
+    }
     not_a_stability_scene(scene)?;
     let start = Instant::now();
     let model = model_3d(scene)?;
