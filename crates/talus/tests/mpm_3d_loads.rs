@@ -141,9 +141,8 @@ fn a_surface_load_on_a_box_is_carried_by_the_floor_and_the_z_walls() {
         .filter(|f| f.iter().any(|c| *c != 0.0))
         .count();
     assert_eq!(loaded, 64, "the top layer");
-    let total: [f64; 3] = std::array::from_fn(|a| {
-        model.particles.external_force.iter().map(|f| f[a]).sum()
-    });
+    let total: [f64; 3] =
+        std::array::from_fn(|a| model.particles.external_force.iter().map(|f| f[a]).sum());
     let want = [0.0, -p * area, tz * area];
     for a in 0..3 {
         assert!(
@@ -259,10 +258,17 @@ plots = false
             })
             .collect()
     };
-    assert_eq!(rows(&runs[0].0), rows(&runs[1].0), "history.csv but `seconds`");
+    assert_eq!(
+        rows(&runs[0].0),
+        rows(&runs[1].0),
+        "history.csv but `seconds`"
+    );
     let fy = history_column(&runs[0].0, "floor_fy");
     println!("floor_fy at the end {:.6e} N/m", fy.last().unwrap());
-    assert!(fy.last().unwrap() > &(2.0 * 2.0e4 * 0.2), "the loads reached the floor");
+    assert!(
+        fy.last().unwrap() > &(2.0 * 2.0e4 * 0.2),
+        "the loads reached the floor"
+    );
 }
 
 /// A box filling a 4 × 4 × 4 grid, walled on all six faces.
@@ -353,11 +359,17 @@ fn a_uniform_isotropic_stress_in_a_walled_box_stays_in_equilibrium() {
                 .fold(0.0f64, f64::max)
         })
         .fold(0.0f64, f64::max);
-    let speed = p.velocity.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+    let speed = p
+        .velocity
+        .iter()
+        .flatten()
+        .fold(0.0f64, |m, v| m.max(v.abs()));
     let changed = (p.stress.iter())
         .map(|s| {
             let want = [s0, s0, s0, 0.0, 0.0, 0.0];
-            (0..6).map(|c| (s[c] - want[c]).abs()).fold(0.0f64, f64::max)
+            (0..6)
+                .map(|c| (s[c] - want[c]).abs())
+                .fold(0.0f64, f64::max)
         })
         .fold(0.0f64, f64::max);
     // The walls carry σ·n: |σ| A on each face.
@@ -429,7 +441,11 @@ fn the_six_components_land_in_their_mandel_slots() {
     let [xx, yy, zz, yz, xz, xy] = plain;
     let want = [xx, yy, zz, xy, yz, xz];
     let worst = (vtu.chunks(6))
-        .map(|s| (0..6).map(|c| (s[c] - want[c]).abs()).fold(0.0f64, f64::max))
+        .map(|s| {
+            (0..6)
+                .map(|c| (s[c] - want[c]).abs())
+                .fold(0.0f64, f64::max)
+        })
         .fold(0.0f64, f64::max);
     println!("step-0 VTU against the plain components: {worst:.2e} Pa");
     assert_eq!(vtu.len(), 6 * 512);
@@ -518,8 +534,12 @@ point = [0.225, 0.375, 0.325]
     let n = steps as f64;
     let mut worst = [0.0f64; 3];
     for (a, c) in ["x", "y", "z"].iter().enumerate() {
-        let mu = *history_column(&out, &format!("corner_u{c}")).last().unwrap();
-        let mv = *history_column(&out, &format!("corner_v{c}")).last().unwrap();
+        let mu = *history_column(&out, &format!("corner_u{c}"))
+            .last()
+            .unwrap();
+        let mv = *history_column(&out, &format!("corner_v{c}"))
+            .last()
+            .unwrap();
         let (pu, pv) = (u[3 * k + a], v[3 * k + a]);
         let (cu, cv) = (n * (n + 1.0) / 2.0 * h * h * g[a], n * h * g[a]);
         println!(
@@ -527,8 +547,12 @@ point = [0.225, 0.375, 0.325]
              closed form u {cu:.10e} v {cv:.10e}"
         );
         // history.csv's 11 digits; the particle's and the closed form's to round-off.
-        worst[0] = worst[0].max((mu - pu).abs() / cu.abs()).max((mv - pv).abs() / cv.abs());
-        worst[1] = worst[1].max((pu - cu).abs() / cu.abs()).max((pv - cv).abs() / cv.abs());
+        worst[0] = worst[0]
+            .max((mu - pu).abs() / cu.abs())
+            .max((mv - pv).abs() / cv.abs());
+        worst[1] = worst[1]
+            .max((pu - cu).abs() / cu.abs())
+            .max((pv - cv).abs() / cv.abs());
         worst[2] = worst[2].max((mu - cu).abs() / cu.abs());
     }
     println!(
@@ -539,7 +563,11 @@ point = [0.225, 0.375, 0.325]
     // The monitor is read from history.csv's 11 digits (5e-11 relative); the particle's
     // VTU values are the closed form's to round-off (measured 1.0e-13 of each).
     assert!(worst[0] <= 1e-10, "monitor vs particle {:.3e}", worst[0]);
-    assert!(worst[1] <= 1e-12, "particle vs closed form {:.3e}", worst[1]);
+    assert!(
+        worst[1] <= 1e-12,
+        "particle vs closed form {:.3e}",
+        worst[1]
+    );
     // Every row: the monitor's uy and vy follow the closed form from step 0.
     let (uy, vy) = (
         history_column(&out, "corner_uy"),
@@ -554,14 +582,16 @@ point = [0.225, 0.375, 0.325]
     }
     // summary.json: the monitor with its three components of each.
     let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
-            .unwrap();
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     let m = &summary["monitors"]["corner"];
     for key in ["ux", "uy", "uz", "vx", "vy", "vz"] {
         assert!(m[key].is_f64(), "summary.json monitors.corner.{key}: {m}");
     }
     let uz = m["uz"].as_f64().unwrap();
-    assert!((uz / (n * (n + 1.0) / 2.0 * h * h * g[2]) - 1.0).abs() <= 1e-12, "uz {uz}");
+    assert!(
+        (uz / (n * (n + 1.0) / 2.0 * h * h * g[2]) - 1.0).abs() <= 1e-12,
+        "uz {uz}"
+    );
 }
 
 fn refused(text: &str) -> SceneError {
@@ -724,7 +754,11 @@ steps = 1
     MpmModel::from_scene(&MpmScene::parse(good, None).unwrap()).unwrap();
     let cases: Vec<(String, &str, &str)> = vec![
         (
-            replaced(good, "traction = [0.0, -1.0e3]", "traction = [0.0, -1.0e3, 0.0]"),
+            replaced(
+                good,
+                "traction = [0.0, -1.0e3]",
+                "traction = [0.0, -1.0e3, 0.0]",
+            ),
             "surface_load[0].traction",
             "3 components",
         ),

@@ -343,7 +343,11 @@ fn bad_3d_mpm_inputs_are_named() {
     let cases: Vec<(String, &str, &str)> = vec![
         // 2-component vectors in a 3D scene
         (
-            replaced(&good, "gravity = [0.0, -9.81, 0.0]", "gravity = [0.0, -9.81]"),
+            replaced(
+                &good,
+                "gravity = [0.0, -9.81, 0.0]",
+                "gravity = [0.0, -9.81]",
+            ),
             "gravity",
             "2 components",
         ),

@@ -1,7 +1,7 @@
 //! A material-point model from a scene (`[grid]`), 2D or 3D (`docs/3d-mpm.md`): the solver
 //! and its particles, every input checked first so that a bad scene is an error naming the
 //! field and the value, never a panic. One build for both dimensions; what differs (the
-//! grid, the bodies' fills, the runout, what 3D does not take yet) is [`MpmSpace`].
+//! grid, the bodies' fills) is [`MpmSpace`].
 use talus_mpm::{
     front, radial_front, Dimension, Grid, GridBoundary, Mandel, Mpm, MpmError, MpmSettings,
     Particles, PrescribedVelocity, ShapeFunction, Side, Wall, WallCondition,
@@ -1077,9 +1077,7 @@ where
         )),
         (None, None) => Err(scene.error(
             &format!("surface_load[{k}]"),
-            format!(
-                "no load: give `pressure = p` (Pa, downward) or `traction = {form}` (Pa)"
-            ),
+            format!("no load: give `pressure = p` (Pa, downward) or `traction = {form}` (Pa)"),
         )),
     }
 }
@@ -1107,7 +1105,9 @@ where
         let eps = EPS * scene.spec.grid.spacing;
         let position = &particles.position;
         let mut loaded: Vec<usize> = (0..particles.len())
-            .filter(|&p| (0..N).all(|a| position[p][a] >= lo[a] - eps && position[p][a] <= hi[a] + eps))
+            .filter(|&p| {
+                (0..N).all(|a| position[p][a] >= lo[a] - eps && position[p][a] <= hi[a] + eps)
+            })
             .collect();
         if loaded.is_empty() {
             return Err(scene.error(&field, format!("{:?} holds no particle centre", s.region)));
@@ -1131,8 +1131,8 @@ where
                     break;
                 }
                 let half = 0.5 * side(a).min(side(b));
-                let column = gap < half
-                    && (2..N).all(|c| (position[b][c] - position[a][c]).abs() < half);
+                let column =
+                    gap < half && (2..N).all(|c| (position[b][c] - position[a][c]).abs() < half);
                 if !column {
                     continue;
                 }

@@ -111,8 +111,8 @@ pub fn check_dimension(source: &str, path: Option<&PathBuf>, dim: usize) -> Resu
             }
         }
     }
-    let stress = (table.get("initial_stress").and_then(|t| t.get("stress")))
-        .and_then(|v| v.as_array());
+    let stress =
+        (table.get("initial_stress").and_then(|t| t.get("stress"))).and_then(|v| v.as_array());
     if let Some(stress) = stress {
         let n = stress.len();
         let (other, this, form) = if three_d {
