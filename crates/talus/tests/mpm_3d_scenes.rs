@@ -343,7 +343,11 @@ fn bad_3d_mpm_inputs_are_named() {
     let cases: Vec<(String, &str, &str)> = vec![
         // 2-component vectors in a 3D scene
         (
-            replaced(&good, "gravity = [0.0, -9.81, 0.0]", "gravity = [0.0, -9.81]"),
+            replaced(
+                &good,
+                "gravity = [0.0, -9.81, 0.0]",
+                "gravity = [0.0, -9.81]",
+            ),
             "gravity",
             "2 components",
         ),
@@ -415,22 +419,6 @@ fn bad_3d_mpm_inputs_are_named() {
             ),
             "body[0].cylinder",
             "one shape",
-        ),
-        // what 3D does not take yet
-        (
-            format!("{good}\n[[surface_load]]\nregion = [[0.0, 0.2, 0.0], [0.1, 0.2, 0.02]]\npressure = 1.0\n"),
-            "surface_load",
-            "not supported",
-        ),
-        (
-            format!("{good}\n[initial_stress]\nk0 = 0.5\nsurface = 0.2\n"),
-            "initial_stress",
-            "not supported",
-        ),
-        (
-            format!("{good}\n[[monitor]]\nname = \"top\"\npoint = [0.05, 0.15, 0.01]\n"),
-            "monitor",
-            "not supported",
         ),
         (
             replaced(&good, "geometry = \"3d\"", "geometry = \"axisymmetric\""),

@@ -110,18 +110,18 @@ where
     })
 }
 
-/// The initial stress (Mandel, Pa) of `spec` at each of `points` (m): the K₀ procedure
-/// ([`k0_stress_at`]) or a uniform `stress` ([`uniform_stress`]). Errors name
-/// `initial_stress.*`: neither or both forms, a point above the surface, a state outside
-/// the cone.
-pub fn initial_stress_at(
+/// The initial stress (Mandel of size `D`, Pa) of `spec` at each of `points` (m, y
+/// vertical; 2 or 3 coordinates): the K₀ procedure ([`k0_stress_at`]) or a uniform
+/// `stress` ([`uniform_stress`]). Errors name `initial_stress.*`: neither or both forms, a
+/// point above the surface, a state outside the cone.
+pub fn initial_stress_at<const D: usize, V: SceneVector>(
     scene: &impl Locate,
     material: Option<&DruckerPrager>,
     gamma: f64,
-    spec: &InitialStressSpec,
-    points: &[[f64; 2]],
+    spec: &InitialStressSpec<V>,
+    points: &[impl AsRef<[f64]>],
     weight_above: Option<&[f64]>,
-) -> Result<Vec<[f64; 4]>, SceneError> {
+) -> Result<Vec<[f64; D]>, SceneError> {
     let k0_fields = [
         ("k0", spec.k0.is_some()),
         ("surface", spec.surface.is_some()),
@@ -137,7 +137,7 @@ pub fn initial_stress_at(
             ),
         )),
         (Some(stress), _, _) => {
-            let s = uniform_stress(scene, material, stress)?;
+            let s = uniform_stress(scene, material, stress.as_ref())?;
             Ok(vec![s; points.len()])
         }
         (None, Some(k0), Some(surface)) => k0_stress_at(
@@ -152,7 +152,10 @@ pub fn initial_stress_at(
         ),
         (None, None, _) => Err(scene.error(
             "initial_stress",
-            "give either `stress = [sxx, syy, sxy, szz]` or the K₀ procedure (`k0`, `surface`, `surcharge`)",
+            format!(
+                "give either `stress = {}` or the K₀ procedure (`k0`, `surface`, `surcharge`)",
+                V::STRESS_FORM
+            ),
         )),
         (None, Some(_), None) => Err(scene.error(
             "initial_stress.surface",
@@ -161,38 +164,62 @@ pub fn initial_stress_at(
     }
 }
 
-/// `[σxx, σyy, σxy, σzz]` (Pa, tension positive) as the Mandel vector
-/// `(σxx, σyy, σzz, √2 σxy)` (`docs/conventions.md`, 'Stress space').
-pub fn mandel_from_components(stress: [f64; 4]) -> [f64; 4] {
-    let [xx, yy, xy, zz] = stress;
-    [xx, yy, zz, std::f64::consts::SQRT_2 * xy]
+/// A uniform stress's plain components (Pa, tension positive) as the Mandel vector
+/// (`docs/conventions.md`, 'Stress space'): 2D's `[σxx, σyy, σxy, σzz]` as
+/// `(σxx, σyy, σzz, √2 σxy)`, 3D's `[σxx, σyy, σzz, σyz, σxz, σxy]` as
+/// `(σxx, σyy, σzz, √2 σyz, √2 σxz, √2 σxy)`.
+pub fn mandel_from_components<const D: usize>(stress: [f64; D]) -> [f64; D] {
+    let mut m = stress;
+    if D == 4 {
+        // 2D gives σxy before σzz.
+        m.swap(2, 3);
+    }
+    for c in &mut m[3..] {
+        *c *= std::f64::consts::SQRT_2;
+    }
+    m
 }
 
-/// The uniform initial stress `[σxx, σyy, σxy, σzz]` (Pa) in Mandel form, refused (naming
-/// `initial_stress.stress`) when not finite or outside the yield cone, with the distance.
-pub fn uniform_stress(
+/// The uniform initial stress `stress` (plain components, [`mandel_from_components`]; Pa)
+/// in Mandel form, refused (naming `initial_stress.stress`) when not finite, not of `D`
+/// components or outside the yield cone, with the distance.
+pub fn uniform_stress<const D: usize>(
     scene: &impl Locate,
     material: Option<&DruckerPrager>,
-    stress: [f64; 4],
-) -> Result<[f64; 4], SceneError> {
+    stress: &[f64],
+) -> Result<[f64; D], SceneError> {
+    let Ok(plain) = <[f64; D]>::try_from(stress) else {
+        return Err(scene.error(
+            "initial_stress.stress",
+            format!(
+                "{stress:?} has {} components, the stress of this scene {D}",
+                stress.len()
+            ),
+        ));
+    };
     if !stress.iter().all(|s| s.is_finite()) {
         return Err(scene.error(
             "initial_stress.stress",
             format!("{stress:?} Pa must be finite"),
         ));
     }
-    let m = mandel_from_components(stress);
+    let m = mandel_from_components(plain);
     let Some(material) = material else {
         return Ok(m);
     };
-    let s = nalgebra::SVector::<f64, 4>::from(m);
+    let s = nalgebra::SVector::<f64, D>::from(m);
     let f = material.yield_function(&s);
     if f > 1e-9 * s.norm().max(material.parameters().cohesion) {
+        let order = if D == 6 {
+            "(σxx, σyy, σzz, σyz, σxz, σxy)"
+        } else {
+            "(σxx, σyy, σxy, σzz)"
+        };
         // f = ‖dev σ‖/k_d + p tan φ − c: f > 0 is how far outside, in Pa of cohesion.
         return Err(scene.error(
             "initial_stress.stress",
             format!(
-                "{stress:?} Pa (σxx, σyy, σxy, σzz) lies outside the yield cone: f = {f:.4e} Pa > 0 \
+                "{stress:?} Pa {order} lies outside the yield cone: f = {f:.4e} Pa > 0 \
                  (p = {:.4e} Pa, ‖dev σ‖ = {:.4e} Pa; the cohesion would have to be {:.4e} Pa larger)",
                 (s[0] + s[1] + s[2]) / 3.0,
                 deviator_norm(&s),
@@ -203,27 +230,28 @@ pub fn uniform_stress(
     Ok(m)
 }
 
-fn deviator_norm(s: &nalgebra::SVector<f64, 4>) -> f64 {
+fn deviator_norm<const D: usize>(s: &nalgebra::SVector<f64, D>) -> f64 {
     let p = (s[0] + s[1] + s[2]) / 3.0;
-    ((s[0] - p).powi(2) + (s[1] - p).powi(2) + (s[2] - p).powi(2) + s[3].powi(2)).sqrt()
+    let normal = (s[0] - p).powi(2) + (s[1] - p).powi(2) + (s[2] - p).powi(2);
+    (3..D).fold(normal, |sum, c| sum + s[c].powi(2)).sqrt()
 }
 
-/// The K₀ stress (Mandel, Pa) at each of `points` (m) under a ground of unit weight
-/// `gamma = ρ g` (N/m³): `σ_yy = −(surcharge + γ (surface − y))`, or with
-/// `weight_above[i]` (Pa) in place of `γ (surface − y)` (layers), `σ_xx = σ_zz = K₀ σ_yy`.
-/// Errors name `initial_stress.*`: a point above the surface, a state outside the cone (of
-/// `material`; none for an elastic one).
+/// The K₀ stress (Mandel of size `D`, Pa) at each of `points` (m, y vertical) under a
+/// ground of unit weight `gamma = ρ g` (N/m³): `σ_yy = −(surcharge + γ (surface − y))`, or
+/// with `weight_above[i]` (Pa) in place of `γ (surface − y)` (layers),
+/// `σ_xx = σ_zz = K₀ σ_yy`, no shear. Errors name `initial_stress.*`: a point above the
+/// surface, a state outside the cone (of `material`; none for an elastic one).
 #[allow(clippy::too_many_arguments)]
-pub fn k0_stress_at(
+pub fn k0_stress_at<const D: usize>(
     scene: &impl Locate,
     material: Option<&DruckerPrager>,
     gamma: f64,
     k0: f64,
     surface: f64,
     surcharge: f64,
-    points: &[[f64; 2]],
+    points: &[impl AsRef<[f64]>],
     weight_above: Option<&[f64]>,
-) -> Result<Vec<[f64; 4]>, SceneError> {
+) -> Result<Vec<[f64; D]>, SceneError> {
     if !(k0.is_finite() && k0 > 0.0) {
         return Err(scene.error("initial_stress.k0", format!("{k0} must be finite and > 0")));
     }
@@ -238,13 +266,15 @@ pub fn k0_stress_at(
     }
     let mut sigma = Vec::with_capacity(points.len());
     for (i, x) in points.iter().enumerate() {
+        let x = x.as_ref();
         let depth = surface - x[1];
         if depth < -1e-9 * surface.abs().max(1.0) {
+            let at: Vec<String> = x.iter().map(|c| format!("{c:.4}")).collect();
             return Err(scene.error(
                 "initial_stress.surface",
                 format!(
-                    "point ({:.4}, {:.4}) lies above the surface y = {surface}",
-                    x[0], x[1]
+                    "point ({}) lies above the surface y = {surface}",
+                    at.join(", ")
                 ),
             ));
         }
@@ -252,7 +282,11 @@ pub fn k0_stress_at(
             Some(w) => -(surcharge + w[i]),
             None => -(surcharge + gamma * depth.max(0.0)),
         };
-        let s = nalgebra::SVector::<f64, 4>::new(k0 * vertical, vertical, k0 * vertical, 0.0);
+        let s = nalgebra::SVector::<f64, D>::from_fn(|c, _| match c {
+            0 | 2 => k0 * vertical,
+            1 => vertical,
+            _ => 0.0,
+        });
         if !(k0 * vertical).is_finite() {
             // The cone test below cannot judge an infinite stress (its f is NaN).
             return Err(scene.error(
@@ -263,7 +297,7 @@ pub fn k0_stress_at(
             ));
         }
         let Some(material) = material else {
-            sigma.push([s[0], s[1], s[2], s[3]]);
+            sigma.push(s.into());
             continue;
         };
         let f = material.yield_function(&s);
@@ -278,7 +312,7 @@ pub fn k0_stress_at(
                 ),
             ));
         }
-        sigma.push([s[0], s[1], s[2], s[3]]);
+        sigma.push(s.into());
     }
     Ok(sigma)
 }

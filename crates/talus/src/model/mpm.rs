@@ -1,7 +1,7 @@
 //! A material-point model from a scene (`[grid]`), 2D or 3D (`docs/3d-mpm.md`): the solver
 //! and its particles, every input checked first so that a bad scene is an error naming the
 //! field and the value, never a panic. One build for both dimensions; what differs (the
-//! grid, the bodies' fills, the runout, what 3D does not take yet) is [`MpmSpace`].
+//! grid, the bodies' fills) is [`MpmSpace`].
 use talus_mpm::{
     front, radial_front, Dimension, Grid, GridBoundary, Mandel, Mpm, MpmError, MpmSettings,
     Particles, PrescribedVelocity, ShapeFunction, Side, Wall, WallCondition,
@@ -111,22 +111,6 @@ where
 
     /// The prescribed components of a box from `[vx, vy(, vz)]`.
     fn components(v: &[Option<f64>]) -> Self::Components;
-
-    /// `[[surface_load]]` (2D only so far).
-    fn surface_loads(
-        scene: &SceneDocument<MpmSceneSpec<Self::Point>>,
-        particles: &mut Particles<D>,
-    ) -> Result<Vec<RampedSurfaceLoad<D>>, SceneError>;
-
-    /// `[initial_stress]` at every particle (2D only so far).
-    fn initial_stress(
-        scene: &SceneDocument<MpmSceneSpec<Self::Point>>,
-        initial: &InitialStressSpec,
-        materials: &BodyMaterials,
-        gammas: &[f64],
-        densities: &[f64],
-        particles: &Particles<D>,
-    ) -> Result<Vec<[f64; D]>, SceneError>;
 }
 
 impl MpmSpace<4> for Mandel<4> {
@@ -157,28 +141,7 @@ impl MpmSpace<4> for Mandel<4> {
     fn components(v: &[Option<f64>]) -> [Option<f64>; 2] {
         [v[0], v[1]]
     }
-
-    fn surface_loads(
-        scene: &MpmScene,
-        particles: &mut Particles,
-    ) -> Result<Vec<RampedSurfaceLoad>, SceneError> {
-        surface_loads(scene, particles)
-    }
-
-    fn initial_stress(
-        scene: &MpmScene,
-        initial: &InitialStressSpec,
-        materials: &BodyMaterials,
-        gammas: &[f64],
-        densities: &[f64],
-        particles: &Particles,
-    ) -> Result<Vec<[f64; 4]>, SceneError> {
-        initial_stress(scene, initial, materials, gammas, densities, particles)
-    }
 }
-
-/// What 3D does not take yet, named.
-const NOT_3D_YET: &str = "is not supported in a 3D MPM scene yet (docs/3d-mpm.md, 'Left to do')";
 
 impl MpmSpace<6> for Mandel<6> {
     fn grid(
@@ -213,27 +176,6 @@ impl MpmSpace<6> for Mandel<6> {
 
     fn components(v: &[Option<f64>]) -> [Option<f64>; 3] {
         [v[0], v[1], v[2]]
-    }
-
-    fn surface_loads(
-        scene: &MpmScene3,
-        _: &mut Particles<6>,
-    ) -> Result<Vec<RampedSurfaceLoad<6>>, SceneError> {
-        if scene.spec.surface_load.is_empty() {
-            return Ok(Vec::new());
-        }
-        Err(scene.error("surface_load", NOT_3D_YET))
-    }
-
-    fn initial_stress(
-        scene: &MpmScene3,
-        _: &InitialStressSpec,
-        _: &BodyMaterials,
-        _: &[f64],
-        _: &[f64],
-        _: &Particles<6>,
-    ) -> Result<Vec<[f64; 6]>, SceneError> {
-        Err(scene.error("initial_stress", NOT_3D_YET))
     }
 }
 
@@ -344,10 +286,7 @@ where
         let walls = walls(scene)?;
         let (prescribed, prescribed_ramps) = prescribed(scene, &grid)?;
         let reaction = reaction(scene, walls.len(), &prescribed)?;
-        let ramped_surface_loads = Mandel::<D>::surface_loads(scene, &mut particles)?;
-        if three_d && !spec.monitor.is_empty() {
-            return Err(scene.error("monitor", NOT_3D_YET));
-        }
+        let ramped_surface_loads = surface_loads(scene, &mut particles)?;
         if let Some(initial) = &spec.initial_stress {
             // In equilibrium with the gravity of the start, t = 0 (`gravity_ramp` scales it).
             let gammas: Vec<f64> = densities
@@ -357,9 +296,8 @@ where
                     None => -density * gravity[1],
                 })
                 .collect();
-            particles.stress = Mandel::<D>::initial_stress(
-                scene, initial, &materials, &gammas, &densities, &particles,
-            )?;
+            particles.stress =
+                initial_stress(scene, initial, &materials, &gammas, &densities, &particles)?;
         }
         check::time(scene, &spec.time)?;
         check::solver(scene, &spec.solver)?;
@@ -543,18 +481,22 @@ fn densities<V: SceneVector>(
 /// elastic material has none). `gammas`: each material's unit weight at t = 0 (N/m³). The
 /// K₀ procedure takes one unit weight: bodies of different densities under gravity are
 /// refused (the weight of the layers above a particle is not known to MPM yet).
-fn initial_stress(
-    scene: &MpmScene,
-    initial: &InitialStressSpec,
+fn initial_stress<const D: usize, const N: usize>(
+    scene: &MpmDocument<N>,
+    initial: &InitialStressSpec<[f64; N]>,
     materials: &BodyMaterials,
     gammas: &[f64],
     densities: &[f64],
-    particles: &Particles,
-) -> Result<Vec<[f64; 4]>, SceneError> {
+    particles: &Particles<D>,
+) -> Result<Vec<[f64; D]>, SceneError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+{
     let spec = &scene.spec;
     // The form and the numbers first (no point, no cone): the errors below are a
     // material's, at its particles.
-    initial_stress_at(scene, None, gammas[0], initial, &[], None)?;
+    initial_stress_at::<D, _>(scene, None, gammas[0], initial, &[] as &[[f64; N]], None)?;
     if initial.k0.is_some() && gammas.iter().any(|g| *g != gammas[0]) {
         let all = spec.material.all();
         let listed: Vec<String> = (densities.iter().enumerate())
@@ -573,7 +515,7 @@ fn initial_stress(
             ),
         ));
     }
-    let mut stress = vec![[0.0; 4]; particles.len()];
+    let mut stress = vec![[0.0; D]; particles.len()];
     for (k, material) in materials.materials.iter().enumerate() {
         let members: Vec<usize> = (0..particles.len())
             .filter(|&p| particles.material_of(p) == k)
@@ -581,7 +523,7 @@ fn initial_stress(
         if members.is_empty() {
             continue;
         }
-        let points: Vec<[f64; 2]> = members.iter().map(|&p| particles.position[p]).collect();
+        let points: Vec<[f64; N]> = members.iter().map(|&p| particles.position[p]).collect();
         let at = initial_stress_at(
             scene,
             material.drucker_prager(),
@@ -622,8 +564,11 @@ fn check_scales<V: SceneVector>(
             (b.min(lo[1]), t.max(hi[1]))
         });
     let loads = spec.surface_load.iter().enumerate().map(|(k, l)| {
-        let v = l.pressure * ramp_max(&l.ramp);
-        (format!("surface_load[{k}].pressure"), v)
+        let (key, v) = match (l.pressure, l.traction) {
+            (Some(p), _) => ("pressure", p),
+            (None, t) => ("traction", t.map_or(0.0, |t| norm(t.as_ref()))),
+        };
+        (format!("surface_load[{k}].{key}"), v * ramp_max(&l.ramp))
     });
     let speeds = spec.prescribed.iter().enumerate().map(|(k, p)| {
         let given = [p.velocity_x, p.velocity_y, p.velocity_z];
@@ -1088,61 +1033,146 @@ where
     }
 }
 
-/// Each load puts `pressure × √V_p` (N/m) downward on the particles whose centres lie in
-/// its region: the pressure times the particle's width along a horizontal surface. A load
-/// without a ramp goes into `Particles::external_force`, as it always did; a ramped one is
-/// returned at multiplier 1.
-fn surface_loads(
-    scene: &MpmScene,
-    particles: &mut Particles,
-) -> Result<Vec<RampedSurfaceLoad>, SceneError> {
+/// The face a particle of volume `V_p` shows on the surface: its width `√V_p` (2D, per
+/// metre of thickness) or the area `V_p^(2/3)` of its cube (3D).
+fn face<const N: usize>(volume: f64) -> f64 {
+    if N == 3 {
+        volume.cbrt().powi(2)
+    } else {
+        volume.sqrt()
+    }
+}
+
+/// Surface load `k`'s traction (Pa): its `traction`, or its `pressure` downward, finite,
+/// one of them.
+fn traction<const N: usize>(scene: &MpmDocument<N>, k: usize) -> Result<[f64; N], SceneError>
+where
+    [f64; N]: SceneVector,
+{
+    let s = &scene.spec.surface_load[k];
+    let form = if N == 3 { "[tx, ty, tz]" } else { "[tx, ty]" };
+    match (s.pressure, s.traction) {
+        (Some(p), None) => {
+            if !(p.is_finite() && p >= 0.0) {
+                return Err(scene.error(
+                    &format!("surface_load[{k}].pressure"),
+                    format!("{p} Pa must be finite and ≥ 0"),
+                ));
+            }
+            // A pressure pushes down: −p along y.
+            Ok(std::array::from_fn(|a| if a == 1 { -p } else { 0.0 }))
+        }
+        (None, Some(t)) => {
+            if !t.iter().all(|c| c.is_finite()) {
+                return Err(scene.error(
+                    &format!("surface_load[{k}].traction"),
+                    format!("{t:?} Pa must be finite"),
+                ));
+            }
+            Ok(t)
+        }
+        (Some(p), Some(t)) => Err(scene.error(
+            &format!("surface_load[{k}].traction"),
+            format!("{t:?} and pressure = {p}: give either `pressure` or `traction`, not both"),
+        )),
+        (None, None) => Err(scene.error(
+            &format!("surface_load[{k}]"),
+            format!("no load: give `pressure = p` (Pa, downward) or `traction = {form}` (Pa)"),
+        )),
+    }
+}
+
+/// Each load puts its traction times the particle's face ([`face`]: `√V_p` per metre in 2D,
+/// `V_p^(2/3)` in 3D) on the particles whose centres lie in its region: a downward
+/// `pressure` is the traction `(0, −p(, 0))`. A load without a ramp goes into
+/// `Particles::external_force`, as it always did; a ramped one is returned at multiplier 1.
+/// The region must hold only the surface row (3D: layer): two particles in one column
+/// (of the same x, in 3D x and z) would count the load twice.
+fn surface_loads<const D: usize, const N: usize>(
+    scene: &MpmDocument<N>,
+    particles: &mut Particles<D>,
+) -> Result<Vec<RampedSurfaceLoad<D>>, SceneError>
+where
+    Mandel<D>: Dimension<Point = [f64; N]>,
+    [f64; N]: SceneVector,
+{
     let mut ramped = Vec::new();
     for (k, s) in scene.spec.surface_load.iter().enumerate() {
         let field = format!("surface_load[{k}].region");
         check_rectangle(scene, &field, s.region, true)?;
-        if !(s.pressure.is_finite() && s.pressure >= 0.0) {
-            return Err(scene.error(
-                &format!("surface_load[{k}].pressure"),
-                format!("{} Pa must be finite and ≥ 0", s.pressure),
-            ));
-        }
-        let [[x0, y0], [x1, y1]] = s.region;
+        let traction = traction(scene, k)?;
+        let [lo, hi] = s.region;
         let eps = EPS * scene.spec.grid.spacing;
+        let position = &particles.position;
         let mut loaded: Vec<usize> = (0..particles.len())
             .filter(|&p| {
-                let [x, y] = particles.position[p];
-                x >= x0 - eps && x <= x1 + eps && y >= y0 - eps && y <= y1 + eps
+                (0..N).all(|a| position[p][a] >= lo[a] - eps && position[p][a] <= hi[a] + eps)
             })
             .collect();
         if loaded.is_empty() {
             return Err(scene.error(&field, format!("{:?} holds no particle centre", s.region)));
         }
-        loaded.sort_by(|&a, &b| particles.position[a][0].total_cmp(&particles.position[b][0]));
-        for pair in loaded.windows(2) {
-            let [a, b] = [pair[0], pair[1]];
-            let half = 0.5 * particles.volume[a].sqrt().min(particles.volume[b].sqrt());
-            if particles.position[b][0] - particles.position[a][0] < half {
+        loaded.sort_by(|&a, &b| position[a][0].total_cmp(&position[b][0]));
+        // A particle's side: √V_p, ∛V_p.
+        let side = |p: usize| {
+            let v = particles.volume[p];
+            if N == 3 {
+                v.cbrt()
+            } else {
+                v.sqrt()
+            }
+        };
+        let widest = loaded.iter().fold(0.0f64, |w, &p| w.max(side(p)));
+        for (i, &a) in loaded.iter().enumerate() {
+            // The particles after `a` in x within half the widest side, in its column.
+            for &b in &loaded[i + 1..] {
+                let gap = position[b][0] - position[a][0];
+                if gap >= 0.5 * widest {
+                    break;
+                }
+                let half = 0.5 * side(a).min(side(b));
+                let column =
+                    gap < half && (2..N).all(|c| (position[b][c] - position[a][c]).abs() < half);
+                if !column {
+                    continue;
+                }
+                let (at, surface) = if N == 3 {
+                    (
+                        format!(
+                            "(x, z) = ({:.6}, {:.6}) m",
+                            position[a][0],
+                            position[a][N - 1]
+                        ),
+                        "surface layer",
+                    )
+                } else {
+                    (format!("x = {:.6} m", position[a][0]), "surface row")
+                };
                 return Err(scene.error(
                     &field,
                     format!(
-                        "{:?} holds more than one particle at x = {:.6} m: the region must hold \
-                         only the surface row, or the load counts twice",
-                        s.region, particles.position[a][0]
+                        "{:?} holds more than one particle at {at}: the region must hold \
+                         only the {surface}, or the load counts twice",
+                        s.region
                     ),
                 ));
             }
         }
+        let force = |p: usize| -> [f64; N] {
+            let area = face::<N>(particles.volume[p]);
+            std::array::from_fn(|a| traction[a] * area)
+        };
         match check::ramp(scene, &format!("surface_load[{k}].ramp"), &s.ramp)? {
             None => {
                 for p in loaded {
-                    particles.external_force[p][1] -= s.pressure * particles.volume[p].sqrt();
+                    let f = force(p);
+                    for (sum, fa) in particles.external_force[p].iter_mut().zip(f) {
+                        *sum += fa;
+                    }
                 }
             }
             Some(ramp) => {
-                let force = loaded
-                    .iter()
-                    .map(|&p| [0.0, -s.pressure * particles.volume[p].sqrt()])
-                    .collect();
+                let force = loaded.iter().map(|&p| force(p)).collect();
                 ramped.push(RampedSurfaceLoad {
                     ramp,
                     particles: loaded,

@@ -35,7 +35,7 @@ pub(super) fn parse_mpm<V: SceneVector>(
 }
 
 /// The vectors of an MPM scene and how many points each holds (1, or 2 corners).
-const VECTORS: [(&str, &str, usize); 7] = [
+const VECTORS: [(&str, &str, usize); 10] = [
     ("", "gravity", 1),
     ("grid", "origin", 1),
     ("grid", "cells", 1),
@@ -43,10 +43,14 @@ const VECTORS: [(&str, &str, usize); 7] = [
     ("body", "box", 2),
     ("prescribed", "region", 2),
     ("prescribed", "velocity", 1),
+    ("surface_load", "region", 2),
+    ("surface_load", "traction", 1),
+    ("monitor", "point", 1),
 ];
 
 /// Refuses in an MPM scene of `dim` dimensions (its source) a vector of the other
-/// dimension (`gravity = [0, -9.81]` in 3D, `[grid] cells` of 3 in 2D) and the keys of
+/// dimension (`gravity = [0, -9.81]` in 3D, `[grid] cells` of 3 in 2D), a uniform initial
+/// stress of the other dimension (4 components in 3D, 6 in 2D) and the keys of
 /// the other dimension: in 2D `box`, `cylinder`, `velocity_z`, a wall on `back`/`front`;
 /// in 3D `rectangle`. Each error names the field (`body[0].box`) and its line. What the
 /// schema refuses anyway (a bad TOML) is left to it.
@@ -105,6 +109,34 @@ pub fn check_dimension(source: &str, path: Option<&PathBuf>, dim: usize) -> Resu
                     ));
                 }
             }
+        }
+    }
+    let stress =
+        (table.get("initial_stress").and_then(|t| t.get("stress"))).and_then(|v| v.as_array());
+    if let Some(stress) = stress {
+        let n = stress.len();
+        let (other, this, form) = if three_d {
+            (4, "3D", <[f64; 3]>::STRESS_FORM.to_string())
+        } else {
+            (
+                6,
+                "2D",
+                format!(
+                    "{}; [analysis] geometry = \"3d\" makes a scene 3D",
+                    <[f64; 2]>::STRESS_FORM
+                ),
+            )
+        };
+        if n == other {
+            return Err(at(
+                "initial_stress.stress",
+                format!(
+                    "{} has {n} components: the uniform stress of a {this} MPM scene has {} \
+                     ({form})",
+                    toml::Value::Array(stress.clone()),
+                    if three_d { 6 } else { 4 }
+                ),
+            ));
         }
     }
     let items = |section: &str| -> Vec<toml::Table> {

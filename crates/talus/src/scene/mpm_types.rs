@@ -35,9 +35,10 @@ pub struct MpmSceneSpec<V: SceneVector = [f64; 2]> {
     pub prescribed: Vec<PrescribedSpec<V>>,
     #[serde(default)]
     pub surface_load: Vec<SurfaceLoadSpec<V>>,
-    /// K₀ or uniform stress at every particle (default: stress free).
+    /// K₀ or uniform stress at every particle (default: stress free); a uniform `stress`
+    /// has 4 components in 2D, 6 in 3D.
     #[serde(default)]
-    pub initial_stress: Option<InitialStressSpec>,
+    pub initial_stress: Option<InitialStressSpec<V>>,
     /// Only `kind = "dynamic"` (the default): the material point method follows the flow.
     #[serde(default)]
     pub analysis: AnalysisSpec,
@@ -174,14 +175,19 @@ pub struct PrescribedSpec<V: SceneVector = [f64; 2]> {
     pub ramp: Option<Vec<[f64; 2]>>,
 }
 
-/// A downward pressure (Pa) carried by the particles whose centres lie in `region` (2D
-/// only so far).
+/// A load on the surface of the bodies, carried by the particles whose centres lie in
+/// `region` (the surface row, in 3D the surface layer): a downward `pressure` (Pa) or a
+/// `traction = [tx, ty]` (3D: `[tx, ty, tz]`, Pa), one of them; each particle takes it
+/// times its face, `√V_p` per metre in 2D, `V_p^(2/3)` in 3D.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, bound = "")]
 pub struct SurfaceLoadSpec<V: SceneVector = [f64; 2]> {
     pub region: [V; 2],
-    pub pressure: f64,
-    /// Multiplier of the pressure in time.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pressure: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub traction: Option<V>,
+    /// Multiplier of the load in time.
     #[serde(default)]
     pub ramp: Option<Vec<[f64; 2]>>,
 }

@@ -3,7 +3,7 @@
 //! the scene imposes against the Young modulus, and the caps on steps and halvings. Each
 //! refusal names the field, its value and the range that works.
 use super::source::Locate;
-use super::{InitialStressSpec, MaterialSpec, SceneError, StageSpec, TimeSpec};
+use super::{InitialStressSpec, MaterialSpec, SceneError, SceneVector, StageSpec, TimeSpec};
 
 /// `h / t_w` (t_w = Δx √(ρ/E), the elastic wave time across the smallest cell) must lie in
 /// `[MIN_STEP_RATIO, MAX_STEP_RATIO]`. Above, `h² B M⁻¹ Bᵀ` exceeds `S` in `W` by
@@ -41,9 +41,10 @@ pub struct Scales {
     pub dynamic: bool,
 }
 
-/// What a scene imposes, gathered by its method's model for [`check_scales`].
+/// What a scene imposes, gathered by its method's model for [`check_scales`]; `V` the
+/// scene's vectors (its initial stress's size).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Imposed<'a> {
+pub struct Imposed<'a, V: SceneVector = [f64; 2]> {
     /// Each material with its field (`material` or `material[k]`): each is checked as if
     /// it filled the body.
     pub materials: Vec<(String, &'a MaterialSpec)>,
@@ -52,7 +53,7 @@ pub struct Imposed<'a> {
     pub gravity: Option<f64>,
     /// The body's lowest and highest y (m).
     pub heights: [f64; 2],
-    pub initial_stress: Option<&'a InitialStressSpec>,
+    pub initial_stress: Option<&'a InitialStressSpec<V>>,
     /// Each load's field and its largest stress over its ramp ([`ramp_max`]) (Pa).
     pub loads: Vec<(String, f64)>,
     /// Each prescribed motion's field and its largest speed over its ramp (m/s).
@@ -112,12 +113,12 @@ pub fn stage_steps_cap(scene: &impl Locate, stages: &[StageSpec]) -> Result<(), 
 /// The stresses a scene imposes (Pa), with their fields: cohesion, the weight of the body
 /// (from `bottom` to `top`, m), the initial stress (the K₀ procedure's at `bottom`, whose
 /// `surface` may lie far above the body). The caller adds its loads.
-fn material_stresses(
+fn material_stresses<V: SceneVector>(
     field: &str,
     m: &MaterialSpec,
     gravity: Option<f64>,
     [bottom, top]: [f64; 2],
-    initial: Option<&InitialStressSpec>,
+    initial: Option<&InitialStressSpec<V>>,
 ) -> Vec<(String, f64)> {
     let depth = top - bottom;
     let mut s = vec![(format!("{field}.cohesion"), m.cohesion().abs())];
@@ -147,7 +148,7 @@ fn material_stresses(
             }
         }
         if let Some(st) = i.stress {
-            let largest = st.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            let largest = (st.as_ref().iter()).fold(0.0f64, |a, v| a.max(v.abs()));
             s.push(("initial_stress.stress".into(), largest));
         }
     }
@@ -156,7 +157,11 @@ fn material_stresses(
 
 /// The scene against its own scales, FEM and MPM alike: `h` against the wave time of the
 /// smallest cell and the fastest prescribed motion, the stresses against E.
-pub fn check_scales(scene: &impl Locate, imposed: &Imposed, s: &Scales) -> Result<(), SceneError> {
+pub fn check_scales<V: SceneVector>(
+    scene: &impl Locate,
+    imposed: &Imposed<V>,
+    s: &Scales,
+) -> Result<(), SceneError> {
     for (field, m) in &imposed.materials {
         check_material(scene, field, m, imposed, s)?;
     }
@@ -164,11 +169,11 @@ pub fn check_scales(scene: &impl Locate, imposed: &Imposed, s: &Scales) -> Resul
 }
 
 /// [`check_scales`] for the material `m` at `prefix` (`material` or `material[k]`).
-fn check_material(
+fn check_material<V: SceneVector>(
     scene: &impl Locate,
     prefix: &str,
     m: &MaterialSpec,
-    imposed: &Imposed,
+    imposed: &Imposed<V>,
     s: &Scales,
 ) -> Result<(), SceneError> {
     let time = imposed.time;

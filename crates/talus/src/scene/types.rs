@@ -31,14 +31,32 @@ pub trait SceneVector:
         + Send
         + Sync
         + 'static;
+    /// A uniform stress's plain components (`[initial_stress] stress`): 2D's
+    /// `[σxx, σyy, σxy, σzz]`, 3D's `[σxx, σyy, σzz, σyz, σxz, σxy]`
+    /// ([`crate::model::mandel_from_components`]).
+    type Stress: Copy
+        + std::fmt::Debug
+        + PartialEq
+        + Serialize
+        + DeserializeOwned
+        + AsRef<[f64]>
+        + Send
+        + Sync
+        + 'static;
+    /// How a scene writes [`Self::Stress`].
+    const STRESS_FORM: &'static str;
 }
 impl SceneVector for [f64; 2] {
     const DIM: usize = 2;
     type Cells = [usize; 2];
+    type Stress = [f64; 4];
+    const STRESS_FORM: &'static str = "[sxx, syy, sxy, szz]";
 }
 impl SceneVector for [f64; 3] {
     const DIM: usize = 3;
     type Cells = [usize; 3];
+    type Stress = [f64; 6];
+    const STRESS_FORM: &'static str = "[sxx, syy, szz, syz, sxz, sxy]";
 }
 
 /// The whole scene, its points and vectors `V` (2D by default, [`SceneVector`]).
@@ -75,7 +93,8 @@ pub struct SceneSpec<V: SceneVector = [f64; 2]> {
     #[serde(default)]
     pub point_load: Vec<PointLoadSpec<V>>,
     pub time: TimeSpec,
-    /// Initial stress (default: stress free).
+    /// Initial stress (default: stress free); a uniform `stress` has 2D's four components
+    /// in 3D too, where `model::fem::build3` refuses it.
     #[serde(default)]
     pub initial_stress: Option<InitialStressSpec>,
     /// Dynamic (default) or quasi-static.
@@ -291,10 +310,14 @@ pub struct TimeSpec {
 ///   surcharge; it must lie inside the yield cone, which without cohesion admits
 ///   `(a − t)/(a + 2t) ≤ K₀ ≤ (a + t)/(a − 2t)`, `a = √(2/3)/k_d`, `t = tan φ / 3` (Jaky's
 ///   `1 − sin φ` is inside up to φ ≈ 36° with the plane-strain fit);
-/// - a uniform `stress = [σxx, σyy, σxy, σzz]` (Pa, tension positive), inside the cone.
+/// - a uniform `stress = [σxx, σyy, σxy, σzz]` (Pa, tension positive), inside the cone; in
+///   a 3D material point scene (`V = [f64; 3]`) `[σxx, σyy, σzz, σyz, σxz, σxy]`.
+///
+/// A finite-element scene, 2D or 3D, reads the 2D form (its 3D build refuses the uniform
+/// stress, `model::fem::build3`).
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct InitialStressSpec {
+#[serde(deny_unknown_fields, bound = "")]
+pub struct InitialStressSpec<V: SceneVector = [f64; 2]> {
     #[serde(default)]
     pub k0: Option<f64>,
     /// Height of the ground surface (m).
@@ -303,9 +326,10 @@ pub struct InitialStressSpec {
     /// Vertical pressure on the surface (Pa); default 0.
     #[serde(default)]
     pub surcharge: Option<f64>,
-    /// `[σxx, σyy, σxy, σzz]` (Pa, tension positive), the same at every point.
+    /// `[σxx, σyy, σxy, σzz]` (3D: `[σxx, σyy, σzz, σyz, σxz, σxy]`; Pa, tension
+    /// positive), the same at every point.
     #[serde(default)]
-    pub stress: Option<[f64; 4]>,
+    pub stress: Option<V::Stress>,
 }
 
 /// `[analysis]`: what eq. 15's inertia term means (`docs/scenes.md`, 'Analysis').

@@ -106,11 +106,10 @@ where
                     .unwrap_or([0.0; N])
             })
             .collect();
-        // Monitors are 2D only (a 3D model refuses them): no displacement without one.
         if self.points.is_empty() {
             return self
                 .results
-                .record(step, time, &forces, &[None::<[f64; 4]>; 0], reported);
+                .record(step, time, &forces, &[None::<[f64; N]>; 0], reported);
         }
         let displacement: Vec<[f64; N]> = particles
             .position
@@ -119,13 +118,14 @@ where
             .map(|(x, x0)| std::array::from_fn(|a| x[a] - x0[a]))
             .collect();
         let grid = model.mpm.grid();
-        let monitors: Vec<Option<[f64; 4]>> = self
+        // `[ux, uy, vx, vy]`, in 3D `[ux, uy, uz, vx, vy, vz]`.
+        let monitors: Vec<Option<Vec<f64>>> = self
             .points
             .iter()
             .map(|&point| {
                 let u = grid_value_at(grid, particles, &displacement, point).ok()??;
                 let v = grid_value_at(grid, particles, &particles.velocity, point).ok()??;
-                Some([u[0], u[1], v[0], v[1]])
+                Some(u.into_iter().chain(v).collect())
             })
             .collect();
         self.results
