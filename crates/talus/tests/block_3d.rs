@@ -152,7 +152,7 @@ fn a_3d_run_writes_history_summary_and_tetrahedral_vtus() {
 }
 
 #[test]
-fn what_3d_does_not_run_yet_is_refused_naming_its_field() {
+fn bad_3d_inputs_are_refused_naming_their_field() {
     let cases = [
         (
             "[output]",

@@ -275,3 +275,79 @@ steps = 1
     };
     assert_eq!(err.field, "analysis.kind");
 }
+
+/// 3D: `stress = [sxx, syy, szz, syz, sxz, sxy]` on a unit cube of P2 tetrahedra, fixed
+/// at its base and loaded on its five other faces by the tractions `σ·n` of the stress
+/// (so that it is in equilibrium): its Mandel vector is `(xx, yy, zz, √2 yz, √2 xz, √2 xy)`
+/// at every point and the first steps leave the cube at rest. Components in another order
+/// (xy for yz, say) leave the shear tractions unbalanced and set the cube moving.
+#[test]
+fn a_balanced_uniform_stress_in_3d_does_not_move() {
+    use talus::model::fem::{initial_state, model_3d};
+    use talus::scene::SceneFile;
+    let s = [-120.0e3, -80.0e3, -90.0e3, 20.0e3, -15.0e3, 30.0e3];
+    let [xx, yy, zz, yz, xz, xy] = s;
+    let face = |name: &str, t: [f64; 3]| {
+        format!("[[traction]]\nfaces = \"{name}\"\nvalue = [{:?}, {:?}, {:?}]\n", t[0], t[1], t[2])
+    };
+    let text = format!(
+        "[analysis]\ngeometry = \"3d\"\n\
+         [mesh.box]\nx = [0.0, 1.0]\ny = [0.0, 1.0]\nz = [0.0, 1.0]\ncells = [2, 2, 2]\n\
+         order = \"P2\"\n\
+         [material]\nyoung_modulus = 1.0e7\npoisson_ratio = 0.3\nfriction_angle = 30.0\n\
+         cohesion = 1.0e4\ncone_fit = \"plane_strain\"\ndensity = 2.0e3\n\
+         [[boundary]]\nnodes = \"bottom\"\nfix = \"xyz\"\n\
+         {}{}{}{}{}\
+         [initial_stress]\nstress = [{xx:?}, {yy:?}, {zz:?}, {yz:?}, {xz:?}, {xy:?}]\n\
+         [time]\nstep = 1.0e-3\nsteps = 3\n",
+        face("left", [-xx, -xy, -xz]),
+        face("right", [xx, xy, xz]),
+        face("top", [xy, yy, yz]),
+        face("back", [-xz, -yz, -zz]),
+        face("front", [xz, yz, zz]),
+    );
+    let scene = match SceneFile::parse(&text, None).expect("scene parses") {
+        SceneFile::Fem3(scene) => scene,
+        _ => panic!("a 3D scene"),
+    };
+    let model = model_3d(&scene).unwrap();
+    let mut state = initial_state(&scene, &model).unwrap();
+    let r = std::f64::consts::SQRT_2;
+    let expected = [xx, yy, zz, r * yz, r * xz, r * xy];
+    for p in 0..model.n_points() {
+        assert_eq!(state.sigma[6 * p..6 * p + 6], expected);
+    }
+    let mut stepper = Stepper::new(
+        &model,
+        StepSettings::with_solver(scene.spec.solver.fem().solver, 0),
+    );
+    for _ in 0..scene.spec.time.steps {
+        stepper.advance(&mut state, scene.spec.time.step).expect("step");
+    }
+    let umax = (state.displacement.iter())
+        .flat_map(|u| u.iter())
+        .fold(0.0f64, |a, u| a.max(u.abs()));
+    let dsigma = (state.sigma.chunks(6))
+        .flat_map(|s| s.iter().zip(&expected).map(|(a, b)| (a - b).abs()))
+        .fold(0.0f64, f64::max);
+    // The displacement the stress would cause in the cube: |σ| L / E.
+    let u_scale = 120e3 * 1.0 / 1.0e7;
+    println!("3D: |u| ≤ {umax:.2e} m ({:.2e} of |σ|L/E), |Δσ| ≤ {dsigma:.2e} Pa", umax / u_scale);
+    // Measured 4.3e-16 of it (2D: the 1e-12 bound above).
+    assert!(umax < 1e-12 * u_scale, "displacement {umax:e}");
+    assert!(dsigma < 1e-8 * 120e3, "stress change {dsigma:e}");
+    // A plane-strain stress of four components is not a 3D one: refused by name.
+    let four = text.replace(
+        &format!("stress = [{xx:?}, {yy:?}, {zz:?}, {yz:?}, {xz:?}, {xy:?}]"),
+        "stress = [-1.0, -1.0, 0.0, -1.0]",
+    );
+    let e = match SceneFile::parse(&four, None) {
+        Err(e) => e,
+        Ok(SceneFile::Fem3(scene)) => {
+            let model = model_3d(&scene).unwrap();
+            initial_state(&scene, &model).err().expect("refused")
+        }
+        Ok(_) => panic!("a 3D scene"),
+    };
+    assert!(e.to_string().contains("initial_stress.stress"), "{e}");
+}

@@ -9,24 +9,16 @@ use crate::scene::{InitialStressSpec, Locate, SceneError, SceneOf, SceneVector};
 /// below the table) weight of the elements above the point ([`super::layered_weight`]);
 /// else `γ (surface − y)` as for one dry material. The total stress subtracts the pore
 /// pressure from the normal components. In 3D (Mandel size 6) the same procedure, y
-/// vertical: `σ_xx = σ_zz = K₀ σ'_yy`, no shear (a uniform `stress` has 2D's four
-/// components: refused in 3D).
+/// vertical: `σ_xx = σ_zz = K₀ σ'_yy`, no shear; a uniform `stress` has six components.
 pub fn initial_stress<const N: usize, const D: usize>(
     scene: &SceneOf<N>,
     model: &Model<D>,
-    spec: &InitialStressSpec,
+    spec: &InitialStressSpec<[f64; N]>,
 ) -> Result<Vec<f64>, SceneError>
 where
     Mandel<D>: Dimension<Point = [f64; N]>,
     [f64; N]: SceneVector,
 {
-    if D == 6 && spec.stress.is_some() {
-        return Err(scene.error(
-            "initial_stress.stress",
-            "a uniform initial stress is not supported in 3D yet (its 4 components are \
-             2D's; docs/3d.md, 'Next'); the K₀ procedure runs",
-        ));
-    }
     // In equilibrium with the gravity of the start, t = 0 (`gravity_ramp` scales it).
     let ramp = crate::scene::check::ramp(scene, "gravity_ramp", &scene.spec.gravity_ramp)?;
     let g = scene.spec.gravity.map(|g| -g[1]).unwrap_or(0.0);
@@ -69,7 +61,7 @@ where
         )),
         _ => None,
     };
-    let mut sigma = vec![[0.0; 4]; points.len()];
+    let mut sigma = vec![[0.0; D]; points.len()];
     for (m, gamma) in gammas.iter().enumerate() {
         let at: Vec<usize> = (0..points.len())
             .filter(|&p| model.point_material[p] == m)
@@ -77,7 +69,7 @@ where
         if at.is_empty() {
             continue;
         }
-        let these: Vec<[f64; 2]> = at.iter().map(|&p| [points[p][0], points[p][1]]).collect();
+        let these: Vec<[f64; N]> = at.iter().map(|&p| points[p]).collect();
         let above: Option<Vec<f64>> = weight.as_ref().map(|w| at.iter().map(|&p| w[p]).collect());
         let values = initial_stress_at(
             scene,
@@ -101,13 +93,7 @@ where
             }
         }
     }
-    Ok(match D {
-        // (xx, yy, zz, √2 xy) → (xx, yy, zz, √2 yz, √2 xz, √2 xy).
-        6 => (sigma.into_iter())
-            .flat_map(|[xx, yy, zz, xy]| [xx, yy, zz, 0.0, 0.0, xy])
-            .collect(),
-        _ => sigma.into_iter().flatten().collect(),
-    })
+    Ok(sigma.into_iter().flatten().collect())
 }
 
 /// The initial stress (Mandel of size `D`, Pa) of `spec` at each of `points` (m, y

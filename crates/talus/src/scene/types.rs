@@ -96,7 +96,7 @@ pub struct SceneSpec<V: SceneVector = [f64; 2]> {
     /// Initial stress (default: stress free); a uniform `stress` has 2D's four components
     /// in 3D too, where `model::fem::build3` refuses it.
     #[serde(default)]
-    pub initial_stress: Option<InitialStressSpec>,
+    pub initial_stress: Option<InitialStressSpec<V>>,
     /// Dynamic (default) or quasi-static.
     #[serde(default)]
     pub analysis: AnalysisSpec,
@@ -311,10 +311,8 @@ pub struct TimeSpec {
 ///   `(a − t)/(a + 2t) ≤ K₀ ≤ (a + t)/(a − 2t)`, `a = √(2/3)/k_d`, `t = tan φ / 3` (Jaky's
 ///   `1 − sin φ` is inside up to φ ≈ 36° with the plane-strain fit);
 /// - a uniform `stress = [σxx, σyy, σxy, σzz]` (Pa, tension positive), inside the cone; in
-///   a 3D material point scene (`V = [f64; 3]`) `[σxx, σyy, σzz, σyz, σxz, σxy]`.
-///
-/// A finite-element scene, 2D or 3D, reads the 2D form (its 3D build refuses the uniform
-/// stress, `model::fem::build3`).
+///   a 3D scene (`V = [f64; 3]`, finite elements or material points)
+///   `[σxx, σyy, σzz, σyz, σxz, σxy]`.
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, bound = "")]
 pub struct InitialStressSpec<V: SceneVector = [f64; 2]> {
