@@ -109,6 +109,7 @@ fn every_shipped_mpm_scene_parses_and_builds() {
         names,
         [
             "column_3d.toml",
+            "column_3d_a1.toml",
             "column_a0.5.toml",
             "column_a1.toml",
             "column_a2.toml",
