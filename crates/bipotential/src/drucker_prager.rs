@@ -95,7 +95,10 @@ impl DruckerPrager {
         let phi = p.friction_angle.to_radians();
         // The apex of the cone lies at c / tan φ on the axis (`flow_rule`): a tiny φ beside a
         // cohesion overflows it (φ = 1e-300° with c = 1e8 Pa).
-        if phi > 0.0 && !(p.cohesion / phi.tan()).is_finite() {
+        // A positive angle whose radians underflow to 0 (4.9e-324°) would be neither a cone
+        // nor the von Mises cylinder; √3 c / tan φ is the apex `flow_rule` builds.
+        let apex = 3f64.sqrt() * p.cohesion / phi.tan();
+        if p.friction_angle > 0.0 && !(phi > 0.0 && apex.is_finite()) {
             return Err(invalid(
                 "friction_angle",
                 p.friction_angle,

@@ -187,3 +187,18 @@ fn a_friction_angle_whose_apex_overflows_is_refused() {
     .unwrap();
     let _ = cohesionless.flow_rule::<4>();
 }
+
+/// A positive friction angle whose radians underflow to 0 (4.9e-324°) is neither a cone nor
+/// the von Mises cylinder: refused by name, never a flow rule that panics.
+#[test]
+fn a_friction_angle_that_underflows_to_zero_radians_is_refused() {
+    for cohesion in [0.0, 1e3] {
+        let p = DruckerPragerParameters {
+            friction_angle: 4.9e-324,
+            dilatancy_angle: 0.0,
+            cohesion,
+            ..base()
+        };
+        rejected(p, "friction_angle");
+    }
+}
