@@ -107,7 +107,9 @@ impl DruckerPrager {
             ));
         }
         let k_d = p.cone_fit.k_d(phi);
-        if !(k_d.is_finite() && k_d > 0.0) {
+        // η = k_d tan φ / √3 is the cone's slope (`flow_rule`): a k_d of 4.9e-324 passes
+        // "> 0" yet gives a flat cone.
+        if !(k_d.is_finite() && k_d > 0.0 && (phi == 0.0 || k_d * phi.tan() / 3f64.sqrt() > 0.0)) {
             return Err(invalid("cone_fit.k_d", k_d, "a finite value > 0"));
         }
         if phi == 0.0 && p.cohesion == 0.0 {
