@@ -31,7 +31,9 @@ fn line_of(text: &str, needle: &str) -> Option<usize> {
 /// Both ways a staged model is built refuse the scene with the same error.
 fn refused(text: &str) -> SceneError {
     let scene = Scene::parse(text, None).expect("parses");
-    let by_stages = Stages::<4>::of(&scene).err().expect("Stages::of refuses it");
+    let by_stages = Stages::<4>::of(&scene)
+        .err()
+        .expect("Stages::of refuses it");
     let by_model = Model::from_scene(&scene)
         .err()
         .expect("from_scene refuses it");

@@ -73,7 +73,10 @@ fn digging_the_top_of_a_confined_column_leaves_its_k0_state_and_heaves_it_by_uni
     assert!(heave > 1e-3, "the dig moves the column: {heave} m");
     let positions = &model.mesh.nodes;
     assert_eq!(run.final_state.displacement.len(), positions.len());
-    assert!(positions.iter().all(|p| p[1] <= h + 1e-12), "the top is gone");
+    assert!(
+        positions.iter().all(|p| p[1] <= h + 1e-12),
+        "the top is gone"
+    );
     let mut worst_u = 0.0f64;
     for (u, p) in run.final_state.displacement.iter().zip(positions) {
         let expected = [0.0, RHO * G * t * p[1] / m, 0.0];
@@ -97,13 +100,22 @@ fn digging_the_top_of_a_confined_column_leaves_its_k0_state_and_heaves_it_by_uni
     }
     // Measured: heave 2.4525e-3 m, errors 9.5e-10 and 4.1e-10.
     println!("heave {heave:.6e} m; worst displacement error {worst_u:.2e} of it, stress {worst_s:.2e} of ρgH′");
-    assert!(worst_u < 1e-8, "displacement off the uniaxial-strain heave by {worst_u:e} of it");
-    assert!(worst_s < 1e-8, "stress off the K₀ state of the dug column by {worst_s:e} of ρgH′");
+    assert!(
+        worst_u < 1e-8,
+        "displacement off the uniaxial-strain heave by {worst_u:e} of it"
+    );
+    assert!(
+        worst_s < 1e-8,
+        "stress off the K₀ state of the dug column by {worst_s:e} of ρgH′"
+    );
     // The base carries the shorter column: ρ g V′ (N).
     let base = common::history_column(&out, "base_fy");
     let weight = RHO * G * 2.0 * 2.0 * h;
     let last = base[base.len() - 1];
-    assert!((last - weight).abs() < 1e-7 * weight, "base {last} N against ρgV′ = {weight}");
+    assert!(
+        (last - weight).abs() < 1e-7 * weight,
+        "base {last} N against ρgV′ = {weight}"
+    );
 }
 
 #[test]
@@ -116,7 +128,11 @@ fn a_region_built_on_the_column_carries_its_weight_at_the_stages_end() {
     .replace("surface = 4.0", "surface = 3.0");
     let scene = scene(&text);
     let stages = Stages::<6>::of(&scene).unwrap().unwrap();
-    assert_eq!(stages.plans[0].elements.len(), 18, "three of the four cells' 6 tetrahedra");
+    assert_eq!(
+        stages.plans[0].elements.len(),
+        18,
+        "three of the four cells' 6 tetrahedra"
+    );
     let out = common::target_tmp_dir("stages_3d", "fill");
     run_scene_3d(&scene, &RunOptions::new(&out), None).unwrap();
     let stage = common::history_column(&out, "stage");
@@ -135,7 +151,10 @@ fn a_region_built_on_the_column_carries_its_weight_at_the_stages_end() {
     let stages = summary["stages"].as_array().unwrap();
     assert_eq!(stages[1]["activated"][0], "top");
     assert_eq!(
-        (stages[0]["elements"].as_u64(), stages[1]["elements"].as_u64()),
+        (
+            stages[0]["elements"].as_u64(),
+            stages[1]["elements"].as_u64()
+        ),
         (Some(18), Some(24))
     );
     assert_eq!(summary["status"], "finished");
@@ -168,13 +187,18 @@ fn bad_3d_stages_are_refused_naming_the_field_and_the_value() {
         let scene = scene(&text);
         let e = match Stages::<6>::of(&scene) {
             Err(e) => e,
-            Ok(Some(stages)) => match (0..stages.plans.len()).find_map(|k| stages.model(&scene, k).err()) {
-                Some(e) => e,
-                None => panic!("{field}: accepted"),
-            },
+            Ok(Some(stages)) => {
+                match (0..stages.plans.len()).find_map(|k| stages.model(&scene, k).err()) {
+                    Some(e) => e,
+                    None => panic!("{field}: accepted"),
+                }
+            }
             Ok(None) => panic!("{field}: no stages"),
         };
         let message = e.to_string();
-        assert!(message.contains(field) && message.contains(needle), "{field}: {message}");
+        assert!(
+            message.contains(field) && message.contains(needle),
+            "{field}: {message}"
+        );
     }
 }

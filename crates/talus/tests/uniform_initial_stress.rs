@@ -288,7 +288,10 @@ fn a_balanced_uniform_stress_in_3d_does_not_move() {
     let s = [-120.0e3, -80.0e3, -90.0e3, 20.0e3, -15.0e3, 30.0e3];
     let [xx, yy, zz, yz, xz, xy] = s;
     let face = |name: &str, t: [f64; 3]| {
-        format!("[[traction]]\nfaces = \"{name}\"\nvalue = [{:?}, {:?}, {:?}]\n", t[0], t[1], t[2])
+        format!(
+            "[[traction]]\nfaces = \"{name}\"\nvalue = [{:?}, {:?}, {:?}]\n",
+            t[0], t[1], t[2]
+        )
     };
     let text = format!(
         "[analysis]\ngeometry = \"3d\"\n\
@@ -322,7 +325,9 @@ fn a_balanced_uniform_stress_in_3d_does_not_move() {
         StepSettings::with_solver(scene.spec.solver.fem().solver, 0),
     );
     for _ in 0..scene.spec.time.steps {
-        stepper.advance(&mut state, scene.spec.time.step).expect("step");
+        stepper
+            .advance(&mut state, scene.spec.time.step)
+            .expect("step");
     }
     let umax = (state.displacement.iter())
         .flat_map(|u| u.iter())
@@ -332,7 +337,10 @@ fn a_balanced_uniform_stress_in_3d_does_not_move() {
         .fold(0.0f64, f64::max);
     // The displacement the stress would cause in the cube: |σ| L / E.
     let u_scale = 120e3 * 1.0 / 1.0e7;
-    println!("3D: |u| ≤ {umax:.2e} m ({:.2e} of |σ|L/E), |Δσ| ≤ {dsigma:.2e} Pa", umax / u_scale);
+    println!(
+        "3D: |u| ≤ {umax:.2e} m ({:.2e} of |σ|L/E), |Δσ| ≤ {dsigma:.2e} Pa",
+        umax / u_scale
+    );
     // Measured 4.3e-16 of it (2D: the 1e-12 bound above).
     assert!(umax < 1e-12 * u_scale, "displacement {umax:e}");
     assert!(dsigma < 1e-8 * 120e3, "stress change {dsigma:e}");

@@ -80,8 +80,9 @@ mod tests {
 
     /// A 2 × 1 × 1 block of P2 tetrahedra, its x < 1 half kept.
     fn half() -> (TetrahedralMesh, TetrahedralMesh, Vec<Option<usize>>) {
-        let mesh = TetrahedralMesh::block(&[0.0, 1.0, 2.0], &[0.0, 1.0], &[0.0, 1.0], ElementOrder::P2)
-            .expect("block");
+        let mesh =
+            TetrahedralMesh::block(&[0.0, 1.0, 2.0], &[0.0, 1.0], &[0.0, 1.0], ElementOrder::P2)
+                .expect("block");
         let left: Vec<usize> = (0..mesh.tetrahedra.len())
             .filter(|&e| {
                 let c = mesh.tetrahedron_coordinates(e);

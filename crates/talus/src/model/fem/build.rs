@@ -1,15 +1,15 @@
 //! A finite-element [`Model`] from a scene: the mesh, its boundary conditions and loads,
 //! the material, checked field by field against the scene's own scales.
 use talus_fem::{
-    Assembly, Constraint, Dimension, DofMap, ElementMesh, ElementOrder, FemError, Geometry,
-    Mandel, Model, State,
+    Assembly, Constraint, Dimension, DofMap, ElementMesh, ElementOrder, FemError, Geometry, Mandel,
+    Model, State,
 };
 
 use super::scene_mesh::{nearest_node, select_nodes, select_pieces, SceneMesh};
 use crate::scene::dimension::three_d_key;
 use crate::scene::{
-    check, scales, scales::ramp_max, AnalysisKind, Fix, MeshSpec, Ramp, Scene, Scene3, SceneDocument,
-    SceneError, SceneOf, SceneSpec, SceneVector, TimeSpec, WaterSpec, WaterTable,
+    check, scales, scales::ramp_max, AnalysisKind, Fix, MeshSpec, Ramp, Scene, Scene3,
+    SceneDocument, SceneError, SceneOf, SceneSpec, SceneVector, TimeSpec, WaterSpec, WaterTable,
 };
 
 /// The mesh of a model of Mandel size `D`: triangles (4) or tetrahedra (6).
@@ -45,7 +45,9 @@ pub fn model_3d(scene: &Scene3) -> Result<Model3, SceneError> {
 }
 
 /// The model of `scene` (2D or 3D) on its whole mesh.
-pub(super) fn unstaged<const N: usize, const D: usize>(scene: &SceneOf<N>) -> Result<Model<D>, SceneError>
+pub(super) fn unstaged<const N: usize, const D: usize>(
+    scene: &SceneOf<N>,
+) -> Result<Model<D>, SceneError>
 where
     Mandel<D>: Dimension<Point = [f64; N]>,
     [f64; N]: SceneVector,
@@ -601,4 +603,3 @@ where
     };
     scales::check_scales(scene, &imposed, &body)
 }
-

@@ -65,10 +65,20 @@ impl SceneMesh<4> for Mesh {
     fn submesh(&self, elements: &[usize]) -> Result<(Self, Vec<Option<usize>>), String> {
         Mesh::submesh(self, elements).map_err(|e| e.to_string())
     }
-    fn traction(&self, asm: &Assembly<4>, edges: &[BoundaryEdge], t: [f64; 2]) -> Result<Forces, String> {
+    fn traction(
+        &self,
+        asm: &Assembly<4>,
+        edges: &[BoundaryEdge],
+        t: [f64; 2],
+    ) -> Result<Forces, String> {
         asm.traction(self, edges, t).map_err(|e| e.to_string())
     }
-    fn pressure(&self, asm: &Assembly<4>, edges: &[BoundaryEdge], p: f64) -> Result<Forces, String> {
+    fn pressure(
+        &self,
+        asm: &Assembly<4>,
+        edges: &[BoundaryEdge],
+        p: f64,
+    ) -> Result<Forces, String> {
         asm.pressure(self, edges, p).map_err(|e| e.to_string())
     }
     fn pressure_with(
@@ -149,7 +159,7 @@ fn check_off_axis(mesh: &Mesh, edges: &[BoundaryEdge], geometry: Geometry) -> Re
     if let Some(e) = edges.iter().find(|e| e.nodes.iter().all(on_axis)) {
         let [a, b] = [mesh.nodes[e.nodes[0]], mesh.nodes[e.nodes[1]]];
         return Err(format!(
-                "selects the edge ({:.4}, {:.4})–({:.4}, {:.4}) on the axis r = 0, where an \
+            "selects the edge ({:.4}, {:.4})–({:.4}, {:.4}) on the axis r = 0, where an \
                  axisymmetric load acts on no area and applies nothing: select edges off the \
                  axis",
             a[0], a[1], b[0], b[1]

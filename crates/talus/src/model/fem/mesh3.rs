@@ -62,10 +62,20 @@ impl SceneMesh<6> for TetrahedralMesh {
     fn submesh(&self, elements: &[usize]) -> Result<(Self, Vec<Option<usize>>), String> {
         TetrahedralMesh::submesh(self, elements).map_err(|e| e.to_string())
     }
-    fn traction(&self, asm: &Assembly<6>, faces: &[BoundaryFace], t: [f64; 3]) -> Result<Forces, String> {
+    fn traction(
+        &self,
+        asm: &Assembly<6>,
+        faces: &[BoundaryFace],
+        t: [f64; 3],
+    ) -> Result<Forces, String> {
         asm.traction(self, faces, t).map_err(|e| e.to_string())
     }
-    fn pressure(&self, asm: &Assembly<6>, faces: &[BoundaryFace], p: f64) -> Result<Forces, String> {
+    fn pressure(
+        &self,
+        asm: &Assembly<6>,
+        faces: &[BoundaryFace],
+        p: f64,
+    ) -> Result<Forces, String> {
         asm.pressure(self, faces, p).map_err(|e| e.to_string())
     }
     fn pressure_with(
@@ -259,4 +269,3 @@ fn extruded_mesh(
         )
     })
 }
-

@@ -4,11 +4,11 @@
 mod build;
 mod materials;
 pub mod memory;
+mod mesh2;
+mod mesh3;
 mod monitors;
 mod motion;
 mod quasi_static;
-mod mesh2;
-mod mesh3;
 mod reaction_groups;
 mod scene_mesh;
 pub use scene_mesh::SceneMesh;

@@ -52,8 +52,12 @@ where
     /// The mesh of `elements` and each old node's new index (`None`: gone).
     fn submesh(&self, elements: &[usize]) -> Result<(Self, Vec<Option<usize>>), String>;
 
-    fn traction(&self, asm: &Assembly<D>, pieces: &[Self::Piece], t: Self::Point)
-        -> Result<Forces, String>;
+    fn traction(
+        &self,
+        asm: &Assembly<D>,
+        pieces: &[Self::Piece],
+        t: Self::Point,
+    ) -> Result<Forces, String>;
     fn pressure(&self, asm: &Assembly<D>, pieces: &[Self::Piece], p: f64)
         -> Result<Forces, String>;
     fn pressure_with(
@@ -85,9 +89,9 @@ where
                 ),
             )
         })?,
-        Selection::Box { corners } => {
-            mesh.nodes_in_box(corners).map_err(|e| scene.error(field, e))?
-        }
+        Selection::Box { corners } => mesh
+            .nodes_in_box(corners)
+            .map_err(|e| scene.error(field, e))?,
     };
     if nodes.is_empty() {
         return Err(scene.error(field, format!("selects no node{in_stage}")));
@@ -117,9 +121,9 @@ where
                 ),
             )
         })?,
-        Selection::Box { corners } => {
-            mesh.pieces_in_box(corners).map_err(|e| scene.error(field, e))?
-        }
+        Selection::Box { corners } => mesh
+            .pieces_in_box(corners)
+            .map_err(|e| scene.error(field, e))?,
     };
     if pieces.is_empty() {
         return Err(scene.error(field, format!("selects no {}{in_stage}", M::PIECE)));
@@ -140,5 +144,8 @@ pub fn nearest_node<P: AsRef<[f64]>>(nodes: &[P], point: &[f64]) -> usize {
 }
 
 fn names<T>(sets: &BTreeMap<String, T>) -> String {
-    sets.keys().map(String::as_str).collect::<Vec<_>>().join(", ")
+    sets.keys()
+        .map(String::as_str)
+        .collect::<Vec<_>>()
+        .join(", ")
 }

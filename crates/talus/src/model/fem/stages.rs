@@ -238,7 +238,10 @@ where
 
 /// The out-of-balance force of `state` in `model` at its time, `Bᵀσ − f(t)` on the free
 /// dofs (N/m; 3D: N), which a stage releases: the module's documentation.
-pub fn out_of_balance<const D: usize>(model: &Model<D>, state: &State<D>) -> Result<Vec<f64>, String>
+pub fn out_of_balance<const D: usize>(
+    model: &Model<D>,
+    state: &State<D>,
+) -> Result<Vec<f64>, String>
 where
     Mandel<D>: Dimension,
 {
@@ -274,7 +277,9 @@ where
 /// The checks a run of `scene` makes before its first step: its model and initial state,
 /// or, staged, every stage's model and the first one's initial state (`talus.Scene`
 /// validates with it), in 2D (`D = 4`) or 3D (6).
-pub fn check_before_run<const N: usize, const D: usize>(scene: &SceneOf<N>) -> Result<(), SceneError>
+pub fn check_before_run<const N: usize, const D: usize>(
+    scene: &SceneOf<N>,
+) -> Result<(), SceneError>
 where
     Mandel<D>: Dimension<Point = [f64; N]>,
     [f64; N]: SceneVector,
@@ -298,7 +303,9 @@ where
 
 /// The model a run of `scene` ends on: its last stage's (on that stage's part of the
 /// mesh), or the whole scene's; the mesh its final state lives on.
-pub fn final_model<const N: usize, const D: usize>(scene: &SceneOf<N>) -> Result<Model<D>, SceneError>
+pub fn final_model<const N: usize, const D: usize>(
+    scene: &SceneOf<N>,
+) -> Result<Model<D>, SceneError>
 where
     Mandel<D>: Dimension<Point = [f64; N]>,
     [f64; N]: SceneVector,
