@@ -107,10 +107,22 @@ impl DruckerPrager {
             ));
         }
         let k_d = p.cone_fit.k_d(phi);
-        // η = k_d tan φ / √3 is the cone's slope (`flow_rule`): a k_d of 4.9e-324 passes
-        // "> 0" yet gives a flat cone.
-        if !(k_d.is_finite() && k_d > 0.0 && (phi == 0.0 || k_d * phi.tan() / 3f64.sqrt() > 0.0)) {
-            return Err(invalid("cone_fit.k_d", k_d, "a finite value > 0"));
+        // `flow_rule` builds the cone of slope η = k_d tan φ / √3, or the cylinder of radius
+        // k_d c at φ = 0: a k_d of 4.9e-324 passes "> 0" yet flattens the cone, and one of
+        // 1e300 overflows either.
+        let set_is_finite = if phi == 0.0 {
+            (k_d * p.cohesion).is_finite()
+        } else {
+            let eta = k_d * phi.tan() / 3f64.sqrt();
+            eta.is_finite() && eta > 0.0
+        };
+        if !(k_d.is_finite() && k_d > 0.0 && set_is_finite) {
+            return Err(invalid(
+                "cone_fit.k_d",
+                k_d,
+                "a finite value > 0 whose cone slope k_d tan(friction_angle) / sqrt(3), or \
+                 cylinder radius k_d cohesion, is finite and > 0",
+            ));
         }
         if phi == 0.0 && p.cohesion == 0.0 {
             // A cylinder of radius 0 carries no deviatoric stress: a fluid, not a solid.

@@ -133,6 +133,39 @@ fn rejects_out_of_domain_parameters() {
     );
 }
 
+/// A k_d that is finite and > 0 yet flattens or overflows the set `flow_rule` builds (the
+/// fuzz test's mutated scenes found the first: k_d = 4.9e-324 in `column_newton_fine`).
+#[test]
+fn rejects_a_k_d_whose_yield_set_underflows_or_overflows() {
+    for (friction_angle, cohesion, k_d) in [
+        (10.0, 2e3, 4.9e-324),
+        (89.0, 2e3, 1e307),
+        (0.0, 1e300, 1e300),
+    ] {
+        rejected(
+            DruckerPragerParameters {
+                friction_angle,
+                dilatancy_angle: 0.0,
+                cohesion,
+                cone_fit: ConeFit::Explicit { k_d },
+                ..base()
+            },
+            "k_d",
+        );
+    }
+    // Small and large values whose set is representable stay accepted and build.
+    for (friction_angle, k_d) in [(27.0, 1e-300), (0.0, 1e-300), (27.0, 1e300)] {
+        let m = DruckerPrager::try_new(DruckerPragerParameters {
+            friction_angle,
+            dilatancy_angle: 0.0,
+            cone_fit: ConeFit::Explicit { k_d },
+            ..base()
+        })
+        .expect("representable set");
+        let _ = m.flow_rule::<4>();
+    }
+}
+
 #[test]
 fn accepts_the_extremes_of_each_domain() {
     for p in [
