@@ -234,13 +234,17 @@ impl Summary {
         }
         for (name, b) in &self.boundaries {
             s += &format!(
-                "; {name}: final ({:.4e}, {:.4e}) {unit}, peak ({:.4e}, {:.4e}) {unit}",
-                b.last[0], b.last[1], b.peak[0], b.peak[1]
+                "; {name}: final {} {unit}, peak {} {unit}",
+                components(&b.last),
+                components(&b.peak)
             );
         }
         for (name, m) in &self.monitors {
             s += &match m {
-                Some(m) => format!("; {name}: u = ({:.4e}, {:.4e}) m", m.ux, m.uy),
+                Some(m) => {
+                    let u: Vec<f64> = [m.ux, m.uy].into_iter().chain(m.uz).collect();
+                    format!("; {name}: u = {} m", components(&u))
+                }
                 None => format!("; {name}: no material around the point"),
             };
         }
@@ -258,6 +262,12 @@ impl Summary {
         }
         s
     }
+}
+
+/// `(a, b)` or `(a, b, c)`: every component of a 2D or 3D vector.
+fn components(v: &[f64]) -> String {
+    let parts: Vec<String> = v.iter().map(|c| format!("{c:.4e}")).collect();
+    format!("({})", parts.join(", "))
 }
 
 impl FactorOfSafety {
@@ -295,5 +305,69 @@ impl FactorOfSafety {
                 self.trials
             ),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn summary(force: Vec<f64>, monitor: MonitorValues) -> Summary {
+        Summary {
+            status: RunStatus::Finished,
+            error: None,
+            steps: 1,
+            steps_requested: 1,
+            time: 1.0,
+            boundaries: BTreeMap::from([(
+                "base".to_string(),
+                BoundaryReaction {
+                    last: force.clone(),
+                    peak: force,
+                    peak_step: 1,
+                },
+            )]),
+            monitors: BTreeMap::from([("crest".to_string(), Some(monitor))]),
+            reaction: None,
+            limit: None,
+            force_unit: "N".into(),
+            factor_of_safety: None,
+            collapse: None,
+            warnings: Vec::new(),
+            stages: Vec::new(),
+        }
+    }
+
+    /// The last log line names every component a 3D run wrote (it named 2 of 3), and a 2D
+    /// line is the one it always was.
+    #[test]
+    fn the_sentence_names_every_component_in_2d_and_3d() {
+        let m3 = MonitorValues {
+            ux: 1.0,
+            uy: 2.0,
+            uz: Some(3.0),
+            vx: 0.0,
+            vy: 0.0,
+            vz: Some(0.0),
+        };
+        let s = summary(vec![10.0, 20.0, 30.0], m3).sentence();
+        assert!(
+            s.contains("base: final (1.0000e1, 2.0000e1, 3.0000e1) N, peak (1.0000e1, 2.0000e1, 3.0000e1) N"),
+            "{s}"
+        );
+        assert!(
+            s.contains("crest: u = (1.0000e0, 2.0000e0, 3.0000e0) m"),
+            "{s}"
+        );
+        let m2 = MonitorValues {
+            uz: None,
+            vz: None,
+            ..m3
+        };
+        let s = summary(vec![10.0, 20.0], m2).sentence();
+        assert!(
+            s.contains("base: final (1.0000e1, 2.0000e1) N, peak (1.0000e1, 2.0000e1) N; crest: u = (1.0000e0, 2.0000e0) m"),
+            "{s}"
+        );
     }
 }
