@@ -16,12 +16,12 @@
 //! At dx = R₀/5 the a = 0.5 test fails (0.5219, 15.8% short).
 //! The front is the largest distance of a particle centre from the axis, as `history.csv`'s
 //! `front`.
+mod common;
+
 use std::path::Path;
 
 use talus::model::mpm::MpmModel;
 use talus::scene::{MpmScene3, SceneFile};
-use talus_engine::Stepper;
-use talus_mpm::MpmState;
 
 /// Cells per R₀ of the shipped scenes and of the run.
 const SHIPPED_PER_R0: f64 = 5.0;
@@ -46,32 +46,21 @@ fn final_runout(name: &str) -> f64 {
     grid.spacing /= refine;
     grid.cells = grid.cells.map(|n| (n as f64 * refine).ceil() as usize);
     let model = MpmModel::from_scene_3d(&scene).unwrap_or_else(|e| panic!("{e}"));
-    let mut stepper = Stepper::new(&model.mpm, model.step_settings);
-    let mut state = MpmState {
-        time: 0.0,
-        particles: model.particles.clone(),
-    };
     let time = scene.spec.time;
-    let tolerance = scene.spec.solver.tolerance;
-    for step in 0..time.steps {
-        let report = stepper
-            .advance(&mut state, time.step)
-            .unwrap_or_else(|e| panic!("{name}, step {step}: {e}"));
-        assert!(
-            report.relative_residual <= tolerance,
-            "{name}, step {step}: residual {:e}",
-            report.relative_residual
-        );
-    }
+    let particles = common::mpm_run_to_end(
+        &model,
+        time.steps,
+        time.step,
+        scene.spec.solver.tolerance,
+        name,
+    );
     println!(
         "{name}: dx = {} m, {} particles, {} steps",
         scene.spec.grid.spacing,
-        state.particles.len(),
+        particles.len(),
         time.steps
     );
-    model
-        .runout
-        .normalized(model.runout.front(&state.particles))
+    model.runout.normalized(model.runout.front(&particles))
 }
 
 /// Lube et al. (2004)'s law for `a < 1.7`, within 15%.

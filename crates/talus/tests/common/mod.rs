@@ -461,3 +461,33 @@ pub fn field_of(err: OutputError) -> &'static str {
         other => panic!("expected Invalid, got {other:?}"),
     }
 }
+
+/// Steps an MPM model (2D, `D = 4`, or 3D, `D = 6`) from its particles for `steps` steps
+/// of `h`, each converged to `tolerance` (`name` in the messages): the final particles.
+pub fn mpm_run_to_end<const D: usize>(
+    model: &talus::model::mpm::MpmModel<D>,
+    steps: usize,
+    h: f64,
+    tolerance: f64,
+    name: &str,
+) -> talus_mpm::Particles<D>
+where
+    talus_mpm::Mandel<D>: talus_mpm::Dimension,
+{
+    let mut stepper = talus_engine::Stepper::new(&model.mpm, model.step_settings);
+    let mut state = talus_mpm::MpmState {
+        time: 0.0,
+        particles: model.particles.clone(),
+    };
+    for step in 0..steps {
+        let report = stepper
+            .advance(&mut state, h)
+            .unwrap_or_else(|e| panic!("{name}, step {step}: {e}"));
+        assert!(
+            report.relative_residual <= tolerance,
+            "{name}, step {step}: residual {:e}",
+            report.relative_residual
+        );
+    }
+    state.particles
+}
