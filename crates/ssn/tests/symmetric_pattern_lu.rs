@@ -9,55 +9,9 @@ use talus_ssn::faer::linalg::solvers::Solve;
 use talus_ssn::faer::sparse::{SparseColMat, Triplet};
 use talus_ssn::faer::Mat;
 
-/// Deterministic numbers in [-1, 1) (SplitMix64).
-struct Numbers(u64);
-impl Numbers {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    }
-}
-
-/// A 2-dof-per-node 9-point stencil on an `nx × ny` grid (the pattern of a P1/Q1
-/// stiffness), unsymmetric values, diagonally dominant by `dominance`.
-fn grid_matrix(nx: usize, ny: usize, dominance: f64, seed: u64) -> SparseColMat<usize, f64> {
-    let mut rng = Numbers(seed);
-    let node = |i: usize, j: usize| i + nx * j;
-    let n = 2 * nx * ny;
-    let mut triplets = Vec::new();
-    let mut row_sum = vec![0.0; n];
-    for j in 0..ny {
-        for i in 0..nx {
-            for dj in -1i64..=1 {
-                for di in -1i64..=1 {
-                    let (ii, jj) = (i as i64 + di, j as i64 + dj);
-                    if ii < 0 || jj < 0 || ii >= nx as i64 || jj >= ny as i64 {
-                        continue;
-                    }
-                    for a in 0..2 {
-                        for b in 0..2 {
-                            let r = 2 * node(i, j) + a;
-                            let c = 2 * node(ii as usize, jj as usize) + b;
-                            if r != c {
-                                let v = rng.next();
-                                row_sum[r] += v.abs();
-                                triplets.push(Triplet::new(r, c, v));
-                            }
-                        }
-                    }
-                }
-            }
-        }
-    }
-    for (r, s) in row_sum.iter().enumerate() {
-        triplets.push(Triplet::new(r, r, dominance * s + 1e-3));
-    }
-    SparseColMat::try_new_from_triplets(n, n, &triplets).expect("valid triplets")
-}
+#[path = "common/grid_matrix.rs"]
+mod grid_matrix;
+use grid_matrix::grid_matrix;
 
 fn residual(a: &SparseColMat<usize, f64>, x: &[f64], b: &[f64]) -> f64 {
     let xm = Mat::from_fn(x.len(), 1, |i, _| x[i]);
@@ -209,4 +163,69 @@ fn negative_pivots_count_the_sign_of_the_determinant() {
         2,
         "det > 0, two negative pivots"
     );
+}
+
+/// `values` with the rows and columns `zero` set to 0 (kept in the pattern).
+fn with_zero_lines(a: &SparseColMat<usize, f64>, zero: &[usize]) -> Vec<f64> {
+    let mut values = a.val().to_vec();
+    for c in 0..a.ncols() {
+        let range = a.col_ptr()[c]..a.col_ptr()[c + 1];
+        for (p, &r) in range.clone().zip(&a.row_idx()[range]) {
+            if zero.contains(&r) || zero.contains(&c) {
+                values[p] = 0.0;
+            }
+        }
+    }
+    values
+}
+
+/// Subtrees factorized on 2 and 4 threads give the one-thread solution bit for bit, and a
+/// matrix with two zero lines far apart (in different subtrees) the same breakdown: the
+/// one the one-thread order meets first.
+#[test]
+fn the_factors_do_not_depend_on_the_thread_count() {
+    let a = grid_matrix(120, 100, 1.0, 7);
+    let symbolic = Arc::new(SymbolicSymmetricPatternLu::try_new(a.symbolic()).unwrap());
+    assert!(
+        symbolic.parallel_subtrees() >= 2,
+        "{} subtrees: the test needs a split tree",
+        symbolic.parallel_subtrees()
+    );
+    let b: Vec<f64> = (0..a.nrows()).map(|i| 1.0 + (i % 11) as f64).collect();
+    let run = |threads: usize, values: &[f64]| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut lu = SymmetricPatternLu::new(Arc::clone(&symbolic));
+            lu.factorize(values, DEFAULT_PIVOT_TOLERANCE).map(|()| {
+                let mut x = b.clone();
+                lu.solve_in_place(&mut x);
+                x
+            })
+        })
+    };
+    let bits =
+        |r: Result<Vec<f64>, _>| r.map(|x| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>());
+    let one = run(1, a.val()).expect("dominant matrix");
+    assert!(residual(&a, &one, &b) < 1e-12, "{}", residual(&a, &one, &b));
+    for threads in [2, 4] {
+        assert_eq!(
+            bits(run(threads, a.val())),
+            bits(Ok(one.clone())),
+            "{threads} threads"
+        );
+    }
+    // Node (5, 5) and node (114, 94): opposite corners of the grid.
+    let zeroed = with_zero_lines(&a, &[2 * (5 + 120 * 5), 2 * (114 + 120 * 94)]);
+    let one = run(1, &zeroed).expect_err("zero pivots");
+    assert_eq!(one.pivot, 0.0);
+    for threads in [2, 4] {
+        assert_eq!(
+            run(threads, &zeroed).expect_err("zero pivots"),
+            one,
+            "{threads} threads"
+        );
+    }
 }

@@ -11,6 +11,21 @@ use faer::{Accum, MatMut, Par};
 /// Below this order the unblocked loop beats the recursion's calls into faer.
 const UNBLOCKED: usize = 24;
 
+/// Below this many multiply-adds a dense block stays on one thread: faer's threads cost
+/// more than they give on the many thin blocks of a sparse factor (measured on the 3D
+/// slope's Cholesky, `docs/performance.md`).
+const PARALLEL_FLOPS: usize = 1 << 21;
+
+/// `par` for a dense operation of `flops` multiply-adds, else one thread. faer splits a
+/// product over its output's tiles, never over the sum: the bits are the same.
+pub(crate) fn par_for(flops: usize, par: Par) -> Par {
+    if flops >= PARALLEL_FLOPS {
+        par
+    } else {
+        Par::Seq
+    }
+}
+
 /// A pivot that the guard refuses: `|u_jj| ≤ tolerance · |a_jj|` or not finite.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct SmallPivot {
@@ -20,11 +35,13 @@ pub(crate) struct SmallPivot {
 }
 
 /// `A = L U` in place (`L` unit lower, `U` upper, both stored in `a`), with no row exchange.
-/// `reference[j]` is the scale the pivot `u_jj` is compared with (the original `|a_jj|`).
+/// `reference[j]` is the scale the pivot `u_jj` is compared with (the original `|a_jj|`);
+/// the large blocks' products use `par`.
 pub(crate) fn lu_in_place(
     a: MatMut<'_, f64>,
     reference: &[f64],
     tolerance: f64,
+    par: Par,
 ) -> Result<(), SmallPivot> {
     let n = a.nrows();
     debug_assert_eq!(n, a.ncols());
@@ -33,12 +50,13 @@ pub(crate) fn lu_in_place(
     }
     let k = n / 2;
     let (mut a11, mut a12, mut a21, mut a22) = a.split_at_mut(k, k);
-    lu_in_place(a11.rb_mut(), &reference[..k], tolerance)?;
+    lu_in_place(a11.rb_mut(), &reference[..k], tolerance, par)?;
+    let par = par_for(k * k * (n - k), par);
     // A21 ← A21 U11⁻¹  (Uᵀ is lower with its own diagonal), A12 ← L11⁻¹ A12.
-    solve_lower_triangular_in_place(a11.rb().transpose(), a21.rb_mut().transpose_mut(), Par::Seq);
-    solve_unit_lower_triangular_in_place(a11.rb(), a12.rb_mut(), Par::Seq);
-    matmul(a22.rb_mut(), Accum::Add, a21.rb(), a12.rb(), -1.0, Par::Seq);
-    lu_in_place(a22, &reference[k..], tolerance).map_err(|p| SmallPivot {
+    solve_lower_triangular_in_place(a11.rb().transpose(), a21.rb_mut().transpose_mut(), par);
+    solve_unit_lower_triangular_in_place(a11.rb(), a12.rb_mut(), par);
+    matmul(a22.rb_mut(), Accum::Add, a21.rb(), a12.rb(), -1.0, par);
+    lu_in_place(a22, &reference[k..], tolerance, par).map_err(|p| SmallPivot {
         column: p.column + k,
         ..p
     })
@@ -90,7 +108,7 @@ mod tests {
             let a = diagonally_dominant(n);
             let mut f = a.clone();
             let reference: Vec<f64> = (0..n).map(|j| a[(j, j)]).collect();
-            lu_in_place(f.as_mut(), &reference, 1e-12).expect("dominant matrix");
+            lu_in_place(f.as_mut(), &reference, 1e-12, Par::Seq).expect("dominant matrix");
             let l = Mat::from_fn(n, n, |i, j| match i.cmp(&j) {
                 std::cmp::Ordering::Greater => f[(i, j)],
                 std::cmp::Ordering::Equal => 1.0,
@@ -102,11 +120,32 @@ mod tests {
         }
     }
 
+    /// A block large enough for faer's threads (`PARALLEL_FLOPS`) factors to the same bits
+    /// on 1, 2 and 4 of them.
+    #[test]
+    fn threads_give_the_same_bits() {
+        let n = 400;
+        assert!((n / 2) * (n / 2) * (n / 2) >= PARALLEL_FLOPS);
+        let a = diagonally_dominant(n);
+        let reference: Vec<f64> = (0..n).map(|j| a[(j, j)]).collect();
+        let factor = |par: Par| {
+            let mut f = a.clone();
+            lu_in_place(f.as_mut(), &reference, 1e-12, par).expect("dominant matrix");
+            (0..n * n)
+                .map(|k| f[(k % n, k / n)].to_bits())
+                .collect::<Vec<_>>()
+        };
+        let one = factor(Par::Seq);
+        for threads in [2, 4] {
+            assert!(factor(Par::rayon(threads)) == one, "{threads} threads");
+        }
+    }
+
     #[test]
     fn a_zero_pivot_is_refused_with_its_column() {
         // [[1, 1, 0], [1, 1, 1], [0, 1, 1]]: the second pivot is 1 − 1 = 0.
         let mut a = Mat::from_fn(3, 3, |i, j| if i.abs_diff(j) <= 1 { 1.0 } else { 0.0 });
-        let err = lu_in_place(a.as_mut(), &[1.0; 3], 1e-12).unwrap_err();
+        let err = lu_in_place(a.as_mut(), &[1.0; 3], 1e-12, Par::Seq).unwrap_err();
         assert_eq!(err.column, 1);
         assert_eq!(err.pivot, 0.0);
     }

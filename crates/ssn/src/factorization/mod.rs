@@ -29,6 +29,7 @@
 mod cholesky;
 mod dense_lu;
 mod ordering;
+mod subtrees;
 mod symmetric_pattern_lu;
 
 #[cfg(feature = "metis")]

@@ -11,8 +11,9 @@
 //!
 //! Symbolic phase once per pattern ([`SymbolicSymmetricPatternLu`], shareable), numeric
 //! phase per matrix ([`SymmetricPatternLu::factorize`]) into storage reused across calls.
-//! Everything runs on one thread in a fixed order: the factors do not depend on the thread
-//! count.
+//! Disjoint subtrees of the elimination tree factorize on rayon's threads, their common
+//! ancestors after them (`subtrees`); each supernode applies its updates in one fixed
+//! order, so the factors do not depend on the thread count.
 use std::sync::Arc;
 
 use faer::linalg::matmul::matmul;
@@ -24,9 +25,11 @@ use faer::sparse::linalg::cholesky::{CholeskySymbolicParams, SymbolicCholeskyRaw
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{Pair, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::{Accum, MatMut, MatRef, Par};
+use rayon::prelude::*;
 
-use super::dense_lu::lu_in_place;
+use super::dense_lu::{lu_in_place, par_for};
 use super::ordering::{symbolic_cholesky, Ordering};
+use super::subtrees::Schedule;
 
 /// Default pivot guard: `|u_jj| ≤ 1e-10 |a_jj|` is refused. The Newton matrices seen never
 /// come within 1e-4 of it (`docs/performance.md`); a matrix that needs row exchanges does.
@@ -96,6 +99,7 @@ pub struct SymbolicSymmetricPatternLu {
     /// Input position of `a_jj` for each permuted column (`usize::MAX` if not stored).
     diagonal: Vec<usize>,
     update_scratch: usize,
+    schedule: Schedule,
 }
 
 impl SymbolicSymmetricPatternLu {
@@ -259,6 +263,22 @@ impl SymbolicSymmetricPatternLu {
             scatter_ptr[k + 1] += scatter_ptr[k];
         }
         let scatter = scatter_by.into_iter().map(|(_, p, d)| (p, d)).collect();
+        // A supernode's parent owns its first off-diagonal row; its flops ~ ncols · nrows².
+        let parent: Vec<Option<usize>> = (0..n_super)
+            .map(|s| {
+                pattern_rows[pattern_ptr[s]..pattern_ptr[s + 1]]
+                    .first()
+                    .map(|&r| col_to_super[r])
+            })
+            .collect();
+        let work: Vec<f64> = (0..n_super)
+            .map(|s| {
+                let ncols = (supernode_begin[s + 1] - supernode_begin[s]) as f64;
+                let nrows = ncols + (pattern_ptr[s + 1] - pattern_ptr[s]) as f64;
+                ncols * nrows * nrows
+            })
+            .collect();
+        let schedule = Schedule::new(&parent, &work);
         Ok(Self {
             n,
             input_nnz,
@@ -273,6 +293,7 @@ impl SymbolicSymmetricPatternLu {
             scatter,
             diagonal,
             update_scratch,
+            schedule,
         })
     }
 
@@ -290,6 +311,13 @@ impl SymbolicSymmetricPatternLu {
             nnz += ncols * ncols + 2 * ncols * npat;
         }
         nnz
+    }
+
+    /// Subtrees of the elimination tree a factorization on several threads takes apart (0:
+    /// it stays on one thread, e.g. below about 1e7 flops). The factors are the same either
+    /// way.
+    pub fn parallel_subtrees(&self) -> usize {
+        self.schedule.tasks.len()
     }
 
     pub fn n_supernodes(&self) -> usize {
@@ -321,9 +349,8 @@ pub struct SymmetricPatternLu {
     /// `L` (with `U`'s diagonal blocks) then `Uᵀ`'s off-diagonal blocks.
     values: Vec<f64>,
     reference: Vec<f64>,
-    update: Vec<f64>,
-    local_rows: Vec<usize>,
-    global_to_local: Vec<usize>,
+    /// One per task of the schedule (at least one), reused across factorizations.
+    scratch: Vec<Scratch>,
     work: Vec<f64>,
     gathered: Vec<f64>,
     factorized: bool,
@@ -335,9 +362,7 @@ impl SymmetricPatternLu {
         Self {
             values: vec![0.0; 2 * symbolic.len_val()],
             reference: vec![0.0; n],
-            update: vec![0.0; symbolic.update_scratch],
-            local_rows: Vec::new(),
-            global_to_local: vec![usize::MAX; n],
+            scratch: vec![Scratch::new(&symbolic)],
             work: vec![0.0; n],
             gathered: Vec::new(),
             factorized: false,
@@ -371,108 +396,80 @@ impl SymmetricPatternLu {
                 values[p].abs()
             };
         }
-        let len_val = sym.len_val();
-        let (l_all, u_all) = self.values.split_at_mut(len_val);
-        for s in 0..sym.n_supernodes() {
-            let (begin, end) = (sym.supernode_begin[s], sym.supernode_begin[s + 1]);
-            let (ncols, npat) = sym.shape(s);
-            let nrows = ncols + npat;
-            for (k, &r) in sym.rows(s).iter().enumerate() {
-                self.global_to_local[r] = ncols + k;
-            }
-            let (l_done, l_rest) = l_all.split_at_mut(sym.value_ptr[s]);
-            let (u_done, u_rest) = u_all.split_at_mut(sym.value_ptr[s]);
-            let ls = &mut l_rest[..nrows * ncols];
-            let us = &mut u_rest[..nrows * ncols];
-            ls.fill(0.0);
-            us.fill(0.0);
-            let base = sym.value_ptr[s];
-            for &(p, dest) in &sym.scatter[sym.scatter_ptr[s]..sym.scatter_ptr[s + 1]] {
-                if dest < len_val {
-                    ls[dest - base] += values[p];
-                } else {
-                    us[dest - len_val - base] += values[p];
-                }
-            }
-            for upd in &sym.updates[sym.update_ptr[s]..sym.update_ptr[s + 1]] {
-                let (d_ncols, d_npat) = sym.shape(upd.d);
-                let d_nrows = d_ncols + d_npat;
-                let range = sym.value_ptr[upd.d]..sym.value_ptr[upd.d + 1];
-                let ld = &l_done[range.clone()];
-                let ud = &u_done[range];
-                let d_rows = &sym.rows(upd.d)[upd.start..];
-                let m1 = d_rows.len();
-                let k = upd.mid;
-                self.local_rows.clear();
-                self.local_rows.extend(d_rows.iter().map(|&r| {
-                    if r < end {
-                        r - begin
-                    } else {
-                        self.global_to_local[r]
-                    }
-                }));
-                let first = d_ncols + upd.start;
-                // L and U's diagonal block: rows ≥ begin of L_d times the mid rows of U_dᵀ.
-                subtract_product(
-                    ls,
-                    nrows,
-                    &self.local_rows,
-                    &self.local_rows[..k],
-                    ld,
-                    ud,
-                    d_nrows,
-                    d_ncols,
-                    first,
-                    m1,
-                    first,
-                    k,
-                    &mut self.update,
-                );
-                // Uᵀ below the diagonal block: rows past `end` of U_dᵀ times the mid rows of L_d.
-                if m1 > k {
-                    subtract_product(
-                        us,
-                        nrows,
-                        &self.local_rows[k..],
-                        &self.local_rows[..k],
-                        ud,
-                        ld,
-                        d_nrows,
-                        d_ncols,
-                        first + k,
-                        m1 - k,
-                        first,
-                        k,
-                        &mut self.update,
-                    );
-                }
-            }
-            let block = MatMut::from_column_major_slice_mut(ls, nrows, ncols);
-            let (mut top, mut bottom) = block.split_at_row_mut(ncols);
-            lu_in_place(top.rb_mut(), &self.reference[begin..end], pivot_tolerance).map_err(
-                |p| PivotBreakdown {
-                    column: sym.perm_fwd[begin + p.column],
-                    pivot: p.pivot,
-                    diagonal: self.reference[begin + p.column],
-                },
-            )?;
-            if npat > 0 {
-                // L21 = A21 U11⁻¹ and (U12)ᵀ = (L11⁻¹ A12)ᵀ.
-                solve_lower_triangular_in_place(
-                    top.rb().transpose(),
-                    bottom.rb_mut().transpose_mut(),
+        let (l_all, u_all) = self.values.split_at_mut(sym.len_val());
+        let reference = &self.reference;
+        let schedule = &sym.schedule;
+        let threads = rayon::current_num_threads();
+        // The large dense blocks of the top (or of a tree with no tasks) use every thread.
+        let par = if threads > 1 {
+            Par::rayon(threads)
+        } else {
+            Par::Seq
+        };
+        let parallel = !schedule.tasks.is_empty() && threads > 1;
+        let sequential = |l: &mut [f64], u: &mut [f64], scratch: &mut Scratch| {
+            (0..sym.n_supernodes()).try_for_each(|s| {
+                factor_supernode(
+                    &sym,
+                    s,
+                    values,
+                    reference,
+                    pivot_tolerance,
+                    (l, u, 0),
+                    scratch,
+                    par,
+                )
+            })
+        };
+        if !parallel {
+            sequential(l_all, u_all, &mut self.scratch[0])?;
+            self.factorized = true;
+            return Ok(());
+        }
+        while self.scratch.len() < schedule.tasks.len() {
+            self.scratch.push(Scratch::new(&sym));
+        }
+        // Each task owns its subtree's contiguous stretch of the factors.
+        let mut chunks = Vec::with_capacity(schedule.tasks.len());
+        let (mut l_rest, mut u_rest, mut offset) = (&mut *l_all, &mut *u_all, 0);
+        for (task, scratch) in schedule.tasks.iter().zip(self.scratch.iter_mut()) {
+            let (a, b) = (sym.value_ptr[task.start], sym.value_ptr[task.end]);
+            let (l_chunk, l_tail) = std::mem::take(&mut l_rest)[a - offset..].split_at_mut(b - a);
+            let (u_chunk, u_tail) = std::mem::take(&mut u_rest)[a - offset..].split_at_mut(b - a);
+            (l_rest, u_rest, offset) = (l_tail, u_tail, b);
+            chunks.push((task.clone(), l_chunk, u_chunk, scratch));
+        }
+        let failed = chunks.into_par_iter().any(|(task, l, u, scratch)| {
+            let origin = sym.value_ptr[task.start];
+            task.into_iter().any(|s| {
+                factor_supernode(
+                    &sym,
+                    s,
+                    values,
+                    reference,
+                    pivot_tolerance,
+                    (&mut *l, &mut *u, origin),
+                    scratch,
                     Par::Seq,
-                );
-                let ut = MatMut::from_column_major_slice_mut(us, nrows, ncols);
-                let (_, mut ut_bottom) = ut.split_at_row_mut(ncols);
-                solve_unit_lower_triangular_in_place(
-                    top.rb(),
-                    ut_bottom.rb_mut().transpose_mut(),
-                    Par::Seq,
-                );
-            }
-            for &r in sym.rows(s) {
-                self.global_to_local[r] = usize::MAX;
+                )
+                .is_err()
+            })
+        });
+        if failed {
+            // The breakdown the one-thread order meets first, whichever task met one.
+            sequential(l_all, u_all, &mut self.scratch[0])?;
+        } else {
+            for &s in &schedule.top {
+                factor_supernode(
+                    &sym,
+                    s,
+                    values,
+                    reference,
+                    pivot_tolerance,
+                    (&mut *l_all, &mut *u_all, 0),
+                    &mut self.scratch[0],
+                    par,
+                )?;
             }
         }
         self.factorized = true;
@@ -580,6 +577,143 @@ impl SymmetricPatternLu {
     }
 }
 
+/// The work buffers of one thread: where a supernode's rows sit in its block, the rows a
+/// descendant's update lands in, and the update's product.
+#[derive(Debug)]
+struct Scratch {
+    global_to_local: Vec<usize>,
+    local_rows: Vec<usize>,
+    update: Vec<f64>,
+}
+
+impl Scratch {
+    fn new(sym: &SymbolicSymmetricPatternLu) -> Self {
+        Self {
+            global_to_local: vec![usize::MAX; sym.n],
+            local_rows: Vec::new(),
+            update: vec![0.0; sym.update_scratch],
+        }
+    }
+}
+
+/// Factorizes supernode `s` (left-looking: its input, every descendant's update in
+/// ascending order, the dense LU of its diagonal block, the off-diagonal solves) into
+/// `factors = (l, u, origin)`, the stretch of `L` and `Uᵀ`'s values from `value_ptr` =
+/// `origin` on that holds `s` and all its descendants.
+fn factor_supernode(
+    sym: &SymbolicSymmetricPatternLu,
+    s: usize,
+    values: &[f64],
+    reference: &[f64],
+    pivot_tolerance: f64,
+    factors: (&mut [f64], &mut [f64], usize),
+    scratch: &mut Scratch,
+    par: Par,
+) -> Result<(), PivotBreakdown> {
+    let (l_all, u_all, origin) = factors;
+    let len_val = sym.len_val();
+    let (begin, end) = (sym.supernode_begin[s], sym.supernode_begin[s + 1]);
+    let (ncols, npat) = sym.shape(s);
+    let nrows = ncols + npat;
+    for (k, &r) in sym.rows(s).iter().enumerate() {
+        scratch.global_to_local[r] = ncols + k;
+    }
+    let (l_done, l_rest) = l_all.split_at_mut(sym.value_ptr[s] - origin);
+    let (u_done, u_rest) = u_all.split_at_mut(sym.value_ptr[s] - origin);
+    let ls = &mut l_rest[..nrows * ncols];
+    let us = &mut u_rest[..nrows * ncols];
+    ls.fill(0.0);
+    us.fill(0.0);
+    let base = sym.value_ptr[s];
+    for &(p, dest) in &sym.scatter[sym.scatter_ptr[s]..sym.scatter_ptr[s + 1]] {
+        if dest < len_val {
+            ls[dest - base] += values[p];
+        } else {
+            us[dest - len_val - base] += values[p];
+        }
+    }
+    for upd in &sym.updates[sym.update_ptr[s]..sym.update_ptr[s + 1]] {
+        let (d_ncols, d_npat) = sym.shape(upd.d);
+        let d_nrows = d_ncols + d_npat;
+        let range = sym.value_ptr[upd.d] - origin..sym.value_ptr[upd.d + 1] - origin;
+        let ld = &l_done[range.clone()];
+        let ud = &u_done[range];
+        let d_rows = &sym.rows(upd.d)[upd.start..];
+        let m1 = d_rows.len();
+        let k = upd.mid;
+        let Scratch {
+            global_to_local,
+            local_rows,
+            update,
+        } = scratch;
+        local_rows.clear();
+        local_rows.extend(d_rows.iter().map(|&r| {
+            if r < end {
+                r - begin
+            } else {
+                global_to_local[r]
+            }
+        }));
+        let first = d_ncols + upd.start;
+        // L and U's diagonal block: rows ≥ begin of L_d times the mid rows of U_dᵀ.
+        subtract_product(
+            ls,
+            nrows,
+            local_rows,
+            &local_rows[..k],
+            ld,
+            ud,
+            d_nrows,
+            d_ncols,
+            first,
+            m1,
+            first,
+            k,
+            update,
+            par,
+        );
+        // Uᵀ below the diagonal block: rows past `end` of U_dᵀ times the mid rows of L_d.
+        if m1 > k {
+            subtract_product(
+                us,
+                nrows,
+                &local_rows[k..],
+                &local_rows[..k],
+                ud,
+                ld,
+                d_nrows,
+                d_ncols,
+                first + k,
+                m1 - k,
+                first,
+                k,
+                update,
+                par,
+            );
+        }
+    }
+    let block = MatMut::from_column_major_slice_mut(ls, nrows, ncols);
+    let (mut top, mut bottom) = block.split_at_row_mut(ncols);
+    let pivots = lu_in_place(top.rb_mut(), &reference[begin..end], pivot_tolerance, par);
+    for &r in sym.rows(s) {
+        scratch.global_to_local[r] = usize::MAX;
+    }
+    pivots.map_err(|p| PivotBreakdown {
+        column: sym.perm_fwd[begin + p.column],
+        pivot: p.pivot,
+        diagonal: reference[begin + p.column],
+    })?;
+    if npat > 0 {
+        // L21 = A21 U11⁻¹ and (U12)ᵀ = (L11⁻¹ A12)ᵀ.
+        let par = par_for(ncols * ncols * npat, par);
+        solve_lower_triangular_in_place(top.rb().transpose(), bottom.rb_mut().transpose_mut(), par);
+        let ut = MatMut::from_column_major_slice_mut(us, nrows, ncols);
+        let (_, mut ut_bottom) = ut.split_at_row_mut(ncols);
+        solve_unit_lower_triangular_in_place(top.rb(), ut_bottom.rb_mut().transpose_mut(), par);
+    }
+    Ok(())
+}
+
 /// `target[rows[i], cols[j]] −= Σ_c a[a_first + i, c] · b[b_first + j, c]` for the
 /// column-major `(.. × d_ncols)` blocks `a`, `b` of leading dimension `d_nrows`, into the
 /// column-major `target` of leading dimension `ld`.
@@ -598,6 +732,7 @@ fn subtract_product(
     b_first: usize,
     k: usize,
     scratch: &mut [f64],
+    par: Par,
 ) {
     if m * k * d_ncols <= SMALL_UPDATE {
         // The product into `scratch` (dense, column-major), then one scatter.
@@ -625,7 +760,7 @@ fn subtract_product(
             a_block,
             b_block.transpose(),
             1.0,
-            Par::Seq,
+            par_for(m * k * d_ncols, par),
         );
     }
     for (j, &cj) in cols.iter().enumerate() {
