@@ -6,8 +6,8 @@
 use std::ops::Range;
 
 /// Subtrees are split (largest first, from the roots down) until the largest holds at
-/// most this fraction of the work: enough tasks to keep two to four threads busy (on the
-/// 2D grid of `examples/lu_threads.rs`, 1/8 split into 9 tasks was faster than 1/16 or 1/32).
+/// most this fraction of the work: enough tasks to keep two to four threads busy
+/// (`docs/performance.md`, 'The LU on two threads': 1/16 was no faster, 1/32 slower).
 const SPLIT: f64 = 1.0 / 8.0;
 /// Below this many estimated flops the factorization stays on one thread.
 const PARALLEL_WORK: f64 = 1e7;
