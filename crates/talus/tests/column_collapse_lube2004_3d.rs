@@ -18,29 +18,16 @@
 //! `front`.
 mod common;
 
-use std::path::Path;
-
 use talus::model::mpm::MpmModel;
-use talus::scene::{MpmScene3, SceneFile};
 
 /// Cells per R₀ of the shipped scenes and of the run.
 const SHIPPED_PER_R0: f64 = 5.0;
 const PER_R0: f64 = 7.5;
 
-fn scene(name: &str) -> MpmScene3 {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenes")
-        .join(name);
-    match SceneFile::from_path(&path).unwrap_or_else(|e| panic!("{e}")) {
-        SceneFile::Mpm3(s) => s,
-        _ => panic!("{name} is not a 3D MPM scene"),
-    }
-}
-
 /// `(R∞ − R₀)/R₀` at the scene's t_end, on its grid refined from R₀/5 to R₀/7.5 (the same
 /// origin; the cell counts rounded up, so the domain is at least the scene's).
 fn final_runout(name: &str) -> f64 {
-    let mut scene = scene(name);
+    let mut scene = common::shipped_mpm_scene_3d(name);
     let refine = PER_R0 / SHIPPED_PER_R0;
     let grid = &mut scene.spec.grid;
     grid.spacing /= refine;

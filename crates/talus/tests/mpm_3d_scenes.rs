@@ -176,11 +176,7 @@ fn a_plane_strain_column_run_in_3d_gives_the_2d_history() {
 /// mass ρ (dx/2)³; the runout is radial.
 #[test]
 fn the_3d_column_scene_holds_its_quarter_cylinder() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/column_3d.toml");
-    let scene = match SceneFile::from_path(&path).unwrap_or_else(|e| panic!("{e}")) {
-        SceneFile::Mpm3(s) => s,
-        _ => panic!("column_3d.toml is not a 3D MPM scene"),
-    };
+    let scene = common::shipped_mpm_scene_3d("column_3d.toml");
     let model = MpmModel::from_scene_3d(&scene).unwrap_or_else(|e| panic!("{e}"));
     let (r0, h0, d, rho) = (0.1, 0.05, 0.01, 1800.0);
     let n = |l: f64| (l / d).round() as usize;

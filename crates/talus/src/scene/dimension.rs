@@ -92,3 +92,42 @@ pub(crate) fn three_d_key(scene: &impl Locate, field: &str, what: &str) -> Scene
         format!("{what} is 3D: it needs [analysis] geometry = \"3d\" (this scene is 2D)"),
     )
 }
+
+/// A uniform `[initial_stress] stress` of the other dimension's length (4 components in 3D,
+/// 6 in 2D) in a `kind` (FEM or MPM) scene, refused naming the field and the form.
+pub(super) fn stress_components(
+    table: &toml::Table,
+    three_d: bool,
+    kind: &str,
+    at: &dyn Fn(&str, String) -> SceneError,
+) -> Result<(), SceneError> {
+    let stress =
+        (table.get("initial_stress").and_then(|t| t.get("stress"))).and_then(|v| v.as_array());
+    let Some(stress) = stress else {
+        return Ok(());
+    };
+    let n = stress.len();
+    let (other, this, form) = if three_d {
+        (4, "3D", <[f64; 3]>::STRESS_FORM.to_string())
+    } else {
+        (
+            6,
+            "2D",
+            format!(
+                "{}; [analysis] geometry = \"3d\" makes a scene 3D",
+                <[f64; 2]>::STRESS_FORM
+            ),
+        )
+    };
+    if n != other {
+        return Ok(());
+    }
+    Err(at(
+        "initial_stress.stress",
+        format!(
+            "{} has {n} components: the uniform stress of a {this} {kind} scene has {} ({form})",
+            toml::Value::Array(stress.clone()),
+            if three_d { 6 } else { 4 }
+        ),
+    ))
+}

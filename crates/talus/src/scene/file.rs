@@ -44,7 +44,7 @@ impl SceneFile {
             == Some("3d");
         if table.contains_key("mesh") && !table.contains_key("grid") {
             let at = |field: &str, message: String| error_at(source, path.as_ref(), field, message);
-            super::mpm_load::stress_components(&table, three_d, "FEM", &at)?;
+            super::dimension::stress_components(&table, three_d, "FEM", &at)?;
         }
         match (table.contains_key("mesh"), table.contains_key("grid")) {
             (true, false) if three_d => three_d_scene(source, path).map(SceneFile::Fem3),

@@ -93,8 +93,8 @@ pub struct SceneSpec<V: SceneVector = [f64; 2]> {
     #[serde(default)]
     pub point_load: Vec<PointLoadSpec<V>>,
     pub time: TimeSpec,
-    /// Initial stress (default: stress free); a uniform `stress` has 2D's four components
-    /// in 3D too, where `model::fem::build3` refuses it.
+    /// Initial stress (default: stress free); a uniform `stress` has four components in
+    /// 2D, six in 3D ([`InitialStressSpec`]).
     #[serde(default)]
     pub initial_stress: Option<InitialStressSpec<V>>,
     /// Dynamic (default) or quasi-static.

@@ -491,3 +491,14 @@ where
     }
     state.particles
 }
+
+/// The shipped 3D MPM scene `scenes/<name>`, read by `SceneFile` as `talus run` reads it.
+pub fn shipped_mpm_scene_3d(name: &str) -> talus::scene::MpmScene3 {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes")
+        .join(name);
+    match talus::scene::SceneFile::from_path(&path).unwrap_or_else(|e| panic!("{e}")) {
+        talus::scene::SceneFile::Mpm3(s) => s,
+        _ => panic!("{name} is not a 3D MPM scene"),
+    }
+}
