@@ -77,6 +77,12 @@ impl<M: Discretization<D>, const D: usize> Stepper<M, D> {
         &self.settings
     }
 
+    /// The predictor of the next sub-steps: a caller that watches the motion (a stability
+    /// trial, `docs/stability.md`, 'Predictor') switches it between steps.
+    pub fn set_predictor(&mut self, rule: PredictorRule) {
+        self.settings.predictor = rule;
+    }
+
     /// `(σₙ − σₙ₋₁)/h` of the last sub-step, if the next step will extrapolate from it.
     pub fn stress_rate(&self) -> Option<&[f64]> {
         self.stress_rate.as_deref()

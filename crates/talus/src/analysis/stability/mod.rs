@@ -24,7 +24,7 @@ use talus_fem::{Dimension, Mandel};
 use crate::model::fem::{Model, State};
 use crate::run::RunError;
 use crate::scene::{SceneError, StabilityMethod};
-use talus_engine::{Failed, PredictorRule, Run, StepSettings, Stepper};
+use talus_engine::{Failed, Run, StepSettings, Stepper};
 
 pub use bracket::{Bracket, Guide, Next, Outcome};
 pub use continuation::Planner;
@@ -35,7 +35,7 @@ pub use outputs::{
 pub use scene::StabilityScene;
 pub use settings::StabilitySettings;
 pub use strength::{plane_strain_match, Strength};
-pub use trial::Trial;
+pub use trial::{Trial, TrialPredictor};
 
 /// The loading phase: the scene's own steps from its initial state ([`Analysis::equilibrium`]),
 /// or a caller's (a construction stage's end, given to [`search`]); 2D (`D = 4`) or 3D
@@ -244,6 +244,7 @@ where
         let (trial, _) = trial::run_trial_from(
             &self.model,
             self.step_settings,
+            TrialPredictor::Scene,
             (equilibrium, None),
             equilibrium,
             f,
@@ -257,12 +258,9 @@ where
     /// `start.1` (`None`: `equilibrium` itself); the trial, and its end state when it is
     /// stable (the next trials' start). Its [`Trial::moved`] is measured from `equilibrium`.
     ///
-    /// A continued search's steps start from the elastic predictor when the sub-step's
-    /// problem is associative, the last stress otherwise (`ElasticIfAssociative`); the
-    /// blind one keeps the scene's. Measured (`docs/stability.md`, 'Search'): the scene's
-    /// extrapolated predictor took 503 Newton iterations on the FEniCSx cut
-    /// (associative), the elastic one 211, and on the slope (ψ = 0) 823 against 478 with
-    /// the last stress (1175 with the elastic one).
+    /// A continued search's steps follow the motion ([`TrialPredictor::FollowMotion`]);
+    /// the blind one keeps the scene's predictor. Measured in `docs/stability.md`,
+    /// 'Search'.
     pub fn trial_from(
         &mut self,
         f: f64,
@@ -271,17 +269,14 @@ where
     ) -> Result<(Trial<D>, Option<State<D>>), String> {
         self.set_factor(f)?;
         let predictor = if self.settings.continuation {
-            PredictorRule::ElasticIfAssociative
+            TrialPredictor::FollowMotion
         } else {
-            self.step_settings.predictor
-        };
-        let settings = StepSettings {
-            predictor,
-            ..self.step_settings
+            TrialPredictor::Scene
         };
         Ok(trial::run_trial_from(
             &self.model,
-            settings,
+            self.step_settings,
+            predictor,
             start,
             equilibrium,
             f,

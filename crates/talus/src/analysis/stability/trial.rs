@@ -5,7 +5,7 @@
 use std::time::Instant;
 
 use crate::model::fem::{Model, State};
-use talus_engine::{StepSettings, Stepper};
+use talus_engine::{PredictorRule, StepSettings, Stepper};
 use talus_fem::{Dimension, Mandel};
 
 use super::criterion::{Criterion, Verdict};
@@ -63,14 +63,41 @@ where
     }
 }
 
+/// Where a trial's steps start their Newton iterations (`docs/stability.md`, 'Predictor').
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TrialPredictor {
+    /// The scene's rule on every step (the blind search).
+    Scene,
+    /// The elastic predictor for an associative step, σₙ otherwise, while the body
+    /// settles; σₙ after a step whose increment did not decrease (the criterion's
+    /// growth): a mechanism moving on keeps its stress at yield, nearly stationary, where
+    /// the elastic predictor overshoots ([`TrialPredictor::next`]).
+    FollowMotion,
+}
+
+impl TrialPredictor {
+    /// The rule of the step after `increments` (the criterion's measures so far), for a
+    /// scene whose rule is `scene`.
+    pub fn next(self, increments: &[f64], scene: PredictorRule) -> PredictorRule {
+        match (self, increments) {
+            (TrialPredictor::Scene, _) => scene,
+            (TrialPredictor::FollowMotion, [.., a, b]) if b >= a => PredictorRule::Previous,
+            (TrialPredictor::FollowMotion, _) => PredictorRule::ElasticIfAssociative,
+        }
+    }
+}
+
 /// Steps `model` (already set to the trial's factor) from `start`, the state of the trial
-/// at factor `start.1` (`None`: `equilibrium` itself), by `h` until `criterion` decides;
-/// the trial, and its end state when it is stable (only such a state starts later
-/// trials). `equilibrium` is the search's: the displacement [`Trial::moved`] is measured
-/// from it (the plastic strain of the trial from `start`).
+/// at factor `start.1` (`None`: `equilibrium` itself), by `h` until `criterion` decides,
+/// each step from the predictor `predictor` picks; the trial, and its end state when it
+/// is stable (only such a state starts later trials). `equilibrium` is the search's: the
+/// displacement [`Trial::moved`] is measured from it (the plastic strain of the trial
+/// from `start`).
+#[allow(clippy::too_many_arguments)]
 pub fn run_trial_from<const D: usize>(
     model: &Model<D>,
     settings: StepSettings,
+    predictor: TrialPredictor,
     start: (&State<D>, Option<f64>),
     equilibrium: &State<D>,
     factor: f64,
@@ -89,6 +116,7 @@ where
     let mut newton_iterations = 0;
     let mut error = None;
     let verdict = loop {
+        stepper.set_predictor(predictor.next(&increments, settings.predictor));
         let before = state.displacement.clone();
         match stepper.advance(&mut state, h) {
             Ok(report) => newton_iterations += report.total_newton_iterations(),
@@ -139,6 +167,34 @@ pub fn difference<P: AsRef<[f64]> + AsMut<[f64]>>(out: &mut [P], a: &[P], b: &[P
     for ((d, a), b) in out.iter_mut().zip(a).zip(b) {
         for ((d, a), b) in d.as_mut().iter_mut().zip(a.as_ref()).zip(b.as_ref()) {
             *d = a - b;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// σₙ after a step that did not decrease the increment, the settling rule otherwise;
+    /// the blind search's trials keep the scene's rule whatever the motion.
+    #[test]
+    fn a_mechanism_moving_on_starts_from_the_last_stress() {
+        use PredictorRule::*;
+        let follow =
+            |increments: &[f64]| TrialPredictor::FollowMotion.next(increments, Extrapolated);
+        assert_eq!(follow(&[]), ElasticIfAssociative);
+        assert_eq!(follow(&[0.3]), ElasticIfAssociative);
+        // Settling (F = 1.36 on scenes/slope.toml, criterion.rs): the settling rule.
+        assert_eq!(follow(&[1.31e-2, 7.60e-5]), ElasticIfAssociative);
+        // Accelerating (F = 1.40), or held: the last stress.
+        assert_eq!(follow(&[2.82e-1, 4.56e-1]), Previous);
+        assert_eq!(follow(&[2.82e-1, 4.56e-1, 0.2]), ElasticIfAssociative);
+        assert_eq!(follow(&[0.1, 0.1]), Previous);
+        for increments in [&[][..], &[2.82e-1, 4.56e-1]] {
+            assert_eq!(
+                TrialPredictor::Scene.next(increments, Extrapolated),
+                Extrapolated
+            );
         }
     }
 }
