@@ -70,18 +70,27 @@ pub enum TrialPredictor {
     Scene,
     /// The elastic predictor for an associative step, σₙ otherwise, while the body
     /// settles; σₙ after a step whose increment did not decrease (the criterion's
-    /// growth): a mechanism moving on keeps its stress at yield, nearly stationary, where
-    /// the elastic predictor overshoots ([`TrialPredictor::next`]).
+    /// growth) or whose Newton solve needed its line search (points changing regions
+    /// en masse: plastic flow): a mechanism forming or moving on keeps its stress at
+    /// yield, nearly stationary, where the elastic predictor overshoots
+    /// ([`TrialPredictor::next`]).
     FollowMotion,
 }
 
 impl TrialPredictor {
-    /// The rule of the step after `increments` (the criterion's measures so far), for a
-    /// scene whose rule is `scene`.
-    pub fn next(self, increments: &[f64], scene: PredictorRule) -> PredictorRule {
+    /// The rule of the step after `increments` (the criterion's measures so far), the
+    /// last of which took `backtracks` line-search backtracks, for a scene whose rule is
+    /// `scene`.
+    pub fn next(
+        self,
+        increments: &[f64],
+        backtracks: usize,
+        scene: PredictorRule,
+    ) -> PredictorRule {
         match (self, increments) {
             (TrialPredictor::Scene, _) => scene,
             (TrialPredictor::FollowMotion, [.., a, b]) if b >= a => PredictorRule::Previous,
+            (TrialPredictor::FollowMotion, [_, ..]) if backtracks > 0 => PredictorRule::Previous,
             (TrialPredictor::FollowMotion, _) => PredictorRule::ElasticIfAssociative,
         }
     }
@@ -115,11 +124,15 @@ where
     let mut last_increment = vec![Point::<D>::default(); state.displacement.len()];
     let mut newton_iterations = 0;
     let mut error = None;
+    let mut backtracks = 0;
     let verdict = loop {
-        stepper.set_predictor(predictor.next(&increments, settings.predictor));
+        stepper.set_predictor(predictor.next(&increments, backtracks, settings.predictor));
         let before = state.displacement.clone();
         match stepper.advance(&mut state, h) {
-            Ok(report) => newton_iterations += report.total_newton_iterations(),
+            Ok(report) => {
+                backtracks = report.backtracks;
+                newton_iterations += report.total_newton_iterations();
+            }
             Err(e) => {
                 error = Some(format!("step {}: {e}", increments.len() + 1));
                 break criterion.after_failed_step(&increments);
@@ -175,24 +188,31 @@ pub fn difference<P: AsRef<[f64]> + AsMut<[f64]>>(out: &mut [P], a: &[P], b: &[P
 mod tests {
     use super::*;
 
-    /// σₙ after a step that did not decrease the increment, the settling rule otherwise;
-    /// the blind search's trials keep the scene's rule whatever the motion.
+    /// σₙ after a step that did not decrease the increment or that backtracked, the
+    /// settling rule otherwise; the blind search's trials keep the scene's rule whatever
+    /// the motion.
     #[test]
     fn a_mechanism_moving_on_starts_from_the_last_stress() {
         use PredictorRule::*;
-        let follow =
-            |increments: &[f64]| TrialPredictor::FollowMotion.next(increments, Extrapolated);
-        assert_eq!(follow(&[]), ElasticIfAssociative);
-        assert_eq!(follow(&[0.3]), ElasticIfAssociative);
+        let follow = |increments: &[f64], backtracks: usize| {
+            TrialPredictor::FollowMotion.next(increments, backtracks, Extrapolated)
+        };
+        assert_eq!(follow(&[], 0), ElasticIfAssociative);
+        assert_eq!(follow(&[0.3], 0), ElasticIfAssociative);
         // Settling (F = 1.36 on scenes/slope.toml, criterion.rs): the settling rule.
-        assert_eq!(follow(&[1.31e-2, 7.60e-5]), ElasticIfAssociative);
+        assert_eq!(follow(&[1.31e-2, 7.60e-5], 0), ElasticIfAssociative);
         // Accelerating (F = 1.40), or held: the last stress.
-        assert_eq!(follow(&[2.82e-1, 4.56e-1]), Previous);
-        assert_eq!(follow(&[2.82e-1, 4.56e-1, 0.2]), ElasticIfAssociative);
-        assert_eq!(follow(&[0.1, 0.1]), Previous);
+        assert_eq!(follow(&[2.82e-1, 4.56e-1], 0), Previous);
+        assert_eq!(follow(&[2.82e-1, 4.56e-1, 0.2], 0), ElasticIfAssociative);
+        assert_eq!(follow(&[0.1, 0.1], 0), Previous);
+        // A step that needed its line search: the last stress, even while settling.
+        assert_eq!(follow(&[0.3], 9), Previous);
+        assert_eq!(follow(&[1.31e-2, 7.60e-5], 1), Previous);
+        // Nothing stepped yet: no step's backtracks to go by.
+        assert_eq!(follow(&[], 9), ElasticIfAssociative);
         for increments in [&[][..], &[2.82e-1, 4.56e-1]] {
             assert_eq!(
-                TrialPredictor::Scene.next(increments, Extrapolated),
+                TrialPredictor::Scene.next(increments, 9, Extrapolated),
                 Extrapolated
             );
         }
