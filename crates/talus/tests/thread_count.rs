@@ -1,7 +1,7 @@
 //! The same scene gives the same numbers whatever the thread count: the paper's footing
-//! (non-associative, the no-pivot LU) refined to 64 × 28 P2 cells, whose LU splits its
-//! elimination tree into subtrees factorized on different threads
-//! (`talus_ssn::factorization`), run by `talus run` on 1 and on 2 threads
+//! (non-associative, the no-pivot LU; associative, the Cholesky) refined to 64 × 28 P2
+//! cells, whose factorization splits its elimination tree into subtrees factorized on
+//! different threads (`talus_ssn::factorization`), run by `talus run` on 1 and on 2 threads
 //! (`RAYON_NUM_THREADS`). history.csv (its `seconds` columns aside) and the last VTU must
 //! agree to the byte.
 mod common;
@@ -52,13 +52,19 @@ fn last_vtu(out: &Path) -> Vec<u8> {
     std::fs::read(vtus.last().expect("a VTU")).unwrap()
 }
 
-#[test]
-fn the_paper_footing_gives_the_same_bytes_on_one_and_two_threads() {
+/// The footing at 64 × 28 P2 cells, 4 steps, `dilatancy_angle` replaced by `dilatancy`,
+/// run on 1 and on 2 threads: the same bytes.
+fn same_bytes_on_one_and_two_threads(name: &str, dilatancy: &str) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
     let text = std::fs::read_to_string(root.join("footing.toml")).unwrap();
     let text = common::replaced(&text, "cells = [32, 14]", "cells = [64, 28]");
     let text = common::replaced(&text, "steps = 300", "steps = 4");
-    let dir = common::target_tmp_dir("thread_count", "footing_64x28");
+    let text = common::replaced(
+        &text,
+        "dilatancy_angle = 14.2906",
+        &format!("dilatancy_angle = {dilatancy}"),
+    );
+    let dir = common::target_tmp_dir("thread_count", name);
     let scene = dir.join("scene.toml");
     std::fs::write(&scene, text).unwrap();
     let one = run(1, &scene, dir.join("one"));
@@ -67,4 +73,16 @@ fn the_paper_footing_gives_the_same_bytes_on_one_and_two_threads() {
     assert_eq!(h1.len(), 6, "header, step 0 and 4 steps");
     assert_eq!(h1, h2);
     assert_eq!(last_vtu(&one), last_vtu(&two));
+}
+
+#[test]
+fn the_paper_footing_gives_the_same_bytes_on_one_and_two_threads() {
+    same_bytes_on_one_and_two_threads("footing_64x28", "14.2906");
+}
+
+/// Associative (ψ = φ): the Newton matrix is symmetric and factorized by the supernodal
+/// Cholesky (`SymmetricPatternLlt`), on the same subtree schedule.
+#[test]
+fn the_associative_footing_gives_the_same_bytes_on_one_and_two_threads() {
+    same_bytes_on_one_and_two_threads("footing_64x28_associative", "27.0");
 }

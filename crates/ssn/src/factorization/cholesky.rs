@@ -1,14 +1,18 @@
-//! Sparse Cholesky `P A Pᵀ = L Lᵀ` through faer's supernodal factorization, with the
-//! factor's storage and both workspaces kept across factorizations: the Newton matrix of an
-//! associative flow rule is refactorized every iteration on the same pattern, and faer's
-//! `Llt` would allocate (and zero) the whole factor each time.
+//! Sparse Cholesky `P A Pᵀ = L Lᵀ` of the Newton matrix of an associative flow rule
+//! (symmetric `K`), refactorized every iteration on the same pattern into reused storage.
+//! In f64 it is our supernodal [`SymmetricPatternLlt`], parallel over the elimination
+//! tree with the same factor on any thread count (`docs/performance.md`, 'The Cholesky on
+//! two threads'); the f32 factor of the Krylov path (`docs/krylov.md`, 'A
+//! single-precision factor') is faer's supernodal one, sequential.
+use std::sync::Arc;
+
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
 use super::ordering::{symbolic_cholesky, Ordering};
-use super::SymbolicError;
+use super::{SymbolicError, SymbolicSymmetricPatternLu, SymmetricPatternLlt};
 
 /// The matrix is not (numerically) positive definite.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
@@ -18,18 +22,27 @@ pub struct NotPositiveDefinite {
     pub column: usize,
 }
 
-/// Symbolic analysis (fill-reducing [`Ordering`], supernodes) once per pattern; numeric factorizations
-/// into reused storage. Sequential: the factors do not depend on the thread count.
+/// Symbolic analysis (fill-reducing [`Ordering`], supernodes) once per pattern; numeric
+/// factorizations into reused storage. The factors do not depend on the thread count.
 pub struct SupernodalCholesky {
+    storage: Storage,
+}
+
+enum Storage {
+    /// Built by [`SupernodalCholesky::try_new_with`].
+    Double(SymmetricPatternLlt),
+    /// Built by [`SupernodalCholesky::try_new_single`]: faer's symbolic analysis, the
+    /// f32 factor, and an f64 one allocated by the first [`SupernodalCholesky::factorize`].
+    Single(Box<FaerFactors>),
+}
+
+struct FaerFactors {
     symbolic: SymbolicCholesky<usize>,
-    /// Empty until the first f64 factorization when built by [`try_new_single`](Self::try_new_single).
     values: Vec<f64>,
     factor_scratch: Option<MemBuffer>,
     solve_scratch: Option<MemBuffer>,
     factorized: bool,
-    /// The factor stored in f32 (`docs/krylov.md`, 'A single-precision factor'): half the
-    /// memory, a preconditioner only.
-    single: Option<Single>,
+    single: Single,
 }
 
 /// The f32 factor, `K`'s values rounded to f32, scratch and a work vector.
@@ -45,9 +58,8 @@ struct Single {
 impl std::fmt::Debug for SupernodalCholesky {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("SupernodalCholesky")
-            .field("dimension", &self.symbolic.nrows())
+            .field("single", &matches!(self.storage, Storage::Single(_)))
             .field("factor_nnz", &self.factor_nnz())
-            .field("factorized", &self.factorized)
             .finish()
     }
 }
@@ -63,20 +75,9 @@ impl SupernodalCholesky {
         lower: SymbolicSparseColMatRef<'_, usize>,
         ordering: Ordering,
     ) -> Result<Self, SymbolicError> {
-        let symbolic = symbolic_cholesky(lower, ordering, Default::default())?;
-        let factor_scratch = MemBuffer::try_new(
-            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
-        )
-        .map_err(|e| SymbolicError::new(format!("{e:?}")))?;
-        let solve_scratch = MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq))
-            .map_err(|e| SymbolicError::new(format!("{e:?}")))?;
+        let symbolic = SymbolicSymmetricPatternLu::try_new_with(lower, ordering)?;
         Ok(Self {
-            values: vec![0.0; symbolic.len_val()],
-            symbolic,
-            factor_scratch: Some(factor_scratch),
-            solve_scratch: Some(solve_scratch),
-            factorized: false,
-            single: None,
+            storage: Storage::Double(SymmetricPatternLlt::new(Arc::new(symbolic))),
         })
     }
 
@@ -102,23 +103,31 @@ impl SupernodalCholesky {
             factorized: false,
         };
         Ok(Self {
-            values: Vec::new(),
-            symbolic,
-            factor_scratch: None,
-            solve_scratch: None,
-            factorized: false,
-            single: Some(single),
+            storage: Storage::Single(Box::new(FaerFactors {
+                values: Vec::new(),
+                symbolic,
+                factor_scratch: None,
+                solve_scratch: None,
+                factorized: false,
+                single,
+            })),
         })
     }
 
-    /// Stored entries of `L`.
+    /// Stored entries of `L` (its supernodes' dense blocks).
     pub fn factor_nnz(&self) -> usize {
-        self.symbolic.len_val()
+        match &self.storage {
+            Storage::Double(llt) => llt.len_val(),
+            Storage::Single(f) => f.symbolic.len_val(),
+        }
     }
 
     /// Bytes of the stored factors (f64 and f32).
     pub fn factor_bytes(&self) -> usize {
-        8 * self.values.len() + self.single.as_ref().map_or(0, |s| 4 * s.values.len())
+        match &self.storage {
+            Storage::Double(llt) => 8 * llt.len_val(),
+            Storage::Single(f) => 8 * f.values.len() + 4 * f.single.values.len(),
+        }
     }
 
     /// Factorizes, in f32, the matrix whose lower triangle is `lower` (rounded to f32).
@@ -127,16 +136,16 @@ impl SupernodalCholesky {
         &mut self,
         lower: SparseColMatRef<'_, usize, f64>,
     ) -> Result<(), NotPositiveDefinite> {
-        let single = self
-            .single
-            .as_mut()
-            .expect("factorize_single on a solver built by try_new_single");
+        let Storage::Single(f) = &mut self.storage else {
+            panic!("factorize_single on a solver built by try_new_single only");
+        };
+        let single = &mut f.single;
         single.factorized = false;
         for (s, v) in single.input.iter_mut().zip(lower.val()) {
             *s = *v as f32;
         }
         let lower32 = SparseColMatRef::new(lower.symbolic(), &single.input);
-        self.symbolic
+        f.symbolic
             .factorize_numeric_llt::<f32>(
                 &mut single.values,
                 lower32,
@@ -146,17 +155,17 @@ impl SupernodalCholesky {
                 MemStack::new(&mut single.factor_scratch),
                 Default::default(),
             )
-            .map_err(|e| {
-                let faer::linalg::solvers::LltError::NonPositivePivot { index } = e;
-                NotPositiveDefinite { column: index }
-            })?;
+            .map_err(not_positive_definite)?;
         single.factorized = true;
         Ok(())
     }
 
     /// `rhs ← A⁻¹ rhs` with the f32 factor (the vector rounded to f32 and back).
     pub fn solve_in_place_single(&mut self, rhs: &mut [f64]) {
-        let single = self.single.as_mut().expect("built by try_new_single");
+        let Storage::Single(f) = &mut self.storage else {
+            panic!("solve_in_place_single on a solver built by try_new_single only");
+        };
+        let single = &mut f.single;
         assert!(
             single.factorized,
             "solve before a successful factorize_single"
@@ -165,7 +174,7 @@ impl SupernodalCholesky {
         for (s, v) in single.work.iter_mut().zip(rhs.iter()) {
             *s = *v as f32;
         }
-        LltRef::new(&self.symbolic, &single.values).solve_in_place_with_conj(
+        LltRef::new(&f.symbolic, &single.values).solve_in_place_with_conj(
             Conj::No,
             MatMut::from_column_major_slice_mut(&mut single.work, n, 1),
             Par::Seq,
@@ -181,19 +190,23 @@ impl SupernodalCholesky {
         &mut self,
         lower: SparseColMatRef<'_, usize, f64>,
     ) -> Result<(), NotPositiveDefinite> {
-        self.factorized = false;
-        if self.values.len() != self.symbolic.len_val() {
-            self.values = vec![0.0; self.symbolic.len_val()];
+        let f = match &mut self.storage {
+            Storage::Double(llt) => return llt.factorize(lower.val()),
+            Storage::Single(f) => f,
+        };
+        f.factorized = false;
+        if f.values.len() != f.symbolic.len_val() {
+            f.values = vec![0.0; f.symbolic.len_val()];
         }
-        let scratch = self.factor_scratch.get_or_insert_with(|| {
+        let symbolic = &f.symbolic;
+        let scratch = f.factor_scratch.get_or_insert_with(|| {
             MemBuffer::new(
-                self.symbolic
-                    .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+                symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
             )
         });
-        self.symbolic
+        f.symbolic
             .factorize_numeric_llt::<f64>(
-                &mut self.values,
+                &mut f.values,
                 lower,
                 Side::Lower,
                 Default::default(),
@@ -201,29 +214,33 @@ impl SupernodalCholesky {
                 MemStack::new(scratch),
                 Default::default(),
             )
-            .map_err(|e| {
-                let faer::linalg::solvers::LltError::NonPositivePivot { index } = e;
-                NotPositiveDefinite { column: index }
-            })?;
-        self.factorized = true;
+            .map_err(not_positive_definite)?;
+        f.factorized = true;
         Ok(())
     }
 
     /// Solves `A x = b` in place with the last successful factorization.
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
-        assert!(
-            self.factorized,
-            "solve_in_place before a successful factorize"
-        );
+        let f = match &mut self.storage {
+            Storage::Double(llt) => return llt.solve_in_place(rhs),
+            Storage::Single(f) => f,
+        };
+        assert!(f.factorized, "solve_in_place before a successful factorize");
         let n = rhs.len();
-        let scratch = self.solve_scratch.get_or_insert_with(|| {
-            MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(1, Par::Seq))
+        let symbolic = &f.symbolic;
+        let scratch = f.solve_scratch.get_or_insert_with(|| {
+            MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq))
         });
-        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(
+        LltRef::new(&f.symbolic, &f.values).solve_in_place_with_conj(
             Conj::No,
             MatMut::from_column_major_slice_mut(rhs, n, 1),
             Par::Seq,
             MemStack::new(scratch),
         );
     }
+}
+
+fn not_positive_definite(e: faer::linalg::solvers::LltError) -> NotPositiveDefinite {
+    let faer::linalg::solvers::LltError::NonPositivePivot { index } = e;
+    NotPositiveDefinite { column: index }
 }

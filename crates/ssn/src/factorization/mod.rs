@@ -1,7 +1,8 @@
 //! Sparse factorizations of the Newton (Schur) matrix `M + h² Σ Bᵢᵀ Cᵢ Bᵢ`.
 //!
-//! [`SupernodalCholesky`] for associative flow rules (symmetric `K`): faer's supernodal
-//! Cholesky with its storage reused across factorizations.
+//! [`SupernodalCholesky`] for associative flow rules (symmetric `K`): in f64 the
+//! supernodal [`SymmetricPatternLlt`] on the LU's structure and thread schedule, in f32
+//! faer's supernodal Cholesky; storage reused across factorizations.
 //!
 //! Both take their fill-reducing [`Ordering`]: AMD by default, METIS' nested dissection
 //! with the cargo feature `metis`.
@@ -27,9 +28,11 @@
 //! assert!((x[0] - 1.0).abs() < 1e-15 && (x[1] - 1.0).abs() < 1e-15);
 //! ```
 mod cholesky;
+mod dense_llt;
 mod dense_lu;
 mod ordering;
 mod subtrees;
+mod supernodal_llt;
 mod symmetric_pattern_lu;
 
 #[cfg(feature = "metis")]
@@ -37,6 +40,7 @@ pub use ordering::nested_dissection;
 pub use ordering::Ordering;
 
 pub use cholesky::{NotPositiveDefinite, SupernodalCholesky};
+pub use supernodal_llt::SymmetricPatternLlt;
 pub use symmetric_pattern_lu::{
     PivotBreakdown, SymbolicError, SymbolicSymmetricPatternLu, SymmetricPatternLu,
     DEFAULT_PIVOT_TOLERANCE,

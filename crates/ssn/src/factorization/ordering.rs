@@ -38,7 +38,7 @@ pub(crate) fn symbolic_cholesky(
         Ordering::Amd => analyse(SymmetricOrdering::Amd),
         #[cfg(feature = "metis")]
         Ordering::NestedDissection => {
-            let (fwd, inv) = nested_dissection(lower)?;
+            let (fwd, inv) = postordered(lower, nested_dissection(lower)?);
             let n = lower.nrows();
             analyse(SymmetricOrdering::Custom(faer::perm::PermRef::new_checked(
                 &fwd, &inv, n,
@@ -145,4 +145,102 @@ pub fn nested_dissection(
             .collect()
     };
     Ok((to_usize(perm)?, to_usize(iperm)?))
+}
+
+/// `(fwd, inv)` renumbered along a postorder of the elimination tree of the permuted
+/// pattern: an equivalent ordering (the same fill and flops) in which every subtree is a
+/// contiguous range of columns, as the factorizations' parallel schedule needs
+/// (`subtrees.rs`; METIS' numbering is not always one). The tree by Liu's algorithm with
+/// path compression; children visited in ascending order.
+#[cfg_attr(not(feature = "metis"), allow(dead_code))]
+pub(crate) fn postordered(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    (fwd, inv): (Vec<usize>, Vec<usize>),
+) -> (Vec<usize>, Vec<usize>) {
+    let n = fwd.len();
+    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+    // Each new column's neighbours of smaller new index, from either triangle.
+    let mut below: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for c in 0..pattern.ncols().min(n) {
+        for &r in &ri[cp[c]..cp[c + 1]] {
+            let (i, j) = (inv[r], inv[c]);
+            match i.cmp(&j) {
+                std::cmp::Ordering::Less => below[j].push(i),
+                std::cmp::Ordering::Greater => below[i].push(j),
+                std::cmp::Ordering::Equal => {}
+            }
+        }
+    }
+    let mut parent = vec![usize::MAX; n];
+    let mut ancestor = vec![usize::MAX; n];
+    for k in 0..n {
+        for &i in &below[k] {
+            let mut r = i;
+            while ancestor[r] != usize::MAX && ancestor[r] != k {
+                let next = ancestor[r];
+                ancestor[r] = k;
+                r = next;
+            }
+            if ancestor[r] == usize::MAX {
+                ancestor[r] = k;
+                parent[r] = k;
+            }
+        }
+    }
+    drop((below, ancestor));
+    let mut children: Vec<Vec<usize>> = vec![Vec::new(); n];
+    let mut roots = Vec::new();
+    for k in 0..n {
+        match parent[k] {
+            usize::MAX => roots.push(k),
+            p => children[p].push(k),
+        }
+    }
+    let mut post = Vec::with_capacity(n);
+    let mut stack: Vec<(usize, usize)> = Vec::new();
+    for root in roots {
+        stack.push((root, 0));
+        while let Some((k, next)) = stack.pop() {
+            match children[k].get(next) {
+                Some(&child) => {
+                    stack.push((k, next + 1));
+                    stack.push((child, 0));
+                }
+                None => post.push(k),
+            }
+        }
+    }
+    let fwd: Vec<usize> = post.iter().map(|&k| fwd[k]).collect();
+    let mut inv = vec![0; n];
+    for (new, &old) in fwd.iter().enumerate() {
+        inv[old] = new;
+    }
+    (fwd, inv)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use faer::sparse::{Pair, SymbolicSparseColMat};
+
+    /// The arrow matrix numbered so that its tree is not a postorder: column 0 is a child
+    /// of column 2, column 1 of column 3 (`0 → 2 → 3 ← 1`). The postorder puts each
+    /// subtree first and contiguous, and is a permutation.
+    #[test]
+    fn subtrees_become_contiguous() {
+        let edges = [(2, 0), (3, 1), (3, 2)];
+        let pairs: Vec<Pair<usize, usize>> = (0..4)
+            .map(|j| Pair::new(j, j))
+            .chain(edges.iter().map(|&(r, c)| Pair::new(r, c)))
+            .collect();
+        let (lower, _) = SymbolicSparseColMat::try_new_from_indices(4, 4, &pairs).unwrap();
+        let identity: Vec<usize> = (0..4).collect();
+        let (fwd, inv) = postordered(lower.as_ref(), (identity.clone(), identity));
+        // Tree: 0's parent 2, 1's parent 3, 2's parent 3. Postorder: 0 2 1 3 or 1 0 2 3
+        // (children ascending: 3's children are 1 and 2, so 1 first, then 0 2).
+        assert_eq!(fwd, [1, 0, 2, 3]);
+        for (new, &old) in fwd.iter().enumerate() {
+            assert_eq!(inv[old], new);
+        }
+    }
 }

@@ -17,6 +17,7 @@
 use std::sync::Arc;
 
 use faer::linalg::matmul::matmul;
+use faer::linalg::matmul::triangular::{self, BlockStructure};
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_unit_lower_triangular_in_place,
 };
@@ -64,10 +65,10 @@ pub struct PivotBreakdown {
 /// What one descendant supernode `d` subtracts from a supernode `s`: the rows of `d`'s
 /// pattern from `start` on lie in `s` or beyond, the first `mid` of them inside `s`.
 #[derive(Debug, Clone, Copy)]
-struct Update {
-    d: usize,
-    start: usize,
-    mid: usize,
+pub(super) struct Update {
+    pub(super) d: usize,
+    pub(super) start: usize,
+    pub(super) mid: usize,
 }
 
 /// The symbolic analysis of [`SymmetricPatternLu`] for one pattern: the fill-reducing
@@ -76,30 +77,30 @@ struct Update {
 /// entry of the input lands in the factors.
 #[derive(Debug)]
 pub struct SymbolicSymmetricPatternLu {
-    n: usize,
-    input_nnz: usize,
+    pub(super) n: usize,
+    pub(super) input_nnz: usize,
     /// `perm_fwd[new] = old`.
-    perm_fwd: Vec<usize>,
+    pub(super) perm_fwd: Vec<usize>,
     /// `n_supernodes + 1` column boundaries.
-    supernode_begin: Vec<usize>,
+    pub(super) supernode_begin: Vec<usize>,
     /// Off-diagonal-block rows of each supernode (permuted numbering, ascending).
-    pattern_ptr: Vec<usize>,
-    pattern: Vec<usize>,
+    pub(super) pattern_ptr: Vec<usize>,
+    pub(super) pattern: Vec<usize>,
     /// Each supernode's `(ncols + pattern) × ncols` column-major block, in `L` and in `Uᵀ`.
-    value_ptr: Vec<usize>,
-    update_ptr: Vec<usize>,
-    updates: Vec<Update>,
+    pub(super) value_ptr: Vec<usize>,
+    pub(super) update_ptr: Vec<usize>,
+    pub(super) updates: Vec<Update>,
     /// `(input position, destination)` of each stored input entry, grouped by the
     /// supernode it lands in (`scatter_ptr`), so that a supernode's blocks are zeroed and
     /// filled right before it is factorized (one pass over memory, not two). Destinations
     /// are in `L`'s values when below `len_val` (the diagonal blocks hold `L` and `U`
     /// together), in `Uᵀ`'s at `len_val + offset` otherwise.
-    scatter_ptr: Vec<usize>,
-    scatter: Vec<(usize, usize)>,
+    pub(super) scatter_ptr: Vec<usize>,
+    pub(super) scatter: Vec<(usize, usize)>,
     /// Input position of `a_jj` for each permuted column (`usize::MAX` if not stored).
-    diagonal: Vec<usize>,
-    update_scratch: usize,
-    schedule: Schedule,
+    pub(super) diagonal: Vec<usize>,
+    pub(super) update_scratch: usize,
+    pub(super) schedule: Schedule,
 }
 
 impl SymbolicSymmetricPatternLu {
@@ -320,23 +321,28 @@ impl SymbolicSymmetricPatternLu {
         self.schedule.tasks.len()
     }
 
+    /// The fill-reducing permutation, `permutation()[new] = old`.
+    pub fn permutation(&self) -> &[usize] {
+        &self.perm_fwd
+    }
+
     pub fn n_supernodes(&self) -> usize {
         self.supernode_begin.len() - 1
     }
 
     /// Columns and off-diagonal rows of supernode `s`.
-    fn shape(&self, s: usize) -> (usize, usize) {
+    pub(super) fn shape(&self, s: usize) -> (usize, usize) {
         (
             self.supernode_begin[s + 1] - self.supernode_begin[s],
             self.pattern_ptr[s + 1] - self.pattern_ptr[s],
         )
     }
 
-    fn rows(&self, s: usize) -> &[usize] {
+    pub(super) fn rows(&self, s: usize) -> &[usize] {
         &self.pattern[self.pattern_ptr[s]..self.pattern_ptr[s + 1]]
     }
 
-    fn len_val(&self) -> usize {
+    pub(super) fn len_val(&self) -> usize {
         self.value_ptr[self.n_supernodes()]
     }
 }
@@ -398,80 +404,23 @@ impl SymmetricPatternLu {
         }
         let (l_all, u_all) = self.values.split_at_mut(sym.len_val());
         let reference = &self.reference;
-        let schedule = &sym.schedule;
-        let threads = rayon::current_num_threads();
-        // The large dense blocks of the top (or of a tree with no tasks) use every thread.
-        let par = if threads > 1 {
-            Par::rayon(threads)
-        } else {
-            Par::Seq
-        };
-        let parallel = !schedule.tasks.is_empty() && threads > 1;
-        let sequential = |l: &mut [f64], u: &mut [f64], scratch: &mut Scratch| {
-            (0..sym.n_supernodes()).try_for_each(|s| {
+        run_schedule(
+            &sym,
+            [l_all, u_all],
+            &mut self.scratch,
+            |s, [l, u], origin, scratch, par| {
                 factor_supernode(
                     &sym,
                     s,
                     values,
                     reference,
                     pivot_tolerance,
-                    (l, u, 0),
+                    (l, u, origin),
                     scratch,
                     par,
                 )
-            })
-        };
-        if !parallel {
-            sequential(l_all, u_all, &mut self.scratch[0])?;
-            self.factorized = true;
-            return Ok(());
-        }
-        while self.scratch.len() < schedule.tasks.len() {
-            self.scratch.push(Scratch::new(&sym));
-        }
-        // Each task owns its subtree's contiguous stretch of the factors.
-        let mut chunks = Vec::with_capacity(schedule.tasks.len());
-        let (mut l_rest, mut u_rest, mut offset) = (&mut *l_all, &mut *u_all, 0);
-        for (task, scratch) in schedule.tasks.iter().zip(self.scratch.iter_mut()) {
-            let (a, b) = (sym.value_ptr[task.start], sym.value_ptr[task.end]);
-            let (l_chunk, l_tail) = std::mem::take(&mut l_rest)[a - offset..].split_at_mut(b - a);
-            let (u_chunk, u_tail) = std::mem::take(&mut u_rest)[a - offset..].split_at_mut(b - a);
-            (l_rest, u_rest, offset) = (l_tail, u_tail, b);
-            chunks.push((task.clone(), l_chunk, u_chunk, scratch));
-        }
-        let failed = chunks.into_par_iter().any(|(task, l, u, scratch)| {
-            let origin = sym.value_ptr[task.start];
-            task.into_iter().any(|s| {
-                factor_supernode(
-                    &sym,
-                    s,
-                    values,
-                    reference,
-                    pivot_tolerance,
-                    (&mut *l, &mut *u, origin),
-                    scratch,
-                    Par::Seq,
-                )
-                .is_err()
-            })
-        });
-        if failed {
-            // The breakdown the one-thread order meets first, whichever task met one.
-            sequential(l_all, u_all, &mut self.scratch[0])?;
-        } else {
-            for &s in &schedule.top {
-                factor_supernode(
-                    &sym,
-                    s,
-                    values,
-                    reference,
-                    pivot_tolerance,
-                    (&mut *l_all, &mut *u_all, 0),
-                    &mut self.scratch[0],
-                    par,
-                )?;
-            }
-        }
+            },
+        )?;
         self.factorized = true;
         Ok(())
     }
@@ -577,17 +526,94 @@ impl SymmetricPatternLu {
     }
 }
 
+/// Runs `factor(s, arrays, origin, scratch, par)` on every supernode `s` of `sym`, each
+/// array holding `len_val` values laid out by `value_ptr` (`L`, `Uᵀ`): on one thread in
+/// ascending order, or, with several threads and a [`Schedule`] with tasks, the tasks'
+/// subtrees in parallel (each on its own contiguous stretch of every array, from
+/// `value_ptr` = `origin` on, with its own [`Scratch`]), then the top on this thread
+/// with the large dense blocks on every thread (`par`). Every supernode applies its
+/// updates in one fixed order whichever the thread: the same bits. A failure in a task
+/// re-runs everything on one thread, so that the error is the one the one-thread order
+/// meets first.
+pub(super) fn run_schedule<const K: usize, E>(
+    sym: &SymbolicSymmetricPatternLu,
+    arrays: [&mut [f64]; K],
+    scratch: &mut Vec<Scratch>,
+    factor: impl Fn(usize, [&mut [f64]; K], usize, &mut Scratch, Par) -> Result<(), E> + Sync,
+) -> Result<(), E> {
+    let mut arrays = arrays;
+    let schedule = &sym.schedule;
+    let threads = rayon::current_num_threads();
+    let par = if threads > 1 {
+        Par::rayon(threads)
+    } else {
+        Par::Seq
+    };
+    if scratch.is_empty() {
+        scratch.push(Scratch::new(sym));
+    }
+    let sequential = |arrays: &mut [&mut [f64]; K], scratch: &mut Scratch| {
+        (0..sym.n_supernodes())
+            .try_for_each(|s| factor(s, arrays.each_mut().map(|a| &mut **a), 0, scratch, par))
+    };
+    if schedule.tasks.is_empty() || threads == 1 {
+        return sequential(&mut arrays, &mut scratch[0]);
+    }
+    while scratch.len() < schedule.tasks.len() {
+        scratch.push(Scratch::new(sym));
+    }
+    // Each task owns its subtree's contiguous stretch of every array.
+    let mut chunks = Vec::with_capacity(schedule.tasks.len());
+    let mut rest = arrays.each_mut().map(|a| &mut **a);
+    let mut offset = 0;
+    for (task, scratch) in schedule.tasks.iter().zip(scratch.iter_mut()) {
+        let (a, b) = (sym.value_ptr[task.start], sym.value_ptr[task.end]);
+        let mut own: [&mut [f64]; K] = std::array::from_fn(|_| <&mut [f64]>::default());
+        for (own, rest) in own.iter_mut().zip(rest.iter_mut()) {
+            let (chunk, tail) = std::mem::take(rest)[a - offset..].split_at_mut(b - a);
+            (*own, *rest) = (chunk, tail);
+        }
+        offset = b;
+        chunks.push((task.clone(), own, scratch));
+    }
+    let failed = chunks.into_par_iter().any(|(task, mut own, scratch)| {
+        let origin = sym.value_ptr[task.start];
+        task.into_iter().any(|s| {
+            factor(
+                s,
+                own.each_mut().map(|a| &mut **a),
+                origin,
+                scratch,
+                Par::Seq,
+            )
+            .is_err()
+        })
+    });
+    if failed {
+        return sequential(&mut arrays, &mut scratch[0]);
+    }
+    schedule.top.iter().try_for_each(|&s| {
+        factor(
+            s,
+            arrays.each_mut().map(|a| &mut **a),
+            0,
+            &mut scratch[0],
+            par,
+        )
+    })
+}
+
 /// The work buffers of one thread: where a supernode's rows sit in its block, the rows a
 /// descendant's update lands in, and the update's product.
 #[derive(Debug)]
-struct Scratch {
-    global_to_local: Vec<usize>,
-    local_rows: Vec<usize>,
-    update: Vec<f64>,
+pub(super) struct Scratch {
+    pub(super) global_to_local: Vec<usize>,
+    pub(super) local_rows: Vec<usize>,
+    pub(super) update: Vec<f64>,
 }
 
 impl Scratch {
-    fn new(sym: &SymbolicSymmetricPatternLu) -> Self {
+    pub(super) fn new(sym: &SymbolicSymmetricPatternLu) -> Self {
         Self {
             global_to_local: vec![usize::MAX; sym.n],
             local_rows: Vec::new(),
@@ -671,6 +697,7 @@ fn factor_supernode(
             k,
             update,
             par,
+            false,
         );
         // Uᵀ below the diagonal block: rows past `end` of U_dᵀ times the mid rows of L_d.
         if m1 > k {
@@ -689,6 +716,7 @@ fn factor_supernode(
                 k,
                 update,
                 par,
+                false,
             );
         }
     }
@@ -716,9 +744,12 @@ fn factor_supernode(
 
 /// `target[rows[i], cols[j]] −= Σ_c a[a_first + i, c] · b[b_first + j, c]` for the
 /// column-major `(.. × d_ncols)` blocks `a`, `b` of leading dimension `d_nrows`, into the
-/// column-major `target` of leading dimension `ld`.
+/// column-major `target` of leading dimension `ld`. With `top_lower` (a Cholesky's
+/// update: `a = b`, `a_first = b_first`, so the top `k × k` of the product is
+/// symmetric) a large product computes that top's lower triangle only, and what lands
+/// above the target's diagonal is not to be read.
 #[allow(clippy::too_many_arguments)]
-fn subtract_product(
+pub(super) fn subtract_product(
     target: &mut [f64],
     ld: usize,
     rows: &[usize],
@@ -733,6 +764,7 @@ fn subtract_product(
     k: usize,
     scratch: &mut [f64],
     par: Par,
+    top_lower: bool,
 ) {
     if m * k * d_ncols <= SMALL_UPDATE {
         // The product into `scratch` (dense, column-major), then one scatter.
@@ -753,15 +785,40 @@ fn subtract_product(
             MatRef::from_column_major_slice_with_stride(&a[a_first..], m, d_ncols, d_nrows);
         let b_block =
             MatRef::from_column_major_slice_with_stride(&b[b_first..], k, d_ncols, d_nrows);
+        let par = par_for(m * k * d_ncols, par);
         let product = MatMut::from_column_major_slice_mut(&mut scratch[..m * k], m, k);
-        matmul(
-            product,
-            Accum::Replace,
-            a_block,
-            b_block.transpose(),
-            1.0,
-            par_for(m * k * d_ncols, par),
-        );
+        if top_lower {
+            let (top, bottom) = product.split_at_row_mut(k);
+            let (a_top, a_bottom) = a_block.split_at_row(k);
+            triangular::matmul(
+                top,
+                BlockStructure::TriangularLower,
+                Accum::Replace,
+                a_top,
+                BlockStructure::Rectangular,
+                b_block.transpose(),
+                BlockStructure::Rectangular,
+                1.0,
+                par,
+            );
+            matmul(
+                bottom,
+                Accum::Replace,
+                a_bottom,
+                b_block.transpose(),
+                1.0,
+                par,
+            );
+        } else {
+            matmul(
+                product,
+                Accum::Replace,
+                a_block,
+                b_block.transpose(),
+                1.0,
+                par,
+            );
+        }
     }
     for (j, &cj) in cols.iter().enumerate() {
         let t = &mut target[cj * ld..(cj + 1) * ld];

@@ -1,0 +1,243 @@
+//! Sparse Cholesky `P A Pᵀ = L Lᵀ` on the supernodal structure of
+//! [`SymbolicSymmetricPatternLu`], factorized by the same schedule as the no-pivot LU:
+//! disjoint subtrees of the elimination tree on rayon's threads, their common ancestors
+//! after them with the large dense blocks on every thread (`docs/performance.md`, 'The
+//! Cholesky on two threads'). Each supernode applies its updates in one fixed order, so
+//! the factor does not depend on the thread count. It is the LU's left-looking supernode
+//! with `U = Lᵀ`: one product per update instead of two, half the storage.
+use std::sync::Arc;
+
+use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
+use faer::reborrow::{Reborrow, ReborrowMut};
+use faer::{MatMut, Par};
+
+use super::dense_llt::llt_in_place;
+use super::dense_lu::par_for;
+use super::symmetric_pattern_lu::{run_schedule, subtract_product, Scratch};
+use super::{NotPositiveDefinite, SymbolicSymmetricPatternLu};
+
+/// The numeric Cholesky of a symmetric matrix given by **one triangle** (every
+/// off-diagonal pair stored once, e.g. the lower triangle whose pattern
+/// [`SymbolicSymmetricPatternLu`] analysed as its symmetric closure), storage reused by
+/// every [`factorize`](Self::factorize).
+#[derive(Debug)]
+pub struct SymmetricPatternLlt {
+    symbolic: Arc<SymbolicSymmetricPatternLu>,
+    /// `(input position, destination in L)`, grouped as the symbolic's `scatter`: an
+    /// entry that lands in `U` goes to its transpose in `L`.
+    scatter: Vec<(usize, usize)>,
+    values: Vec<f64>,
+    scratch: Vec<Scratch>,
+    work: Vec<f64>,
+    gathered: Vec<f64>,
+    factorized: bool,
+}
+
+impl SymmetricPatternLlt {
+    pub fn new(symbolic: Arc<SymbolicSymmetricPatternLu>) -> Self {
+        let sym = &*symbolic;
+        let len_val = sym.len_val();
+        let mut scatter = sym.scatter.clone();
+        for s in 0..sym.n_supernodes() {
+            let (ncols, npat) = sym.shape(s);
+            let nrows = ncols + npat;
+            let base = sym.value_ptr[s];
+            for (_, dest) in &mut scatter[sym.scatter_ptr[s]..sym.scatter_ptr[s + 1]] {
+                if *dest >= len_val {
+                    // Uᵀ's blocks are laid out as L's: the same offset is the transpose.
+                    *dest -= len_val;
+                } else {
+                    let (col, row) = ((*dest - base) / nrows, (*dest - base) % nrows);
+                    if row < col {
+                        // U inside the diagonal block: its transpose, below the diagonal.
+                        *dest = base + row * nrows + col;
+                    }
+                }
+            }
+        }
+        Self {
+            values: vec![0.0; len_val],
+            scatter,
+            scratch: Vec::new(),
+            work: vec![0.0; sym.n],
+            gathered: Vec::new(),
+            factorized: false,
+            symbolic,
+        }
+    }
+
+    pub fn symbolic(&self) -> &Arc<SymbolicSymmetricPatternLu> {
+        &self.symbolic
+    }
+
+    /// Stored values of `L` (the supernodes' dense blocks, their diagonal blocks whole).
+    pub fn len_val(&self) -> usize {
+        self.values.len()
+    }
+
+    /// Factorizes the matrix whose stored values, in the order of the analysed pattern,
+    /// are `values` (one triangle). A non-positive (or non-finite) pivot stops it with
+    /// its column in the permuted order; the factor is then unusable.
+    pub fn factorize(&mut self, values: &[f64]) -> Result<(), NotPositiveDefinite> {
+        let sym = Arc::clone(&self.symbolic);
+        assert_eq!(
+            values.len(),
+            sym.input_nnz,
+            "values do not match the analysed pattern"
+        );
+        self.factorized = false;
+        let scatter = &self.scatter;
+        run_schedule(
+            &sym,
+            [&mut self.values[..]],
+            &mut self.scratch,
+            |s, [l], origin, scratch, par| {
+                factor_supernode(&sym, scatter, s, values, (l, origin), scratch, par)
+            },
+        )?;
+        self.factorized = true;
+        Ok(())
+    }
+
+    /// Solves `A x = b` in place with the last successful factorization.
+    pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
+        let sym = &*self.symbolic;
+        assert!(
+            self.factorized,
+            "solve_in_place before a successful factorize"
+        );
+        assert_eq!(rhs.len(), sym.n);
+        let x = &mut self.work;
+        for (new, &old) in sym.perm_fwd.iter().enumerate() {
+            x[new] = rhs[old];
+        }
+        let gathered = &mut self.gathered;
+        // L y = P b, supernode by supernode: the diagonal block, then the rows below
+        // through a dense buffer (one scatter).
+        for s in 0..sym.n_supernodes() {
+            let begin = sym.supernode_begin[s];
+            let (ncols, npat) = sym.shape(s);
+            let nrows = ncols + npat;
+            let ls = &self.values[sym.value_ptr[s]..sym.value_ptr[s + 1]];
+            gathered.clear();
+            gathered.resize(npat, 0.0);
+            for j in 0..ncols {
+                let col = &ls[j * nrows..(j + 1) * nrows];
+                x[begin + j] /= col[j];
+                let xj = x[begin + j];
+                for (i, l) in (j + 1..ncols).zip(&col[j + 1..ncols]) {
+                    x[begin + i] -= l * xj;
+                }
+                for (g, l) in gathered.iter_mut().zip(&col[ncols..]) {
+                    *g += l * xj;
+                }
+            }
+            for (&r, g) in sym.rows(s).iter().zip(gathered.iter()) {
+                x[r] -= g;
+            }
+        }
+        // Lᵀ x = y, backwards: each column's dot product with the rows below.
+        for s in (0..sym.n_supernodes()).rev() {
+            let begin = sym.supernode_begin[s];
+            let (ncols, npat) = sym.shape(s);
+            let nrows = ncols + npat;
+            let ls = &self.values[sym.value_ptr[s]..sym.value_ptr[s + 1]];
+            gathered.clear();
+            gathered.extend(sym.rows(s).iter().map(|&r| x[r]));
+            for j in (0..ncols).rev() {
+                let col = &ls[j * nrows..(j + 1) * nrows];
+                let below: f64 = col[ncols..]
+                    .iter()
+                    .zip(gathered.iter())
+                    .map(|(l, x)| l * x)
+                    .sum();
+                let inside: f64 = (j + 1..ncols).map(|i| col[i] * x[begin + i]).sum();
+                x[begin + j] = (x[begin + j] - below - inside) / col[j];
+            }
+        }
+        for (new, &old) in sym.perm_fwd.iter().enumerate() {
+            rhs[old] = x[new];
+        }
+    }
+}
+
+/// Factorizes supernode `s` (left-looking: its input, every descendant's update in
+/// ascending order, the dense Cholesky of its diagonal block, the solve below it) into
+/// `factor = (l, origin)`, the stretch of `L`'s values from `value_ptr` = `origin` on
+/// that holds `s` and all its descendants.
+fn factor_supernode(
+    sym: &SymbolicSymmetricPatternLu,
+    scatter: &[(usize, usize)],
+    s: usize,
+    values: &[f64],
+    factor: (&mut [f64], usize),
+    scratch: &mut Scratch,
+    par: Par,
+) -> Result<(), NotPositiveDefinite> {
+    let (l_all, origin) = factor;
+    let (begin, end) = (sym.supernode_begin[s], sym.supernode_begin[s + 1]);
+    let (ncols, npat) = sym.shape(s);
+    let nrows = ncols + npat;
+    for (k, &r) in sym.rows(s).iter().enumerate() {
+        scratch.global_to_local[r] = ncols + k;
+    }
+    let (l_done, l_rest) = l_all.split_at_mut(sym.value_ptr[s] - origin);
+    let ls = &mut l_rest[..nrows * ncols];
+    ls.fill(0.0);
+    let base = sym.value_ptr[s];
+    for &(p, dest) in &scatter[sym.scatter_ptr[s]..sym.scatter_ptr[s + 1]] {
+        ls[dest - base] += values[p];
+    }
+    for upd in &sym.updates[sym.update_ptr[s]..sym.update_ptr[s + 1]] {
+        let (d_ncols, d_npat) = sym.shape(upd.d);
+        let d_nrows = d_ncols + d_npat;
+        let ld = &l_done[sym.value_ptr[upd.d] - origin..sym.value_ptr[upd.d + 1] - origin];
+        let d_rows = &sym.rows(upd.d)[upd.start..];
+        let Scratch {
+            global_to_local,
+            local_rows,
+            update,
+        } = scratch;
+        local_rows.clear();
+        local_rows.extend(d_rows.iter().map(|&r| {
+            if r < end {
+                r - begin
+            } else {
+                global_to_local[r]
+            }
+        }));
+        let first = d_ncols + upd.start;
+        // Rows ≥ begin of L_d times its mid rows, transposed.
+        subtract_product(
+            ls,
+            nrows,
+            local_rows,
+            &local_rows[..upd.mid],
+            ld,
+            ld,
+            d_nrows,
+            d_ncols,
+            first,
+            d_rows.len(),
+            first,
+            upd.mid,
+            update,
+            par,
+            true,
+        );
+    }
+    for &r in sym.rows(s) {
+        scratch.global_to_local[r] = usize::MAX;
+    }
+    let block = MatMut::from_column_major_slice_mut(ls, nrows, ncols);
+    let (mut top, mut bottom) = block.split_at_row_mut(ncols);
+    llt_in_place(top.rb_mut(), par).map_err(|p| NotPositiveDefinite {
+        column: begin + p.column,
+    })?;
+    if npat > 0 {
+        // L21 = A21 L11⁻ᵀ.
+        let par = par_for(ncols * ncols * npat, par);
+        solve_lower_triangular_in_place(top.rb(), bottom.rb_mut().transpose_mut(), par);
+    }
+    Ok(())
+}
