@@ -13,7 +13,9 @@ use faer::{MatMut, Par};
 
 use super::dense_llt::llt_in_place;
 use super::dense_lu::par_for;
-use super::symmetric_pattern_lu::{run_schedule, subtract_product, Scratch};
+use super::symmetric_pattern_lu::{
+    for_each_update, forward_substitution, permuted, run_schedule, subtract_product, Scratch,
+};
 use super::{NotPositiveDefinite, SymbolicSymmetricPatternLu};
 
 /// The numeric Cholesky of a symmetric matrix given by **one triangle** (every
@@ -106,58 +108,29 @@ impl SymmetricPatternLlt {
             self.factorized,
             "solve_in_place before a successful factorize"
         );
-        assert_eq!(rhs.len(), sym.n);
-        let x = &mut self.work;
-        for (new, &old) in sym.perm_fwd.iter().enumerate() {
-            x[new] = rhs[old];
-        }
-        let gathered = &mut self.gathered;
-        // L y = P b, supernode by supernode: the diagonal block, then the rows below
-        // through a dense buffer (one scatter).
-        for s in 0..sym.n_supernodes() {
-            let begin = sym.supernode_begin[s];
-            let (ncols, npat) = sym.shape(s);
-            let nrows = ncols + npat;
-            let ls = &self.values[sym.value_ptr[s]..sym.value_ptr[s + 1]];
-            gathered.clear();
-            gathered.resize(npat, 0.0);
-            for j in 0..ncols {
-                let col = &ls[j * nrows..(j + 1) * nrows];
-                x[begin + j] /= col[j];
-                let xj = x[begin + j];
-                for (i, l) in (j + 1..ncols).zip(&col[j + 1..ncols]) {
-                    x[begin + i] -= l * xj;
-                }
-                for (g, l) in gathered.iter_mut().zip(&col[ncols..]) {
-                    *g += l * xj;
+        let (values, gathered) = (&self.values, &mut self.gathered);
+        permuted(sym, rhs, &mut self.work, |x| {
+            forward_substitution(sym, values, x, gathered, false);
+            // Lᵀ x = y, backwards: each column's dot product with the rows below.
+            for s in (0..sym.n_supernodes()).rev() {
+                let begin = sym.supernode_begin[s];
+                let (ncols, npat) = sym.shape(s);
+                let nrows = ncols + npat;
+                let ls = &values[sym.value_ptr[s]..sym.value_ptr[s + 1]];
+                gathered.clear();
+                gathered.extend(sym.rows(s).iter().map(|&r| x[r]));
+                for j in (0..ncols).rev() {
+                    let col = &ls[j * nrows..(j + 1) * nrows];
+                    let below: f64 = col[ncols..]
+                        .iter()
+                        .zip(gathered.iter())
+                        .map(|(l, x)| l * x)
+                        .sum();
+                    let inside: f64 = (j + 1..ncols).map(|i| col[i] * x[begin + i]).sum();
+                    x[begin + j] = (x[begin + j] - below - inside) / col[j];
                 }
             }
-            for (&r, g) in sym.rows(s).iter().zip(gathered.iter()) {
-                x[r] -= g;
-            }
-        }
-        // Lᵀ x = y, backwards: each column's dot product with the rows below.
-        for s in (0..sym.n_supernodes()).rev() {
-            let begin = sym.supernode_begin[s];
-            let (ncols, npat) = sym.shape(s);
-            let nrows = ncols + npat;
-            let ls = &self.values[sym.value_ptr[s]..sym.value_ptr[s + 1]];
-            gathered.clear();
-            gathered.extend(sym.rows(s).iter().map(|&r| x[r]));
-            for j in (0..ncols).rev() {
-                let col = &ls[j * nrows..(j + 1) * nrows];
-                let below: f64 = col[ncols..]
-                    .iter()
-                    .zip(gathered.iter())
-                    .map(|(l, x)| l * x)
-                    .sum();
-                let inside: f64 = (j + 1..ncols).map(|i| col[i] * x[begin + i]).sum();
-                x[begin + j] = (x[begin + j] - below - inside) / col[j];
-            }
-        }
-        for (new, &old) in sym.perm_fwd.iter().enumerate() {
-            rhs[old] = x[new];
-        }
+        });
     }
 }
 
@@ -175,12 +148,9 @@ fn factor_supernode(
     par: Par,
 ) -> Result<(), NotPositiveDefinite> {
     let (l_all, origin) = factor;
-    let (begin, end) = (sym.supernode_begin[s], sym.supernode_begin[s + 1]);
+    let begin = sym.supernode_begin[s];
     let (ncols, npat) = sym.shape(s);
     let nrows = ncols + npat;
-    for (k, &r) in sym.rows(s).iter().enumerate() {
-        scratch.global_to_local[r] = ncols + k;
-    }
     let (l_done, l_rest) = l_all.split_at_mut(sym.value_ptr[s] - origin);
     let ls = &mut l_rest[..nrows * ncols];
     ls.fill(0.0);
@@ -188,47 +158,27 @@ fn factor_supernode(
     for &(p, dest) in &scatter[sym.scatter_ptr[s]..sym.scatter_ptr[s + 1]] {
         ls[dest - base] += values[p];
     }
-    for upd in &sym.updates[sym.update_ptr[s]..sym.update_ptr[s + 1]] {
-        let (d_ncols, d_npat) = sym.shape(upd.d);
-        let d_nrows = d_ncols + d_npat;
-        let ld = &l_done[sym.value_ptr[upd.d] - origin..sym.value_ptr[upd.d + 1] - origin];
-        let d_rows = &sym.rows(upd.d)[upd.start..];
-        let Scratch {
-            global_to_local,
-            local_rows,
-            update,
-        } = scratch;
-        local_rows.clear();
-        local_rows.extend(d_rows.iter().map(|&r| {
-            if r < end {
-                r - begin
-            } else {
-                global_to_local[r]
-            }
-        }));
-        let first = d_ncols + upd.start;
+    for_each_update(sym, s, origin, scratch, |u, local_rows, update| {
         // Rows ≥ begin of L_d times its mid rows, transposed.
+        let ld = &l_done[u.range.clone()];
         subtract_product(
             ls,
             nrows,
             local_rows,
-            &local_rows[..upd.mid],
+            &local_rows[..u.k],
             ld,
             ld,
-            d_nrows,
-            d_ncols,
-            first,
-            d_rows.len(),
-            first,
-            upd.mid,
+            u.d_nrows,
+            u.d_ncols,
+            u.first,
+            u.m,
+            u.first,
+            u.k,
             update,
             par,
             true,
         );
-    }
-    for &r in sym.rows(s) {
-        scratch.global_to_local[r] = usize::MAX;
-    }
+    });
     let block = MatMut::from_column_major_slice_mut(ls, nrows, ncols);
     let (mut top, mut bottom) = block.split_at_row_mut(ncols);
     llt_in_place(top.rb_mut(), par).map_err(|p| NotPositiveDefinite {

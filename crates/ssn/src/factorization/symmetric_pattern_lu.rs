@@ -466,63 +466,34 @@ impl SymmetricPatternLu {
             self.factorized,
             "solve_in_place before a successful factorize"
         );
-        assert_eq!(rhs.len(), sym.n);
-        let x = &mut self.work;
-        for (new, &old) in sym.perm_fwd.iter().enumerate() {
-            x[new] = rhs[old];
-        }
-        let len_val = sym.len_val();
-        let (l_all, u_all) = self.values.split_at(len_val);
+        let (l_all, u_all) = self.values.split_at(sym.len_val());
         let gathered = &mut self.gathered;
-        // L y = P b (unit lower), supernode by supernode: the diagonal block, then the rows
-        // below through a dense buffer (contiguous columns, one scatter).
-        for s in 0..sym.n_supernodes() {
-            let begin = sym.supernode_begin[s];
-            let (ncols, npat) = sym.shape(s);
-            let nrows = ncols + npat;
-            let ls = &l_all[sym.value_ptr[s]..sym.value_ptr[s + 1]];
-            gathered.clear();
-            gathered.resize(npat, 0.0);
-            for j in 0..ncols {
-                let col = &ls[j * nrows..(j + 1) * nrows];
-                let xj = x[begin + j];
-                for (i, l) in (j + 1..ncols).zip(&col[j + 1..ncols]) {
-                    x[begin + i] -= l * xj;
+        permuted(sym, rhs, &mut self.work, |x| {
+            forward_substitution(sym, l_all, x, gathered, true);
+            // U x = y, backwards.
+            for s in (0..sym.n_supernodes()).rev() {
+                let begin = sym.supernode_begin[s];
+                let (ncols, npat) = sym.shape(s);
+                let nrows = ncols + npat;
+                let ls = &l_all[sym.value_ptr[s]..sym.value_ptr[s + 1]];
+                let us = &u_all[sym.value_ptr[s]..sym.value_ptr[s + 1]];
+                gathered.clear();
+                gathered.extend(sym.rows(s).iter().map(|&r| x[r]));
+                for j in 0..ncols {
+                    let col = &us[j * nrows + ncols..(j + 1) * nrows];
+                    let acc: f64 = col.iter().zip(gathered.iter()).map(|(u, x)| u * x).sum();
+                    x[begin + j] -= acc;
                 }
-                for (g, l) in gathered.iter_mut().zip(&col[ncols..]) {
-                    *g += l * xj;
-                }
-            }
-            for (&r, g) in sym.rows(s).iter().zip(gathered.iter()) {
-                x[r] -= g;
-            }
-        }
-        // U x = y, backwards.
-        for s in (0..sym.n_supernodes()).rev() {
-            let begin = sym.supernode_begin[s];
-            let (ncols, npat) = sym.shape(s);
-            let nrows = ncols + npat;
-            let ls = &l_all[sym.value_ptr[s]..sym.value_ptr[s + 1]];
-            let us = &u_all[sym.value_ptr[s]..sym.value_ptr[s + 1]];
-            gathered.clear();
-            gathered.extend(sym.rows(s).iter().map(|&r| x[r]));
-            for j in 0..ncols {
-                let col = &us[j * nrows + ncols..(j + 1) * nrows];
-                let acc: f64 = col.iter().zip(gathered.iter()).map(|(u, x)| u * x).sum();
-                x[begin + j] -= acc;
-            }
-            for j in (0..ncols).rev() {
-                let col = &ls[j * nrows..j * nrows + ncols];
-                x[begin + j] /= col[j];
-                let xj = x[begin + j];
-                for (i, u) in col[..j].iter().enumerate() {
-                    x[begin + i] -= u * xj;
+                for j in (0..ncols).rev() {
+                    let col = &ls[j * nrows..j * nrows + ncols];
+                    x[begin + j] /= col[j];
+                    let xj = x[begin + j];
+                    for (i, u) in col[..j].iter().enumerate() {
+                        x[begin + i] -= u * xj;
+                    }
                 }
             }
-        }
-        for (new, &old) in sym.perm_fwd.iter().enumerate() {
-            rhs[old] = x[new];
-        }
+        });
     }
 }
 
@@ -641,9 +612,6 @@ fn factor_supernode(
     let (begin, end) = (sym.supernode_begin[s], sym.supernode_begin[s + 1]);
     let (ncols, npat) = sym.shape(s);
     let nrows = ncols + npat;
-    for (k, &r) in sym.rows(s).iter().enumerate() {
-        scratch.global_to_local[r] = ncols + k;
-    }
     let (l_done, l_rest) = l_all.split_at_mut(sym.value_ptr[s] - origin);
     let (u_done, u_rest) = u_all.split_at_mut(sym.value_ptr[s] - origin);
     let ls = &mut l_rest[..nrows * ncols];
@@ -658,78 +626,55 @@ fn factor_supernode(
             us[dest - len_val - base] += values[p];
         }
     }
-    for upd in &sym.updates[sym.update_ptr[s]..sym.update_ptr[s + 1]] {
-        let (d_ncols, d_npat) = sym.shape(upd.d);
-        let d_nrows = d_ncols + d_npat;
-        let range = sym.value_ptr[upd.d] - origin..sym.value_ptr[upd.d + 1] - origin;
-        let ld = &l_done[range.clone()];
-        let ud = &u_done[range];
-        let d_rows = &sym.rows(upd.d)[upd.start..];
-        let m1 = d_rows.len();
-        let k = upd.mid;
-        let Scratch {
-            global_to_local,
-            local_rows,
-            update,
-        } = scratch;
-        local_rows.clear();
-        local_rows.extend(d_rows.iter().map(|&r| {
-            if r < end {
-                r - begin
-            } else {
-                global_to_local[r]
-            }
-        }));
-        let first = d_ncols + upd.start;
+    for_each_update(sym, s, origin, scratch, |u, local_rows, update| {
+        let (ld, ud) = (&l_done[u.range.clone()], &u_done[u.range.clone()]);
         // L and U's diagonal block: rows ≥ begin of L_d times the mid rows of U_dᵀ.
         subtract_product(
             ls,
             nrows,
             local_rows,
-            &local_rows[..k],
+            &local_rows[..u.k],
             ld,
             ud,
-            d_nrows,
-            d_ncols,
-            first,
-            m1,
-            first,
-            k,
+            u.d_nrows,
+            u.d_ncols,
+            u.first,
+            u.m,
+            u.first,
+            u.k,
             update,
             par,
             false,
         );
         // Uᵀ below the diagonal block: rows past `end` of U_dᵀ times the mid rows of L_d.
-        if m1 > k {
+        if u.m > u.k {
             subtract_product(
                 us,
                 nrows,
-                &local_rows[k..],
-                &local_rows[..k],
+                &local_rows[u.k..],
+                &local_rows[..u.k],
                 ud,
                 ld,
-                d_nrows,
-                d_ncols,
-                first + k,
-                m1 - k,
-                first,
-                k,
+                u.d_nrows,
+                u.d_ncols,
+                u.first + u.k,
+                u.m - u.k,
+                u.first,
+                u.k,
                 update,
                 par,
                 false,
             );
         }
-    }
+    });
     let block = MatMut::from_column_major_slice_mut(ls, nrows, ncols);
     let (mut top, mut bottom) = block.split_at_row_mut(ncols);
-    let pivots = lu_in_place(top.rb_mut(), &reference[begin..end], pivot_tolerance, par);
-    for &r in sym.rows(s) {
-        scratch.global_to_local[r] = usize::MAX;
-    }
-    pivots.map_err(|p| PivotBreakdown {
-        column: sym.perm_fwd[begin + p.column],
-        pivot: p.pivot,
-        diagonal: reference[begin + p.column],
+    lu_in_place(top.rb_mut(), &reference[begin..end], pivot_tolerance, par).map_err(|p| {
+        PivotBreakdown {
+            column: sym.perm_fwd[begin + p.column],
+            pivot: p.pivot,
+            diagonal: reference[begin + p.column],
+        }
     })?;
     if npat > 0 {
         // L21 = A21 U11⁻¹ and (U12)ᵀ = (L11⁻¹ A12)ᵀ.
@@ -740,6 +685,120 @@ fn factor_supernode(
         solve_unit_lower_triangular_in_place(top.rb(), ut_bottom.rb_mut().transpose_mut(), par);
     }
     Ok(())
+}
+
+/// `solve` on `P rhs` (in `x`, `x[new] = rhs[old]`), and the result back into `rhs` in
+/// the input's numbering.
+pub(super) fn permuted(
+    sym: &SymbolicSymmetricPatternLu,
+    rhs: &mut [f64],
+    x: &mut [f64],
+    solve: impl FnOnce(&mut [f64]),
+) {
+    assert_eq!(rhs.len(), sym.n);
+    for (new, &old) in sym.perm_fwd.iter().enumerate() {
+        x[new] = rhs[old];
+    }
+    solve(x);
+    for (new, &old) in sym.perm_fwd.iter().enumerate() {
+        rhs[old] = x[new];
+    }
+}
+
+/// `L y = x` in place for the supernodal `L` (values `l`, laid out by `value_ptr`),
+/// supernode by supernode: the diagonal block, then the rows below through a dense buffer
+/// (contiguous columns, one scatter). `unit_diagonal`: `L`'s diagonal is 1 (the LU's; the
+/// stored diagonal is `U`'s), else the stored one (the Cholesky's).
+pub(super) fn forward_substitution(
+    sym: &SymbolicSymmetricPatternLu,
+    l: &[f64],
+    x: &mut [f64],
+    gathered: &mut Vec<f64>,
+    unit_diagonal: bool,
+) {
+    for s in 0..sym.n_supernodes() {
+        let begin = sym.supernode_begin[s];
+        let (ncols, npat) = sym.shape(s);
+        let nrows = ncols + npat;
+        let ls = &l[sym.value_ptr[s]..sym.value_ptr[s + 1]];
+        gathered.clear();
+        gathered.resize(npat, 0.0);
+        for j in 0..ncols {
+            let col = &ls[j * nrows..(j + 1) * nrows];
+            if !unit_diagonal {
+                x[begin + j] /= col[j];
+            }
+            let xj = x[begin + j];
+            for (i, l) in (j + 1..ncols).zip(&col[j + 1..ncols]) {
+                x[begin + i] -= l * xj;
+            }
+            for (g, l) in gathered.iter_mut().zip(&col[ncols..]) {
+                *g += l * xj;
+            }
+        }
+        for (&r, g) in sym.rows(s).iter().zip(gathered.iter()) {
+            x[r] -= g;
+        }
+    }
+}
+
+/// Where one update of a supernode `s` reads from a descendant `d`: `d`'s block in the
+/// factor arrays (`range`, from the caller's `origin`), its leading dimension `d_nrows`
+/// and columns `d_ncols`, the block row `first` where the update's `m` rows start, the
+/// first `k` of them inside `s`.
+pub(super) struct UpdateBlock {
+    pub(super) range: std::ops::Range<usize>,
+    pub(super) d_nrows: usize,
+    pub(super) d_ncols: usize,
+    pub(super) first: usize,
+    pub(super) m: usize,
+    pub(super) k: usize,
+}
+
+/// Calls `apply(block, local_rows, product)` for every update of supernode `s` in its one
+/// fixed order (ascending descendants: the same bits on any thread), `local_rows` the
+/// update's rows in `s`'s block numbering and `product` the scratch for its product.
+pub(super) fn for_each_update(
+    sym: &SymbolicSymmetricPatternLu,
+    s: usize,
+    origin: usize,
+    scratch: &mut Scratch,
+    mut apply: impl FnMut(&UpdateBlock, &[usize], &mut [f64]),
+) {
+    let (begin, end) = (sym.supernode_begin[s], sym.supernode_begin[s + 1]);
+    let ncols = end - begin;
+    let Scratch {
+        global_to_local,
+        local_rows,
+        update,
+    } = scratch;
+    for (k, &r) in sym.rows(s).iter().enumerate() {
+        global_to_local[r] = ncols + k;
+    }
+    for upd in &sym.updates[sym.update_ptr[s]..sym.update_ptr[s + 1]] {
+        let (d_ncols, d_npat) = sym.shape(upd.d);
+        let d_rows = &sym.rows(upd.d)[upd.start..];
+        local_rows.clear();
+        local_rows.extend(d_rows.iter().map(|&r| {
+            if r < end {
+                r - begin
+            } else {
+                global_to_local[r]
+            }
+        }));
+        let block = UpdateBlock {
+            range: sym.value_ptr[upd.d] - origin..sym.value_ptr[upd.d + 1] - origin,
+            d_nrows: d_ncols + d_npat,
+            d_ncols,
+            first: d_ncols + upd.start,
+            m: d_rows.len(),
+            k: upd.mid,
+        };
+        apply(&block, local_rows, update);
+    }
+    for &r in sym.rows(s) {
+        global_to_local[r] = usize::MAX;
+    }
 }
 
 /// `target[rows[i], cols[j]] −= Σ_c a[a_first + i, c] · b[b_first + j, c]` for the
