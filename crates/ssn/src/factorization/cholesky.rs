@@ -11,16 +11,9 @@ use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
-use super::ordering::{symbolic_cholesky, Ordering};
-use super::{SymbolicError, SymbolicSymmetricPatternLu, SymmetricPatternLlt};
-
-/// The matrix is not (numerically) positive definite.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
-#[error("Cholesky: non-positive pivot at column {column}")]
-pub struct NotPositiveDefinite {
-    /// Column of the permuted matrix where the factorization stopped.
-    pub column: usize,
-}
+use super::ordering::{symbolic_cholesky, Ordering, SymbolicError};
+use super::supernodal_llt::{NotPositiveDefinite, SymmetricPatternLlt};
+use super::symmetric_pattern_lu::SymbolicSymmetricPatternLu;
 
 /// Symbolic analysis (fill-reducing [`Ordering`], supernodes) once per pattern; numeric
 /// factorizations into reused storage. The factors do not depend on the thread count.

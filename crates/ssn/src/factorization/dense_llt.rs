@@ -1,6 +1,6 @@
 //! Dense Cholesky `A = L Lᵀ` in place (lower triangle read and written), blocked by
 //! recursion so that the bulk of the work is faer's products: the diagonal blocks of the
-//! supernodal Cholesky ([`super::SymmetricPatternLlt`]). faer splits a product over its
+//! supernodal Cholesky (`SymmetricPatternLlt`). faer splits a product over its
 //! output's tiles, never over the sum, so the bits do not depend on `par`.
 use faer::linalg::matmul::triangular::{matmul, BlockStructure};
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;

@@ -1,6 +1,6 @@
 //! Dense LU without pivoting, in place, blocked by recursion so that the bulk of the work is
 //! faer's matrix product: the diagonal blocks of the supernodal LU
-//! ([`super::SymmetricPatternLu`]).
+//! (`SymmetricPatternLu`).
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_unit_lower_triangular_in_place,

@@ -37,11 +37,10 @@ mod symmetric_pattern_lu;
 
 #[cfg(feature = "metis")]
 pub use ordering::nested_dissection;
-pub use ordering::Ordering;
+pub use ordering::{Ordering, SymbolicError};
 
-pub use cholesky::{NotPositiveDefinite, SupernodalCholesky};
-pub use supernodal_llt::SymmetricPatternLlt;
+pub use cholesky::SupernodalCholesky;
+pub use supernodal_llt::{NotPositiveDefinite, SymmetricPatternLlt};
 pub use symmetric_pattern_lu::{
-    PivotBreakdown, SymbolicError, SymbolicSymmetricPatternLu, SymmetricPatternLu,
-    DEFAULT_PIVOT_TOLERANCE,
+    PivotBreakdown, SymbolicSymmetricPatternLu, SymmetricPatternLu, DEFAULT_PIVOT_TOLERANCE,
 };

@@ -15,8 +15,16 @@ use super::dense_llt::llt_in_place;
 use super::dense_lu::par_for;
 use super::symmetric_pattern_lu::{
     for_each_update, forward_substitution, permuted, run_schedule, subtract_product, Scratch,
+    SymbolicSymmetricPatternLu,
 };
-use super::{NotPositiveDefinite, SymbolicSymmetricPatternLu};
+
+/// The matrix is not (numerically) positive definite.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("Cholesky: non-positive pivot at column {column}")]
+pub struct NotPositiveDefinite {
+    /// Column of the permuted matrix where the factorization stopped.
+    pub column: usize,
+}
 
 /// The numeric Cholesky of a symmetric matrix given by **one triangle** (every
 /// off-diagonal pair stored once, e.g. the lower triangle whose pattern

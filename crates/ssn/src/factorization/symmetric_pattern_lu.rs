@@ -29,7 +29,7 @@ use faer::{Accum, MatMut, MatRef, Par};
 use rayon::prelude::*;
 
 use super::dense_lu::{lu_in_place, par_for};
-use super::ordering::{symbolic_cholesky, Ordering};
+use super::ordering::{symbolic_cholesky, Ordering, SymbolicError};
 use super::subtrees::Schedule;
 
 /// Default pivot guard: `|u_jj| ≤ 1e-10 |a_jj|` is refused. The Newton matrices seen never
@@ -39,17 +39,6 @@ pub const DEFAULT_PIVOT_TOLERANCE: f64 = 1e-10;
 /// Below this many multiply-adds an update is done by plain loops (faer's product has a
 /// fixed cost per call that the smallest supernodes would pay many times over).
 const SMALL_UPDATE: usize = 512;
-
-/// The pattern could not be analysed.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("symbolic LU: {0}")]
-pub struct SymbolicError(String);
-
-impl SymbolicError {
-    pub(crate) fn new(message: String) -> Self {
-        Self(message)
-    }
-}
 
 /// The numeric factorization met a pivot it does not trust.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
@@ -117,7 +106,7 @@ impl SymbolicSymmetricPatternLu {
     ) -> Result<Self, SymbolicError> {
         let n = pattern.nrows();
         if pattern.ncols() != n {
-            return Err(SymbolicError(format!(
+            return Err(SymbolicError::new(format!(
                 "matrix is {}×{}, not square",
                 n,
                 pattern.ncols()
@@ -135,7 +124,7 @@ impl SymbolicSymmetricPatternLu {
             }
         }
         let (lower, _) = SymbolicSparseColMat::try_new_from_indices(n, n, &pairs)
-            .map_err(|e| SymbolicError(format!("{e:?}")))?;
+            .map_err(|e| SymbolicError::new(format!("{e:?}")))?;
         let cholesky = symbolic_cholesky(
             lower.as_ref(),
             ordering,
@@ -152,7 +141,9 @@ impl SymbolicSymmetricPatternLu {
             None => ((0..n).collect(), (0..n).collect()),
         };
         let SymbolicCholeskyRaw::Supernodal(sn) = cholesky.raw() else {
-            return Err(SymbolicError("faer chose a simplicial structure".into()));
+            return Err(SymbolicError::new(
+                "faer chose a simplicial structure".into(),
+            ));
         };
         let n_super = sn.n_supernodes();
         let mut supernode_begin = sn.supernode_begin().to_vec();
@@ -163,7 +154,9 @@ impl SymbolicSymmetricPatternLu {
         for s in 0..n_super {
             let rows = sn.supernode(s).pattern();
             if rows.windows(2).any(|w| w[0] >= w[1]) {
-                return Err(SymbolicError(format!("supernode {s}: unsorted pattern")));
+                return Err(SymbolicError::new(format!(
+                    "supernode {s}: unsorted pattern"
+                )));
             }
             pattern_rows.extend_from_slice(rows);
             pattern_ptr.push(pattern_rows.len());
@@ -222,7 +215,7 @@ impl SymbolicSymmetricPatternLu {
             pattern_rows[pattern_ptr[s]..pattern_ptr[s + 1]]
                 .binary_search(&row)
                 .map(|k| end - begin + k)
-                .map_err(|_| SymbolicError(format!("row {row} missing from supernode {s}")))
+                .map_err(|_| SymbolicError::new(format!("row {row} missing from supernode {s}")))
         };
         let mut scatter_by: Vec<(usize, usize, usize)> = Vec::with_capacity(input_nnz);
         let mut diagonal = vec![usize::MAX; n];
