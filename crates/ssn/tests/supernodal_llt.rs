@@ -147,3 +147,17 @@ fn the_factor_does_not_depend_on_the_thread_count() {
         assert_eq!(run(threads, &values), Err(refused), "{threads} threads");
     }
 }
+
+/// No unknown (a body whose every dof is prescribed): an empty factorization and solve,
+/// by the Cholesky and by the LU (faer's own analysis of an empty pattern is simplicial).
+#[test]
+fn an_empty_matrix_factorizes_and_solves() {
+    let empty = SparseColMat::<usize, f64>::try_new_from_triplets(0, 0, &[]).unwrap();
+    let mut cholesky = SupernodalCholesky::try_new(empty.symbolic()).unwrap();
+    cholesky.factorize(empty.as_ref()).unwrap();
+    cholesky.solve_in_place(&mut []);
+    let symbolic = Arc::new(SymbolicSymmetricPatternLu::try_new(empty.symbolic()).unwrap());
+    let mut lu = SymmetricPatternLu::new(symbolic);
+    lu.factorize(empty.val(), DEFAULT_PIVOT_TOLERANCE).unwrap();
+    lu.solve_in_place(&mut []);
+}

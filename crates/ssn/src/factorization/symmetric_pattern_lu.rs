@@ -114,6 +114,26 @@ impl SymbolicSymmetricPatternLu {
         }
         let (col_ptr, row_idx) = (pattern.col_ptr(), pattern.row_idx());
         let input_nnz = row_idx.len();
+        if n == 0 {
+            // No unknown (every dof prescribed): no supernode; faer's analysis of an empty
+            // pattern is simplicial.
+            return Ok(Self {
+                n,
+                input_nnz,
+                perm_fwd: Vec::new(),
+                supernode_begin: vec![0],
+                pattern_ptr: vec![0],
+                pattern: Vec::new(),
+                value_ptr: vec![0],
+                update_ptr: vec![0],
+                updates: Vec::new(),
+                scatter_ptr: vec![0],
+                scatter: Vec::new(),
+                diagonal: Vec::new(),
+                update_scratch: 0,
+                schedule: Schedule::new(&[], &[]),
+            });
+        }
         // Lower triangle of the symmetric closure, diagonal always present.
         let mut pairs: Vec<Pair<usize, usize>> = (0..n).map(|j| Pair::new(j, j)).collect();
         for c in 0..n {
