@@ -33,9 +33,6 @@ pub struct NotPositiveDefinite {
 #[derive(Debug)]
 pub struct SymmetricPatternLlt {
     symbolic: Arc<SymbolicSymmetricPatternLu>,
-    /// `(input position, destination in L)`, grouped as the symbolic's `scatter`: an
-    /// entry that lands in `U` goes to its transpose in `L`.
-    scatter: Vec<(usize, usize)>,
     values: Vec<f64>,
     scratch: Vec<Scratch>,
     work: Vec<f64>,
@@ -45,31 +42,11 @@ pub struct SymmetricPatternLlt {
 
 impl SymmetricPatternLlt {
     pub fn new(symbolic: Arc<SymbolicSymmetricPatternLu>) -> Self {
-        let sym = &*symbolic;
-        let len_val = sym.len_val();
-        let mut scatter = sym.scatter.clone();
-        for s in 0..sym.n_supernodes() {
-            let (ncols, npat) = sym.shape(s);
-            let nrows = ncols + npat;
-            let base = sym.value_ptr[s];
-            for (_, dest) in &mut scatter[sym.scatter_ptr[s]..sym.scatter_ptr[s + 1]] {
-                if *dest >= len_val {
-                    // Uᵀ's blocks are laid out as L's: the same offset is the transpose.
-                    *dest -= len_val;
-                } else {
-                    let (col, row) = ((*dest - base) / nrows, (*dest - base) % nrows);
-                    if row < col {
-                        // U inside the diagonal block: its transpose, below the diagonal.
-                        *dest = base + row * nrows + col;
-                    }
-                }
-            }
-        }
+        let (len_val, n) = (symbolic.len_val(), symbolic.n);
         Self {
             values: vec![0.0; len_val],
-            scatter,
             scratch: Vec::new(),
-            work: vec![0.0; sym.n],
+            work: vec![0.0; n],
             gathered: Vec::new(),
             factorized: false,
             symbolic,
@@ -96,13 +73,12 @@ impl SymmetricPatternLlt {
             "values do not match the analysed pattern"
         );
         self.factorized = false;
-        let scatter = &self.scatter;
         run_schedule(
             &sym,
             [&mut self.values[..]],
             &mut self.scratch,
             |s, [l], origin, scratch, par| {
-                factor_supernode(&sym, scatter, s, values, (l, origin), scratch, par)
+                factor_supernode(&sym, s, values, (l, origin), scratch, par)
             },
         )?;
         self.factorized = true;
@@ -148,7 +124,6 @@ impl SymmetricPatternLlt {
 /// that holds `s` and all its descendants.
 fn factor_supernode(
     sym: &SymbolicSymmetricPatternLu,
-    scatter: &[(usize, usize)],
     s: usize,
     values: &[f64],
     factor: (&mut [f64], usize),
@@ -162,9 +137,22 @@ fn factor_supernode(
     let (l_done, l_rest) = l_all.split_at_mut(sym.value_ptr[s] - origin);
     let ls = &mut l_rest[..nrows * ncols];
     ls.fill(0.0);
-    let base = sym.value_ptr[s];
-    for &(p, dest) in &scatter[sym.scatter_ptr[s]..sym.scatter_ptr[s + 1]] {
+    // The LU's scatter: an entry it puts in `Uᵀ` (past `len_val`, laid out as `L`) is its
+    // transpose in `L`; one it puts above the diagonal block's diagonal is folded below
+    // it before any update (one triangle given: each pair lands once).
+    let (base, len_val) = (sym.value_ptr[s], sym.len_val());
+    for &(p, dest) in &sym.scatter[sym.scatter_ptr[s]..sym.scatter_ptr[s + 1]] {
+        let dest = if dest >= len_val {
+            dest - len_val
+        } else {
+            dest
+        };
         ls[dest - base] += values[p];
+    }
+    for c in 1..ncols {
+        for r in 0..c {
+            ls[r * nrows + c] += std::mem::take(&mut ls[c * nrows + r]);
+        }
     }
     for_each_update(sym, s, origin, scratch, |u, local_rows, update| {
         // Rows ≥ begin of L_d times its mid rows, transposed.
