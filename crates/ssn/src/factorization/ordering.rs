@@ -168,22 +168,33 @@ pub(crate) fn postordered(
 ) -> (Vec<usize>, Vec<usize>) {
     let n = fwd.len();
     let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
-    // Each new column's neighbours of smaller new index, from either triangle.
-    let mut below: Vec<Vec<usize>> = vec![Vec::new(); n];
-    for c in 0..pattern.ncols().min(n) {
-        for &r in &ri[cp[c]..cp[c + 1]] {
-            let (i, j) = (inv[r], inv[c]);
-            match i.cmp(&j) {
-                std::cmp::Ordering::Less => below[j].push(i),
-                std::cmp::Ordering::Greater => below[i].push(j),
-                std::cmp::Ordering::Equal => {}
-            }
-        }
+    // Each new column's neighbours of smaller new index, from either triangle (CSR).
+    let inv = &inv;
+    let pairs = || {
+        (0..pattern.ncols().min(n)).flat_map(move |c| {
+            ri[cp[c]..cp[c + 1]].iter().filter_map(move |&r| {
+                let (i, j) = (inv[r], inv[c]);
+                (i != j).then_some((i.max(j), i.min(j)))
+            })
+        })
+    };
+    let mut below_ptr = vec![0usize; n + 1];
+    for (k, _) in pairs() {
+        below_ptr[k + 1] += 1;
     }
-    let mut parent = vec![usize::MAX; n];
-    let mut ancestor = vec![usize::MAX; n];
     for k in 0..n {
-        for &i in &below[k] {
+        below_ptr[k + 1] += below_ptr[k];
+    }
+    let mut below = vec![0usize; below_ptr[n]];
+    let mut next = below_ptr.clone();
+    for (k, i) in pairs() {
+        below[next[k]] = i;
+        next[k] += 1;
+    }
+    let (mut parent, mut ancestor) = (vec![usize::MAX; n], next);
+    ancestor.fill(usize::MAX);
+    for k in 0..n {
+        for &i in &below[below_ptr[k]..below_ptr[k + 1]] {
             let mut r = i;
             while ancestor[r] != usize::MAX && ancestor[r] != k {
                 let next = ancestor[r];
@@ -196,26 +207,26 @@ pub(crate) fn postordered(
             }
         }
     }
-    drop((below, ancestor));
-    let mut children: Vec<Vec<usize>> = vec![Vec::new(); n];
-    let mut roots = Vec::new();
-    for k in 0..n {
-        match parent[k] {
-            usize::MAX => roots.push(k),
-            p => children[p].push(k),
+    drop((below, below_ptr, ancestor));
+    // Children as linked lists, ascending (built from the last).
+    let (mut first_child, mut sibling) = (vec![usize::MAX; n], vec![usize::MAX; n]);
+    for k in (0..n).rev() {
+        let p = parent[k];
+        if p != usize::MAX {
+            sibling[k] = first_child[p];
+            first_child[p] = k;
         }
     }
     let mut post = Vec::with_capacity(n);
     let mut stack: Vec<(usize, usize)> = Vec::new();
-    for root in roots {
-        stack.push((root, 0));
-        while let Some((k, next)) = stack.pop() {
-            match children[k].get(next) {
-                Some(&child) => {
-                    stack.push((k, next + 1));
-                    stack.push((child, 0));
-                }
-                None => post.push(k),
+    for root in (0..n).filter(|&k| parent[k] == usize::MAX) {
+        stack.push((root, first_child[root]));
+        while let Some((k, child)) = stack.pop() {
+            if child == usize::MAX {
+                post.push(k);
+            } else {
+                stack.push((k, sibling[child]));
+                stack.push((child, first_child[child]));
             }
         }
     }
