@@ -15,7 +15,7 @@ use super::bracket::{Guide, EXPANSION};
 /// The first step beyond the largest stable factor, a fraction of it (at most
 /// `EXPANSION − 1`, the blind search's doubling): after each new largest stable factor,
 /// doubled while the secant compliance grew at most 1.25 times over the one before,
-/// halved once it grew twice ([`Planner::stable`]). A trial far above collapse is the
+/// divided by that growth once it grew twice ([`Planner::stable`]). A trial far above collapse is the
 /// search's most expensive (on the slope, `F = 2` from `F = 1` took 339 Newton
 /// iterations, `F = 1.25` 38).
 pub const FIRST_STEP: f64 = 0.25;
@@ -29,20 +29,24 @@ pub struct Planner {
     stable: Vec<(f64, f64)>,
     /// `(F, D)` of the failing trials (by the criterion), sorted by `F`.
     failing: Vec<(f64, f64)>,
-    /// The displacement per unit factor of an elastic body (`U` for gravity increase, whose
-    /// loading moved the body by `U` under the weight of `F = 1`); `None` for strength
-    /// reduction, where an elastic body does not move.
+    /// The loading's displacement per unit factor, `U` (the loading moved the body by `U`
+    /// under the weight of `F = 1`): the compliance the first secant's is compared with.
     reference: Option<f64>,
+    /// Strength reduction: an elastic body does not move when its strength drops, so the
+    /// first motion is a bend (a growth of at least 2) whatever its size.
+    first_motion_bends: bool,
     /// The next step beyond the largest stable factor, as a fraction of it.
     step: f64,
 }
 
 impl Planner {
-    /// `reference`: the displacement per unit factor of an elastic body, if any
-    /// ([`Planner::reference`]).
-    pub fn new(reference: Option<f64>) -> Self {
+    /// `reference`: the loading's displacement per unit factor, if any
+    /// ([`Planner::reference`]); `first_motion_bends` for strength reduction
+    /// ([`Planner::first_motion_bends`]).
+    pub fn new(reference: Option<f64>, first_motion_bends: bool) -> Self {
         Self {
             reference: reference.filter(|r| r.is_finite() && *r > 0.0),
+            first_motion_bends,
             step: FIRST_STEP,
             ..Self::default()
         }
@@ -57,23 +61,32 @@ impl Planner {
     }
 
     /// How much the last secant's compliance `ΔD/ΔF` grew over the one before (over
-    /// `reference` for the first secant; infinite without one: strength reduction moves
-    /// an elastic body not at all).
+    /// `reference` for the first secant, infinite without one; at least 2 there when
+    /// `first_motion_bends`).
     fn compliance_growth(&self) -> Option<f64> {
         let secants = self.secants();
         let (_, k) = *secants.last()?;
-        let before = match secants[..] {
-            [.., (_, kp), _] => Some(1.0 / kp),
-            _ => self.reference,
-        };
-        Some(before.map_or(f64::INFINITY, |c| (1.0 / k) / c))
+        Some(match secants[..] {
+            [.., (_, kp), _] => kp / k,
+            _ => {
+                let g = self.reference.map_or(f64::INFINITY, |u| (1.0 / k) / u);
+                if self.first_motion_bends {
+                    g.max(2.0)
+                } else {
+                    g
+                }
+            }
+        })
     }
 
     /// A trial at `factor` came to rest having moved `moved` (m) from the equilibrium.
     /// A new largest stable factor sets the step beyond it from the compliance's growth
     /// ([`Planner::compliance_growth`]): doubled (up to `EXPANSION − 1`) while the curve
-    /// stays straight (growth at most 1.25), halved (down to `MIN_STEP`) once it bends
-    /// (growth at least 2), kept between.
+    /// stays straight (growth `g` at most 1.25), divided by `g` (down to `MIN_STEP`) once
+    /// it bends (`g` at least 2), kept between. Dividing by `g` is
+    /// Bergan et al.'s (1978) rule of an increment proportional to the current stiffness:
+    /// on a stiffness falling linearly to zero at `F_c` the step stays the same fraction
+    /// of the distance left to `F_c`.
     pub fn stable(&mut self, factor: f64, moved: f64) {
         if !(factor.is_finite() && moved.is_finite()) {
             return;
@@ -87,7 +100,7 @@ impl Planner {
         }
         match self.compliance_growth() {
             Some(g) if largest && g <= 1.25 => self.step = (2.0 * self.step).min(EXPANSION - 1.0),
-            Some(g) if largest && g >= 2.0 => self.step = (0.5 * self.step).max(MIN_STEP),
+            Some(g) if largest && g >= 2.0 => self.step = (self.step / g).max(MIN_STEP),
             _ => {}
         }
     }
@@ -162,7 +175,7 @@ mod tests {
     fn a_stiffness_falling_to_zero_is_extrapolated_to_its_zero() {
         for (fc, alpha) in [(6.69, 1e3), (1.39, 50.0), (30.0, 1e4)] {
             let d = |f: f64| -(fc - f).ln() / alpha;
-            let mut p = Planner::new(None);
+            let mut p = Planner::new(None, false);
             let fs = [0.9 * fc, 0.93 * fc, 0.95 * fc];
             for f in fs {
                 p.stable(f, d(f) - d(fs[0]));
@@ -170,7 +183,7 @@ mod tests {
             let e = p.estimate().unwrap();
             assert!((e / fc - 1.0).abs() < 2e-3, "{e} {fc}");
             // Far trials (stiffness halved) still land within 10%.
-            let mut p = Planner::new(None);
+            let mut p = Planner::new(None, false);
             for f in [0.25 * fc, 0.5 * fc, 0.75 * fc] {
                 p.stable(f, d(f));
             }
@@ -179,10 +192,42 @@ mod tests {
         }
     }
 
+    /// The step beyond the largest stable factor: divided by the compliance's growth `g`
+    /// once the curve bends (Bergan et al.'s increment proportional to the current
+    /// stiffness); for strength reduction the first motion is a bend
+    /// however small, measured against the loading's `U` per unit factor.
+    #[test]
+    fn the_step_shrinks_with_the_stiffness() {
+        let expansion = |reference, bends, moved: f64| {
+            let mut p = Planner::new(reference, bends);
+            p.stable(1.0, 0.0);
+            p.stable(1.25, moved);
+            p.guide().expansion
+        };
+        // Moved 4 U per unit factor: g = 4, the step 0.25 / 4.
+        assert_eq!(expansion(Some(1.0), true, 1.0), 1.0625);
+        assert_eq!(expansion(Some(1.0), false, 1.0), 1.0625);
+        // g = 0.4: strength reduction still halves, gravity increase doubles (straight).
+        assert_eq!(expansion(Some(1.0), true, 0.1), 1.125);
+        assert_eq!(expansion(Some(1.0), false, 0.1), 1.5);
+        // g = 1.6: kept by gravity increase.
+        assert_eq!(expansion(Some(1.0), false, 0.4), 1.25);
+        // g = 2.5: divided by 2.5, more than the halving of the rule before.
+        assert_eq!(expansion(Some(1.0), false, 0.625), 1.1);
+        // No reference: infinite growth, the smallest step.
+        assert_eq!(expansion(None, true, 1.0), 1.0 + MIN_STEP);
+        // A second bend divides again, by the ratio of the two secants' compliances.
+        let mut p = Planner::new(Some(1.0), true);
+        p.stable(1.0, 0.0);
+        p.stable(1.25, 1.0); // compliance 4, step 0.0625
+        p.stable(1.3, 1.8); // compliance 16: g = 4, step 0.015625
+        assert_eq!(p.guide().expansion, 1.015625);
+    }
+
     /// A straight (elastic) curve has no estimate; nor has one point.
     #[test]
     fn no_estimate_without_softening() {
-        let mut p = Planner::new(None);
+        let mut p = Planner::new(None, false);
         p.stable(1.0, 0.125);
         assert_eq!(p.estimate(), None);
         p.stable(2.0, 0.25);

@@ -269,11 +269,12 @@ where
     let (max_trials, tolerance, continuation) = (s.max_trials, s.tolerance, s.continuation);
     let mut bracket = Bracket::new(tolerance, s.first_guess, s.bracket);
     // An elastic body moves by `U` per unit factor of gravity increase (its loading moved
-    // it by `U` under the weight of F = 1); strength reduction moves an elastic body not at all.
-    let mut planner = Planner::new(match analysis.settings.method {
-        StabilityMethod::GravityIncrease => Some(analysis.criterion.scale),
-        StabilityMethod::StrengthReduction => None,
-    });
+    // it by `U` under the weight of F = 1); strength reduction moves an elastic body not at
+    // all, but `U` still measures how far beyond elastic its first motion is.
+    let mut planner = Planner::new(
+        Some(analysis.criterion.scale),
+        analysis.settings.method == StabilityMethod::StrengthReduction,
+    );
     // The end state of the largest stable trial, the next trials' start (continuation).
     let mut stable_state: Option<(State<D>, f64)> = None;
     let mut trials: Vec<Trial<D>> = Vec::new();
