@@ -105,17 +105,24 @@ fn main() {
 }
 
 /// The scene's text with `[solver]` keys from a variant (`default`: none), e.g.
-/// `linear_solver=krylov,precision=single`; values are TOML strings.
+/// `linear_solver=krylov,precision=single`; values are TOML strings, added under the
+/// scene's own `[solver]` when it has one.
 fn with_solver(text: &str, variant: &str) -> String {
     if variant == "default" {
         return text.to_string();
     }
-    let mut text = format!("{text}\n[solver]\n");
+    let mut keys = String::new();
     for kv in variant.split(',').filter(|kv| !kv.is_empty()) {
         let (key, value) = kv.split_once('=').unwrap_or((kv, ""));
-        text.push_str(&format!("{} = \"{}\"\n", key.trim(), value.trim()));
+        keys.push_str(&format!("{} = \"{}\"\n", key.trim(), value.trim()));
     }
-    text
+    match text.find("\n[solver]\n") {
+        Some(at) => {
+            let end = at + "\n[solver]\n".len();
+            format!("{}{keys}{}", &text[..end], &text[end..])
+        }
+        None => format!("{text}\n[solver]\n{keys}"),
+    }
 }
 
 /// One mesh and solver variant: the scene with `[mesh.gmsh] path = MESH` and the
