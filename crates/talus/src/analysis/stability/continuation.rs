@@ -15,9 +15,9 @@ use super::bracket::{Guide, EXPANSION};
 /// The first step beyond the largest stable factor, a fraction of it (at most
 /// `EXPANSION − 1`, the blind search's doubling): after each new largest stable factor,
 /// doubled while the secant compliance grew at most 1.25 times over the one before,
-/// divided by that growth once it grew twice ([`Planner::stable`]). A trial far above collapse is the
-/// search's most expensive (on the slope, `F = 2` from `F = 1` took 339 Newton
-/// iterations, `F = 1.25` 38).
+/// divided by that growth once it grew 2 times or more ([`Planner::stable`]). A trial far
+/// above collapse is the search's most expensive (on the slope, `F = 2` from `F = 1` took
+/// 339 Newton iterations, `F = 1.25` 38).
 pub const FIRST_STEP: f64 = 0.25;
 /// The smallest step beyond the largest stable factor (a fraction of it).
 pub const MIN_STEP: f64 = 0.01;
@@ -83,10 +83,9 @@ impl Planner {
     /// A new largest stable factor sets the step beyond it from the compliance's growth
     /// ([`Planner::compliance_growth`]): doubled (up to `EXPANSION − 1`) while the curve
     /// stays straight (growth `g` at most 1.25), divided by `g` (down to `MIN_STEP`) once
-    /// it bends (`g` at least 2), kept between. Dividing by `g` is
-    /// Bergan et al.'s (1978) rule of an increment proportional to the current stiffness:
-    /// on a stiffness falling linearly to zero at `F_c` the step stays the same fraction
-    /// of the distance left to `F_c`.
+    /// it bends (`g` at least 2), kept between. Dividing by `g` is Bergan et al.'s (1978)
+    /// increment proportional to the current stiffness: on a stiffness falling linearly
+    /// to zero at `F_c` the step stays the same fraction of the distance left to `F_c`.
     pub fn stable(&mut self, factor: f64, moved: f64) {
         if !(factor.is_finite() && moved.is_finite()) {
             return;
@@ -194,8 +193,8 @@ mod tests {
 
     /// The step beyond the largest stable factor: divided by the compliance's growth `g`
     /// once the curve bends (Bergan et al.'s increment proportional to the current
-    /// stiffness); for strength reduction the first motion is a bend
-    /// however small, measured against the loading's `U` per unit factor.
+    /// stiffness); for strength reduction the first motion is a bend however small,
+    /// measured against the loading's `U` per unit factor.
     #[test]
     fn the_step_shrinks_with_the_stiffness() {
         let expansion = |reference, bends, moved: f64| {
