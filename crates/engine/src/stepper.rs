@@ -317,6 +317,9 @@ impl<M: Discretization<D>, const D: usize> Stepper<M, D> {
                 h,
                 iterations = r.iterations,
                 negative_pivots = ?r.negative_pivots,
+                factorizations = r.factorizations,
+                krylov_iterations = r.krylov_iterations,
+                krylov_failures = r.krylov_failures,
                 merits = ?r.merit_history.iter().map(|m| (m / r.scale) as f32).collect::<Vec<_>>(),
                 "sub-step solve"
             );

@@ -118,7 +118,7 @@ fn main() {
         let mut scratch = MemBuffer::new(
             faer_symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
         );
-        let mut llt = SymmetricPatternLlt::new(Arc::clone(&ours));
+        let mut llt = SymmetricPatternLlt::<f64>::new(Arc::clone(&ours));
         let pools: Vec<rayon::ThreadPool> = [1, 2]
             .iter()
             .map(|&t| {

@@ -157,6 +157,13 @@ pub struct Krylov {
     /// A GMRES solve that took more iterations than this converged, but the preconditioner
     /// has aged: the next Newton iteration refactorizes without trying GMRES.
     pub degraded_iterations: usize,
+    /// Try GMRES on an earlier Newton iteration's factorization first (true). With
+    /// `false` every Newton iteration factorizes and GMRES, preconditioned by that fresh
+    /// factor, only corrects what its storage precision left (`Single`: iterative
+    /// refinement by GMRES, Carson & Higham 2018, SIAM J. Sci. Comput. 40(2)): the
+    /// choice where the Newton matrix changes too much between iterations for an old
+    /// factor to precondition it (`docs/krylov.md`, 'A fresh f32 factor every iteration').
+    pub reuse: bool,
     pub forcing: Forcing,
     /// The precision the factorization is stored in. `Single` (associative flow only: the
     /// Cholesky factor) halves its memory; every direction then comes from GMRES, and a
@@ -175,11 +182,12 @@ pub enum Precision {
 
 impl Krylov {
     /// Restart 20, at most 20 iterations, refactorize after a solve that needed more
-    /// than 10, Eisenstat–Walker forcing capped at 1e-3.
+    /// than 10, reuse on, Eisenstat–Walker forcing capped at 1e-3.
     pub const DEFAULT: Self = Self {
         restart: 20,
         max_iterations: 20,
         degraded_iterations: 10,
+        reuse: true,
         forcing: Forcing::DEFAULT,
         precision: Precision::Double,
     };

@@ -209,8 +209,9 @@ fn single_precision_factor_matches_direct() {
     eprintln!(
         "f32 factor: {f32_bytes} bytes against {f64_bytes}; {its} Newton its, {solves} GMRES directions in {gmres} its"
     );
-    // 4 bytes per stored entry and no f64 storage beside them: no f64 fallback was needed
-    // (the f64 solver's factor is `SymmetricPatternLlt`'s, another supernode relaxation).
+    // 4 bytes per stored entry of the same supernodal factor and no f64 storage beside
+    // them: no f64 fallback was needed.
+    assert_eq!(reuse.factor_nnz(), direct.factor_nnz());
     assert_eq!(
         f32_bytes,
         4 * reuse.factor_nnz().unwrap(),
@@ -219,4 +220,52 @@ fn single_precision_factor_matches_direct() {
     assert_eq!(solves, its, "every direction from GMRES");
     let lu = FootingLike::new(8, 6, 10.0, 1e-2);
     assert!(Solver::new(lu.problem.clone(), single).is_err());
+}
+
+/// `reuse: false` with `Precision::Single` (iterative refinement by GMRES on a fresh f32
+/// factor, Carson & Higham 2018): one factorization per Newton iteration, no GMRES
+/// failure, every direction from GMRES in a few iterations, the direct solutions.
+#[test]
+fn a_fresh_single_precision_factor_every_iteration_matches_direct() {
+    let fresh = Settings {
+        newton_solve: NewtonSolve::Krylov(Krylov {
+            precision: talus_ssn::Precision::Single,
+            reuse: false,
+            ..Krylov::DEFAULT
+        }),
+        ..Settings::fem()
+    };
+    let footing = FootingLike::new(16, 12, 30.0, 1e-2);
+    let n = footing.problem.operator().size();
+    let mut direct = Solver::new(footing.problem.clone(), Settings::fem()).unwrap();
+    let mut refined = Solver::new(footing.problem.clone(), fresh).unwrap();
+    let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
+    let (mut its, mut factorizations, mut gmres, mut solves) = (0, 0, 0, 0);
+    for step in 0..6 {
+        direct.set_q(footing.q(&a, 0.05)).unwrap();
+        refined.set_q(footing.q(&b, 0.05)).unwrap();
+        let ra = solve(&mut direct, &mut a);
+        let rb = solve(&mut refined, &mut b);
+        assert!(ra.is_converged() && rb.is_converged(), "step {step}");
+        let diff = a
+            .iter()
+            .zip(&b)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+        assert!(diff <= 1e-10 * inf(&a).max(1.0), "step {step}: {diff:e}");
+        assert_eq!(rb.krylov_failures, 0, "step {step}");
+        its += rb.iterations;
+        factorizations += rb.factorizations;
+        gmres += rb.krylov_iterations;
+        solves += rb.krylov_solves;
+    }
+    eprintln!("{its} Newton its, {factorizations} factorizations, {gmres} GMRES its");
+    assert_eq!(
+        factorizations, its,
+        "one factorization per Newton iteration"
+    );
+    assert_eq!(solves, its, "every direction from GMRES");
+    assert!(
+        gmres <= 4 * its,
+        "{gmres} GMRES iterations for {its} directions"
+    );
 }

@@ -104,25 +104,54 @@ fn main() {
     }
 }
 
-/// The scene's text with `[solver]` keys from a variant (`default`: none), e.g.
-/// `linear_solver=krylov,precision=single`; values are TOML strings, added under the
-/// scene's own `[solver]` when it has one.
+/// The scene with the variant's keys in its `[solver]` (a key the scene sets is replaced,
+/// not repeated: TOML refuses a key twice); `true`, `false` and numbers are written bare,
+/// other values as strings.
 fn with_solver(text: &str, variant: &str) -> String {
     if variant == "default" {
         return text.to_string();
     }
-    let mut keys = String::new();
-    for kv in variant.split(',').filter(|kv| !kv.is_empty()) {
-        let (key, value) = kv.split_once('=').unwrap_or((kv, ""));
-        keys.push_str(&format!("{} = \"{}\"\n", key.trim(), value.trim()));
-    }
-    match text.find("\n[solver]\n") {
-        Some(at) => {
-            let end = at + "\n[solver]\n".len();
-            format!("{}{keys}{}", &text[..end], &text[end..])
+    let pairs: Vec<(&str, String)> = variant
+        .split(',')
+        .filter(|kv| !kv.is_empty())
+        .map(|kv| {
+            let (key, value) = kv.split_once('=').unwrap_or((kv, ""));
+            let value = value.trim();
+            let bare = value == "true" || value == "false" || value.parse::<f64>().is_ok();
+            let value = if bare {
+                value.to_string()
+            } else {
+                format!("\"{value}\"")
+            };
+            (key.trim(), value)
+        })
+        .collect();
+    let keys: String = pairs.iter().map(|(k, v)| format!("{k} = {v}\n")).collect();
+    let (mut out, mut in_solver, mut found) = (String::new(), false, false);
+    for line in text.lines() {
+        let trimmed = line.trim_start();
+        if trimmed.starts_with('[') {
+            in_solver = trimmed.starts_with("[solver]");
+            if in_solver {
+                found = true;
+                out.push_str(line);
+                out.push('\n');
+                out.push_str(&keys);
+                continue;
+            }
         }
-        None => format!("{text}\n[solver]\n{keys}"),
+        let key = trimmed.split('=').next().map(str::trim);
+        if in_solver && pairs.iter().any(|(k, _)| Some(*k) == key) {
+            continue;
+        }
+        out.push_str(line);
+        out.push('\n');
     }
+    if !found {
+        out.push_str("\n[solver]\n");
+        out.push_str(&keys);
+    }
+    out
 }
 
 /// One mesh and solver variant: the scene with `[mesh.gmsh] path = MESH` and the

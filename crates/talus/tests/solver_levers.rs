@@ -70,6 +70,20 @@ fn unset_levers_are_the_presets_and_set_ones_reach_the_solver() {
             ..Krylov::DEFAULT
         })
     );
+    let fresh = scene(
+        "slope.toml",
+        "linear_solver = \"krylov\"\nprecision = \"single\"\nreuse_factorization = false",
+        |t| t,
+    )
+    .unwrap();
+    assert_eq!(
+        fresh.spec.solver.fem().solver.newton_solve,
+        NewtonSolve::Krylov(Krylov {
+            precision: Precision::Single,
+            reuse: false,
+            ..Krylov::DEFAULT
+        })
+    );
     // Only the Newton system changes.
     let settings = StepSettings {
         solver: talus_ssn::Settings {
@@ -124,8 +138,9 @@ fn krylov_finds_the_direct_factor_on_the_slope() {
 
 /// The vertical cut (`scenes/vertical_cut.toml` on 16 × 8 cells, Tresca: associative, a
 /// Cholesky factor) by strength reduction with the f32 factor as GMRES's preconditioner
-/// (`precision = "single"`): the direct f64 solve's factor (measured: direct [1.17259,
-/// 1.17807], single [1.17210, 1.17756]).
+/// (`precision = "single"`), reused or fresh every Newton iteration
+/// (`reuse_factorization = false`): the direct f64 solve's factor (measured: direct
+/// [1.17259, 1.17807], single [1.17210, 1.17756]).
 #[test]
 fn a_single_precision_factor_finds_the_direct_bracket_on_the_cut() {
     let cut = |t: String| {
@@ -149,10 +164,21 @@ fn a_single_precision_factor_finds_the_direct_bracket_on_the_cut() {
         "cut_single",
     );
     assert_same_factor(&direct, &single);
+    let fresh = factor_of_safety(
+        &scene(
+            "vertical_cut.toml",
+            "linear_solver = \"krylov\"\nprecision = \"single\"\nreuse_factorization = false",
+            cut,
+        )
+        .unwrap(),
+        "cut_fresh",
+    );
+    assert_same_factor(&direct, &fresh);
 }
 
 /// Bad values name the value and its line (the TOML reader's message for every key of
-/// fixed values, as `stability.dilatancy`'s) and the values allowed; `single` without `krylov` and, in a build
+/// fixed values, as `stability.dilatancy`'s) and the values allowed; `single` or
+/// `reuse_factorization = false` without `krylov` and, in a build
 /// without METIS, `nested_dissection` are refused by `scene::check::solver` before any
 /// step, saying what would make them valid.
 #[test]
@@ -189,6 +215,18 @@ fn bad_levers_name_the_field_and_value() {
                 "\"single\"",
                 "linear_solver = \"krylov\"",
             ],
+        ),
+        (
+            error("reuse_factorization = false"),
+            vec![
+                "solver.reuse_factorization",
+                "false",
+                "linear_solver = \"krylov\"",
+            ],
+        ),
+        (
+            error("reuse_factorization = 0"),
+            vec![at.as_str(), "`0`", "boolean"],
         ),
     ];
     for (message, needles) in cases {

@@ -8,6 +8,7 @@ use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Accum, MatMut, Par};
 
 use super::dense_lu::par_for;
+use super::real::Real;
 
 /// Below this order the unblocked loop beats the recursion's calls into faer.
 const UNBLOCKED: usize = 24;
@@ -20,7 +21,7 @@ pub(crate) struct NonPositivePivot {
 
 /// `A = L Lᵀ` in place: `L` overwrites the lower triangle, the strict upper triangle is
 /// neither read nor written; the large blocks' products use `par`.
-pub(crate) fn llt_in_place(a: MatMut<'_, f64>, par: Par) -> Result<(), NonPositivePivot> {
+pub(crate) fn llt_in_place<T: Real>(a: MatMut<'_, T>, par: Par) -> Result<(), NonPositivePivot> {
     let n = a.nrows();
     debug_assert_eq!(n, a.ncols());
     if n <= UNBLOCKED {
@@ -40,7 +41,7 @@ pub(crate) fn llt_in_place(a: MatMut<'_, f64>, par: Par) -> Result<(), NonPositi
         BlockStructure::Rectangular,
         a21.rb().transpose(),
         BlockStructure::Rectangular,
-        -1.0,
+        -T::ONE,
         par,
     );
     llt_in_place(a22, par).map_err(|p| NonPositivePivot {
@@ -48,22 +49,22 @@ pub(crate) fn llt_in_place(a: MatMut<'_, f64>, par: Par) -> Result<(), NonPositi
     })
 }
 
-fn unblocked(mut a: MatMut<'_, f64>) -> Result<(), NonPositivePivot> {
+fn unblocked<T: Real>(mut a: MatMut<'_, T>) -> Result<(), NonPositivePivot> {
     let n = a.nrows();
     for j in 0..n {
         let pivot = a[(j, j)];
-        if !(pivot.is_finite() && pivot > 0.0) {
+        if !(pivot.is_finite() && pivot > T::ZERO) {
             return Err(NonPositivePivot { column: j });
         }
         let d = pivot.sqrt();
         a[(j, j)] = d;
-        let inv = 1.0 / d;
+        let inv = T::ONE / d;
         for i in j + 1..n {
             a[(i, j)] *= inv;
         }
         for c in j + 1..n {
             let l = a[(c, j)];
-            if l != 0.0 {
+            if l != T::ZERO {
                 for i in c..n {
                     let v = a[(i, j)];
                     a[(i, c)] -= v * l;

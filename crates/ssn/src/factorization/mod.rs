@@ -1,8 +1,8 @@
 //! Sparse factorizations of the Newton (Schur) matrix `M + h² Σ Bᵢᵀ Cᵢ Bᵢ`.
 //!
-//! [`SupernodalCholesky`] for associative flow rules (symmetric `K`): in f64 the
-//! supernodal [`SymmetricPatternLlt`] on the LU's structure and thread schedule, in f32
-//! faer's supernodal Cholesky; storage reused across factorizations.
+//! [`SupernodalCholesky`] for associative flow rules (symmetric `K`): the supernodal
+//! [`SymmetricPatternLlt`] on the LU's structure and thread schedule, in f64 or (a
+//! preconditioner's) f32, [`Real`]; storage reused across factorizations.
 //!
 //! Both take their fill-reducing [`Ordering`]: AMD by default, METIS' nested dissection
 //! with the cargo feature `metis`.
@@ -31,6 +31,7 @@ mod cholesky;
 mod dense_llt;
 mod dense_lu;
 mod ordering;
+mod real;
 mod subtrees;
 mod supernodal_llt;
 mod symmetric_pattern_lu;
@@ -38,6 +39,7 @@ mod symmetric_pattern_lu;
 #[cfg(feature = "metis")]
 pub use ordering::nested_dissection;
 pub use ordering::{Ordering, SymbolicError};
+pub use real::Real;
 
 pub use cholesky::SupernodalCholesky;
 pub use supernodal_llt::{NotPositiveDefinite, SymmetricPatternLlt};

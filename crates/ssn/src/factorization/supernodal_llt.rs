@@ -13,8 +13,9 @@ use faer::{MatMut, Par};
 
 use super::dense_llt::llt_in_place;
 use super::dense_lu::par_for;
+use super::real::Real;
 use super::symmetric_pattern_lu::{
-    for_each_update, forward_substitution, permuted, run_schedule, subtract_product, Scratch,
+    dot, for_each_update, forward_substitution, permuted, run_schedule, subtract_product, Scratch,
     SymbolicSymmetricPatternLu,
 };
 
@@ -28,25 +29,26 @@ pub struct NotPositiveDefinite {
 
 /// The numeric Cholesky of a symmetric matrix given by **one triangle** (every
 /// off-diagonal pair stored once, e.g. the lower triangle whose pattern
-/// [`SymbolicSymmetricPatternLu`] analysed as its symmetric closure), storage reused by
-/// every [`factorize`](Self::factorize).
+/// [`SymbolicSymmetricPatternLu`] analysed as its symmetric closure), stored in `T`
+/// (f64, or f32 for a preconditioner: the input is rounded as it is scattered), storage
+/// reused by every [`factorize`](Self::factorize).
 #[derive(Debug)]
-pub struct SymmetricPatternLlt {
+pub struct SymmetricPatternLlt<T: Real = f64> {
     symbolic: Arc<SymbolicSymmetricPatternLu>,
-    values: Vec<f64>,
-    scratch: Vec<Scratch>,
-    work: Vec<f64>,
-    gathered: Vec<f64>,
+    values: Vec<T>,
+    scratch: Vec<Scratch<T>>,
+    work: Vec<T>,
+    gathered: Vec<T>,
     factorized: bool,
 }
 
-impl SymmetricPatternLlt {
+impl<T: Real> SymmetricPatternLlt<T> {
     pub fn new(symbolic: Arc<SymbolicSymmetricPatternLu>) -> Self {
         let (len_val, n) = (symbolic.len_val(), symbolic.n);
         Self {
-            values: vec![0.0; len_val],
+            values: vec![T::ZERO; len_val],
             scratch: Vec::new(),
-            work: vec![0.0; n],
+            work: vec![T::ZERO; n],
             gathered: Vec::new(),
             factorized: false,
             symbolic,
@@ -85,7 +87,8 @@ impl SymmetricPatternLlt {
         Ok(())
     }
 
-    /// Solves `A x = b` in place with the last successful factorization.
+    /// Solves `A x = b` in place with the last successful factorization (in `T`: `b`
+    /// rounded to it, `x` widened back).
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
         let sym = &*self.symbolic;
         assert!(
@@ -105,12 +108,8 @@ impl SymmetricPatternLlt {
                 gathered.extend(sym.rows(s).iter().map(|&r| x[r]));
                 for j in (0..ncols).rev() {
                     let col = &ls[j * nrows..(j + 1) * nrows];
-                    let below: f64 = col[ncols..]
-                        .iter()
-                        .zip(gathered.iter())
-                        .map(|(l, x)| l * x)
-                        .sum();
-                    let inside: f64 = (j + 1..ncols).map(|i| col[i] * x[begin + i]).sum();
+                    let below = dot(&col[ncols..], gathered);
+                    let inside = dot(&col[j + 1..ncols], &x[begin + j + 1..begin + ncols]);
                     x[begin + j] = (x[begin + j] - below - inside) / col[j];
                 }
             }
@@ -122,12 +121,12 @@ impl SymmetricPatternLlt {
 /// ascending order, the dense Cholesky of its diagonal block, the solve below it) into
 /// `factor = (l, origin)`, the stretch of `L`'s values from `value_ptr` = `origin` on
 /// that holds `s` and all its descendants.
-fn factor_supernode(
+fn factor_supernode<T: Real>(
     sym: &SymbolicSymmetricPatternLu,
     s: usize,
     values: &[f64],
-    factor: (&mut [f64], usize),
-    scratch: &mut Scratch,
+    factor: (&mut [T], usize),
+    scratch: &mut Scratch<T>,
     par: Par,
 ) -> Result<(), NotPositiveDefinite> {
     let (l_all, origin) = factor;
@@ -136,7 +135,7 @@ fn factor_supernode(
     let nrows = ncols + npat;
     let (l_done, l_rest) = l_all.split_at_mut(sym.value_ptr[s] - origin);
     let ls = &mut l_rest[..nrows * ncols];
-    ls.fill(0.0);
+    ls.fill(T::ZERO);
     // The LU's scatter: an entry it puts in `Uᵀ` (past `len_val`, laid out as `L`) is its
     // transpose in `L`; one it puts above the diagonal block's diagonal is folded below
     // it before any update (one triangle given: each pair lands once).
@@ -147,11 +146,12 @@ fn factor_supernode(
         } else {
             dest
         };
-        ls[dest - base] += values[p];
+        ls[dest - base] += T::from_f64(values[p]);
     }
     for c in 1..ncols {
         for r in 0..c {
-            ls[r * nrows + c] += std::mem::take(&mut ls[c * nrows + r]);
+            let above = std::mem::replace(&mut ls[c * nrows + r], T::ZERO);
+            ls[r * nrows + c] += above;
         }
     }
     for_each_update(sym, s, origin, scratch, |u, local_rows, update| {

@@ -30,6 +30,7 @@ use rayon::prelude::*;
 
 use super::dense_lu::{lu_in_place, par_for};
 use super::ordering::{symbolic_cholesky, Ordering, SymbolicError};
+use super::real::Real;
 use super::subtrees::Schedule;
 
 /// Default pivot guard: `|u_jj| ≤ 1e-10 |a_jj|` is refused. The Newton matrices seen never
@@ -369,7 +370,7 @@ pub struct SymmetricPatternLu {
     values: Vec<f64>,
     reference: Vec<f64>,
     /// One per task of the schedule (at least one), reused across factorizations.
-    scratch: Vec<Scratch>,
+    scratch: Vec<Scratch<f64>>,
     work: Vec<f64>,
     gathered: Vec<f64>,
     factorized: bool,
@@ -494,7 +495,7 @@ impl SymmetricPatternLu {
                 gathered.extend(sym.rows(s).iter().map(|&r| x[r]));
                 for j in 0..ncols {
                     let col = &us[j * nrows + ncols..(j + 1) * nrows];
-                    let acc: f64 = col.iter().zip(gathered.iter()).map(|(u, x)| u * x).sum();
+                    let acc = dot(col, gathered);
                     x[begin + j] -= acc;
                 }
                 for j in (0..ncols).rev() {
@@ -519,11 +520,11 @@ impl SymmetricPatternLu {
 /// updates in one fixed order whichever the thread: the same bits. A failure in a task
 /// re-runs everything on one thread, so that the error is the one the one-thread order
 /// meets first.
-pub(super) fn run_schedule<const K: usize, E>(
+pub(super) fn run_schedule<const K: usize, T: Real, E>(
     sym: &SymbolicSymmetricPatternLu,
-    arrays: [&mut [f64]; K],
-    scratch: &mut Vec<Scratch>,
-    factor: impl Fn(usize, [&mut [f64]; K], usize, &mut Scratch, Par) -> Result<(), E> + Sync,
+    arrays: [&mut [T]; K],
+    scratch: &mut Vec<Scratch<T>>,
+    factor: impl Fn(usize, [&mut [T]; K], usize, &mut Scratch<T>, Par) -> Result<(), E> + Sync,
 ) -> Result<(), E> {
     let mut arrays = arrays;
     let schedule = &sym.schedule;
@@ -536,7 +537,7 @@ pub(super) fn run_schedule<const K: usize, E>(
     if scratch.is_empty() {
         scratch.push(Scratch::new(sym));
     }
-    let sequential = |arrays: &mut [&mut [f64]; K], scratch: &mut Scratch| {
+    let sequential = |arrays: &mut [&mut [T]; K], scratch: &mut Scratch<T>| {
         (0..sym.n_supernodes())
             .try_for_each(|s| factor(s, arrays.each_mut().map(|a| &mut **a), 0, scratch, par))
     };
@@ -552,7 +553,7 @@ pub(super) fn run_schedule<const K: usize, E>(
     let mut offset = 0;
     for (task, scratch) in schedule.tasks.iter().zip(scratch.iter_mut()) {
         let (a, b) = (sym.value_ptr[task.start], sym.value_ptr[task.end]);
-        let mut own: [&mut [f64]; K] = std::array::from_fn(|_| <&mut [f64]>::default());
+        let mut own: [&mut [T]; K] = std::array::from_fn(|_| <&mut [T]>::default());
         for (own, rest) in own.iter_mut().zip(rest.iter_mut()) {
             let (chunk, tail) = std::mem::take(rest)[a - offset..].split_at_mut(b - a);
             (*own, *rest) = (chunk, tail);
@@ -590,18 +591,18 @@ pub(super) fn run_schedule<const K: usize, E>(
 /// The work buffers of one thread: where a supernode's rows sit in its block, the rows a
 /// descendant's update lands in, and the update's product.
 #[derive(Debug)]
-pub(super) struct Scratch {
+pub(super) struct Scratch<T> {
     pub(super) global_to_local: Vec<usize>,
     pub(super) local_rows: Vec<usize>,
-    pub(super) update: Vec<f64>,
+    pub(super) update: Vec<T>,
 }
 
-impl Scratch {
+impl<T: Real> Scratch<T> {
     pub(super) fn new(sym: &SymbolicSymmetricPatternLu) -> Self {
         Self {
             global_to_local: vec![usize::MAX; sym.n],
             local_rows: Vec::new(),
-            update: vec![0.0; sym.update_scratch],
+            update: vec![T::ZERO; sym.update_scratch],
         }
     }
 }
@@ -617,7 +618,7 @@ fn factor_supernode(
     reference: &[f64],
     pivot_tolerance: f64,
     factors: (&mut [f64], &mut [f64], usize),
-    scratch: &mut Scratch,
+    scratch: &mut Scratch<f64>,
     par: Par,
 ) -> Result<(), PivotBreakdown> {
     let (l_all, u_all, origin) = factors;
@@ -700,21 +701,21 @@ fn factor_supernode(
     Ok(())
 }
 
-/// `solve` on `P rhs` (in `x`, `x[new] = rhs[old]`), and the result back into `rhs` in
-/// the input's numbering.
-pub(super) fn permuted(
+/// `solve` on `P rhs` (in `x`, `x[new] = rhs[old]`, rounded to `T`), and the result back
+/// into `rhs` in the input's numbering.
+pub(super) fn permuted<T: Real>(
     sym: &SymbolicSymmetricPatternLu,
     rhs: &mut [f64],
-    x: &mut [f64],
-    solve: impl FnOnce(&mut [f64]),
+    x: &mut [T],
+    solve: impl FnOnce(&mut [T]),
 ) {
     assert_eq!(rhs.len(), sym.n);
     for (new, &old) in sym.perm_fwd.iter().enumerate() {
-        x[new] = rhs[old];
+        x[new] = T::from_f64(rhs[old]);
     }
     solve(x);
     for (new, &old) in sym.perm_fwd.iter().enumerate() {
-        rhs[old] = x[new];
+        rhs[old] = x[new].to_f64();
     }
 }
 
@@ -722,11 +723,11 @@ pub(super) fn permuted(
 /// supernode by supernode: the diagonal block, then the rows below through a dense buffer
 /// (contiguous columns, one scatter). `unit_diagonal`: `L`'s diagonal is 1 (the LU's; the
 /// stored diagonal is `U`'s), else the stored one (the Cholesky's).
-pub(super) fn forward_substitution(
+pub(super) fn forward_substitution<T: Real>(
     sym: &SymbolicSymmetricPatternLu,
-    l: &[f64],
-    x: &mut [f64],
-    gathered: &mut Vec<f64>,
+    l: &[T],
+    x: &mut [T],
+    gathered: &mut Vec<T>,
     unit_diagonal: bool,
 ) {
     for s in 0..sym.n_supernodes() {
@@ -735,7 +736,7 @@ pub(super) fn forward_substitution(
         let nrows = ncols + npat;
         let ls = &l[sym.value_ptr[s]..sym.value_ptr[s + 1]];
         gathered.clear();
-        gathered.resize(npat, 0.0);
+        gathered.resize(npat, T::ZERO);
         for j in 0..ncols {
             let col = &ls[j * nrows..(j + 1) * nrows];
             if !unit_diagonal {
@@ -750,9 +751,37 @@ pub(super) fn forward_substitution(
             }
         }
         for (&r, g) in sym.rows(s).iter().zip(gathered.iter()) {
-            x[r] -= g;
+            x[r] -= *g;
         }
     }
+}
+
+/// `Σ aᵢ bᵢ` over the shorter slice, in 16 interleaved partial sums added pairwise at the
+/// end: a fixed order (the same bits every call) that vectorizes, where a single running
+/// sum is a chain of dependent additions (the back-substitutions were bound by it).
+pub(super) fn dot<T: Real>(a: &[T], b: &[T]) -> T {
+    const LANES: usize = 16;
+    let n = a.len().min(b.len());
+    let split = n - n % LANES;
+    let (a_body, a_tail) = a[..n].split_at(split);
+    let (b_body, b_tail) = b[..n].split_at(split);
+    let mut acc = [T::ZERO; LANES];
+    for (x, y) in a_body.chunks_exact(LANES).zip(b_body.chunks_exact(LANES)) {
+        for k in 0..LANES {
+            acc[k] += x[k] * y[k];
+        }
+    }
+    let mut width = LANES;
+    while width > 1 {
+        width /= 2;
+        for k in 0..width {
+            acc[k] += acc[k + width];
+        }
+    }
+    a_tail
+        .iter()
+        .zip(b_tail)
+        .fold(acc[0], |sum, (&x, &y)| sum + x * y)
 }
 
 /// Where one update of a supernode `s` reads from a descendant `d`: `d`'s block in the
@@ -771,12 +800,12 @@ pub(super) struct UpdateBlock {
 /// Calls `apply(block, local_rows, product)` for every update of supernode `s` in its one
 /// fixed order (ascending descendants: the same bits on any thread), `local_rows` the
 /// update's rows in `s`'s block numbering and `product` the scratch for its product.
-pub(super) fn for_each_update(
+pub(super) fn for_each_update<T: Real>(
     sym: &SymbolicSymmetricPatternLu,
     s: usize,
     origin: usize,
-    scratch: &mut Scratch,
-    mut apply: impl FnMut(&UpdateBlock, &[usize], &mut [f64]),
+    scratch: &mut Scratch<T>,
+    mut apply: impl FnMut(&UpdateBlock, &[usize], &mut [T]),
 ) {
     let (begin, end) = (sym.supernode_begin[s], sym.supernode_begin[s + 1]);
     let ncols = end - begin;
@@ -821,34 +850,34 @@ pub(super) fn for_each_update(
 /// symmetric) a large product computes that top's lower triangle only, and what lands
 /// above the target's diagonal is not to be read.
 #[allow(clippy::too_many_arguments)]
-pub(super) fn subtract_product(
-    target: &mut [f64],
+pub(super) fn subtract_product<T: Real>(
+    target: &mut [T],
     ld: usize,
     rows: &[usize],
     cols: &[usize],
-    a: &[f64],
-    b: &[f64],
+    a: &[T],
+    b: &[T],
     d_nrows: usize,
     d_ncols: usize,
     a_first: usize,
     m: usize,
     b_first: usize,
     k: usize,
-    scratch: &mut [f64],
+    scratch: &mut [T],
     par: Par,
     top_lower: bool,
 ) {
     if m * k * d_ncols <= SMALL_UPDATE {
         // The product into `scratch` (dense, column-major), then one scatter.
         let product = &mut scratch[..m * k];
-        product.fill(0.0);
+        product.fill(T::ZERO);
         for j in 0..k {
             let p = &mut product[j * m..(j + 1) * m];
             for c in 0..d_ncols {
                 let bj = b[c * d_nrows + b_first + j];
                 let ac = &a[c * d_nrows + a_first..c * d_nrows + a_first + m];
                 for (pi, aic) in p.iter_mut().zip(ac) {
-                    *pi += aic * bj;
+                    *pi += *aic * bj;
                 }
             }
         }
@@ -870,7 +899,7 @@ pub(super) fn subtract_product(
                 BlockStructure::Rectangular,
                 b_block.transpose(),
                 BlockStructure::Rectangular,
-                1.0,
+                T::ONE,
                 par,
             );
             matmul(
@@ -878,7 +907,7 @@ pub(super) fn subtract_product(
                 Accum::Replace,
                 a_bottom,
                 b_block.transpose(),
-                1.0,
+                T::ONE,
                 par,
             );
         } else {
@@ -887,7 +916,7 @@ pub(super) fn subtract_product(
                 Accum::Replace,
                 a_block,
                 b_block.transpose(),
-                1.0,
+                T::ONE,
                 par,
             );
         }

@@ -215,8 +215,12 @@ impl<const D: usize> SchurSystem<D> {
         self.rhs.fill(0.0);
         blocks.add_transpose(&self.a_inv_r, &mut self.rhs, parallel);
         let reused = match krylov {
-            Some(request) if self.factorization.ready() && !self.krylov.degraded => {
-                self.gmres(structured, blocks, lin, rho, r, request, parallel)
+            Some(request)
+                if request.settings.reuse
+                    && self.factorization.ready()
+                    && !self.krylov.degraded =>
+            {
+                self.gmres(structured, blocks, lin, rho, r, request, parallel, false)
             }
             _ => None,
         };
@@ -231,7 +235,7 @@ impl<const D: usize> SchurSystem<D> {
                 self.krylov.degraded = false;
                 let fresh = match (krylov, self.factorization.factorize_single(k)) {
                     (Some(request), Ok(())) => {
-                        self.gmres(structured, blocks, lin, rho, r, request, parallel)
+                        self.gmres(structured, blocks, lin, rho, r, request, parallel, true)
                     }
                     (_, Err(e)) => {
                         tracing::debug!(error = %e, "f32 Cholesky failed");
@@ -366,7 +370,9 @@ impl<const D: usize> SchurSystem<D> {
     }
 
     /// GMRES on `K u = b` (`b` in `rhs`, `u` left there), `K` applied matrix-free as
-    /// `M u + h² Bᵀ (C (B u))`, preconditioned by the last factorization. Accepted when the
+    /// `M u + h² Bᵀ (C (B u))`, or, when `assembled` (`csc_values` hold this iteration's
+    /// `K`), by its stored values: a fraction of the memory traffic of the points' `B`
+    /// and `Bᵀ`. Preconditioned by the last factorization. Accepted when the
     /// stress residual of the direction it gives, `‖J_F d − r‖∞ = ‖h² R G B M⁻¹ e‖∞` for
     /// the velocity residual `e = b − K u` (`docs/krylov.md`, 'Which residual'), is at
     /// most `η ‖r‖∞`. `None` (counted as a failure) when it is not reached within the cap.
@@ -380,6 +386,7 @@ impl<const D: usize> SchurSystem<D> {
         r: &[f64],
         request: KrylovRequest,
         parallel: bool,
+        assembled: bool,
     ) -> Option<Factorized> {
         let clock = std::time::Instant::now();
         let h2 = structured.h * structured.h;
@@ -410,7 +417,12 @@ impl<const D: usize> SchurSystem<D> {
         let workspace = workspace.as_mut().expect("just built");
         let (local_c, mass) = (&self.local_c, &structured.lumped_mass);
         let factorization = &mut self.factorization;
+        let k = SparseColMatRef::new(self.symbolic.as_ref(), &self.csc_values);
+        let symmetric = self.symmetric;
         let apply = |x: &[f64], y: &mut [f64]| {
+            if assembled {
+                return csc_product(k, symmetric, x, y);
+            }
             let one = |(i, t): (usize, &mut [f64])| {
                 t.copy_from_slice((local_c[i] * blocks.apply_point(i, x) * h2).as_slice());
             };
@@ -555,5 +567,23 @@ fn add_point_block<const D: usize>(
                 *x += s * y;
             }
         }
+    }
+}
+
+/// `y = K x` for `K` in CSC, given whole or (`lower`) by its lower triangle: one pass
+/// over the stored values, in a fixed order.
+fn csc_product(k: SparseColMatRef<'_, usize, f64>, lower: bool, x: &[f64], y: &mut [f64]) {
+    y.fill(0.0);
+    let (col_ptr, row_idx, val) = (k.col_ptr(), k.row_idx(), k.val());
+    for (j, &xj) in x.iter().enumerate() {
+        let mut below = 0.0;
+        for p in col_ptr[j]..col_ptr[j + 1] {
+            let (i, v) = (row_idx[p], val[p]);
+            y[i] += v * xj;
+            if lower && i != j {
+                below += v * x[i];
+            }
+        }
+        y[j] += below;
     }
 }

@@ -183,7 +183,7 @@ impl<const D: usize> Solver<D> {
                 .as_ref()
                 .is_some_and(|s| s.has_factorization())
         };
-        if !ready || self.stress_krylov.degraded {
+        if !ready || self.stress_krylov.degraded || !request.settings.reuse {
             return false;
         }
         let clock = std::time::Instant::now();

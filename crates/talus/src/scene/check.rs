@@ -166,6 +166,13 @@ pub fn solver(scene: &impl Locate, sv: &SolverSpec) -> Result<(), SceneError> {
              GMRES (docs/krylov.md)",
         ));
     }
+    if !sv.reuse_factorization && sv.linear_solver != LinearSolverKind::Krylov {
+        return Err(scene.error(
+            "solver.reuse_factorization",
+            "false needs linear_solver = \"krylov\": the direct solver factorizes every \
+             Newton iteration already (docs/krylov.md)",
+        ));
+    }
     if sv.ordering.ordering().is_none() {
         return Err(scene.error(
             "solver.ordering",

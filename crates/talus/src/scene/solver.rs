@@ -29,6 +29,10 @@ pub struct SolverSpec {
     /// The factorization's storage precision: `double`, or `single` (f32, only with
     /// `krylov`: the factor is then GMRES's preconditioner, `docs/krylov.md`).
     pub precision: FactorPrecision,
+    /// With `krylov`: try GMRES on an earlier Newton iteration's factor first (true, the
+    /// default), or factorize every Newton iteration (false: with `single`, GMRES then
+    /// only corrects the f32 factor's rounding; `Krylov::reuse`, `docs/krylov.md`).
+    pub reuse_factorization: bool,
     /// The fill-reducing ordering of the factorizations: `amd` (the default) or
     /// `nested_dissection` (METIS; a build with the cargo feature `metis`).
     pub ordering: FillOrdering,
@@ -101,6 +105,7 @@ impl Default for SolverSpec {
             stall_window: None,
             linear_solver: LinearSolverKind::Direct,
             precision: FactorPrecision::Double,
+            reuse_factorization: true,
             ordering: FillOrdering::Amd,
         }
     }
@@ -151,6 +156,7 @@ impl SolverSpec {
                             FactorPrecision::Double => Precision::Double,
                             FactorPrecision::Single => Precision::Single,
                         },
+                        reuse: self.reuse_factorization,
                         ..Krylov::DEFAULT
                     }),
                 },
