@@ -171,39 +171,59 @@ fn invalid_krylov_settings_are_refused() {
     }
 }
 
-/// `Precision::Single`: the associative footing's Cholesky factor stored in f32 (half the
-/// bytes), every direction from GMRES, the same solutions; refused for non-associative
-/// flow (its LU has no f32 version).
-#[test]
-fn single_precision_factor_matches_direct() {
-    let single = Settings {
-        newton_solve: NewtonSolve::Krylov(Krylov {
-            precision: talus_ssn::Precision::Single,
-            ..Krylov::DEFAULT
-        }),
-        ..Settings::fem()
-    };
+/// Six load steps of the associative 16×12 footing by a direct solver and by one with
+/// `settings`, each kept across the steps: σ equal to 1e-10 relative at every step. Both
+/// solvers, and the second's summed counts `[iterations, factorizations, GMRES
+/// iterations, GMRES directions, GMRES failures]`.
+fn single_against_direct(settings: Settings) -> (Solver<4>, Solver<4>, [usize; 5]) {
     let footing = FootingLike::new(16, 12, 30.0, 1e-2);
     let n = footing.problem.operator().size();
     let mut direct = Solver::new(footing.problem.clone(), Settings::fem()).unwrap();
-    let mut reuse = Solver::new(footing.problem.clone(), single).unwrap();
+    let mut other = Solver::new(footing.problem.clone(), settings).unwrap();
     let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
-    let (mut its, mut gmres, mut solves) = (0, 0, 0);
+    let mut counts = [0; 5];
     for step in 0..6 {
         direct.set_q(footing.q(&a, 0.05)).unwrap();
-        reuse.set_q(footing.q(&b, 0.05)).unwrap();
+        other.set_q(footing.q(&b, 0.05)).unwrap();
         let ra = solve(&mut direct, &mut a);
-        let rb = solve(&mut reuse, &mut b);
+        let rb = solve(&mut other, &mut b);
         assert!(ra.is_converged() && rb.is_converged(), "step {step}");
         let diff = a
             .iter()
             .zip(&b)
             .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
         assert!(diff <= 1e-10 * inf(&a).max(1.0), "step {step}: {diff:e}");
-        its += rb.iterations;
-        gmres += rb.krylov_iterations;
-        solves += rb.krylov_solves;
+        let step_counts = [
+            rb.iterations,
+            rb.factorizations,
+            rb.krylov_iterations,
+            rb.krylov_solves,
+            rb.krylov_failures,
+        ];
+        for (c, s) in counts.iter_mut().zip(step_counts) {
+            *c += s;
+        }
     }
+    (direct, other, counts)
+}
+
+fn single(reuse: bool) -> Settings {
+    Settings {
+        newton_solve: NewtonSolve::Krylov(Krylov {
+            precision: talus_ssn::Precision::Single,
+            reuse,
+            ..Krylov::DEFAULT
+        }),
+        ..Settings::fem()
+    }
+}
+
+/// `Precision::Single`: the associative footing's Cholesky factor stored in f32 (half the
+/// bytes), every direction from GMRES, the same solutions; refused for non-associative
+/// flow (its LU has no f32 version).
+#[test]
+fn single_precision_factor_matches_direct() {
+    let (direct, reuse, [its, _, gmres, solves, _]) = single_against_direct(single(true));
     let (f64_bytes, _) = direct.factor_memory().unwrap();
     let (f32_bytes, _) = reuse.factor_memory().unwrap();
     eprintln!(
@@ -219,7 +239,7 @@ fn single_precision_factor_matches_direct() {
     );
     assert_eq!(solves, its, "every direction from GMRES");
     let lu = FootingLike::new(8, 6, 10.0, 1e-2);
-    assert!(Solver::new(lu.problem.clone(), single).is_err());
+    assert!(Solver::new(lu.problem.clone(), single(true)).is_err());
 }
 
 /// `reuse: false` with `Precision::Single` (iterative refinement by GMRES on a fresh f32
@@ -227,38 +247,10 @@ fn single_precision_factor_matches_direct() {
 /// failure, every direction from GMRES in a few iterations, the direct solutions.
 #[test]
 fn a_fresh_single_precision_factor_every_iteration_matches_direct() {
-    let fresh = Settings {
-        newton_solve: NewtonSolve::Krylov(Krylov {
-            precision: talus_ssn::Precision::Single,
-            reuse: false,
-            ..Krylov::DEFAULT
-        }),
-        ..Settings::fem()
-    };
-    let footing = FootingLike::new(16, 12, 30.0, 1e-2);
-    let n = footing.problem.operator().size();
-    let mut direct = Solver::new(footing.problem.clone(), Settings::fem()).unwrap();
-    let mut refined = Solver::new(footing.problem.clone(), fresh).unwrap();
-    let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
-    let (mut its, mut factorizations, mut gmres, mut solves) = (0, 0, 0, 0);
-    for step in 0..6 {
-        direct.set_q(footing.q(&a, 0.05)).unwrap();
-        refined.set_q(footing.q(&b, 0.05)).unwrap();
-        let ra = solve(&mut direct, &mut a);
-        let rb = solve(&mut refined, &mut b);
-        assert!(ra.is_converged() && rb.is_converged(), "step {step}");
-        let diff = a
-            .iter()
-            .zip(&b)
-            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-        assert!(diff <= 1e-10 * inf(&a).max(1.0), "step {step}: {diff:e}");
-        assert_eq!(rb.krylov_failures, 0, "step {step}");
-        its += rb.iterations;
-        factorizations += rb.factorizations;
-        gmres += rb.krylov_iterations;
-        solves += rb.krylov_solves;
-    }
+    let (_, _, [its, factorizations, gmres, solves, failures]) =
+        single_against_direct(single(false));
     eprintln!("{its} Newton its, {factorizations} factorizations, {gmres} GMRES its");
+    assert_eq!(failures, 0, "a GMRES failure");
     assert_eq!(
         factorizations, its,
         "one factorization per Newton iteration"
