@@ -49,6 +49,15 @@ fn residual(a: &SparseColMat<usize, f64>, x: &[f64], b: &[f64]) -> f64 {
     (0..b.len()).fold(0.0f64, |m, i| m.max((ax[(i, 0)] - b[i]).abs())) / bn
 }
 
+/// `f` on a rayon pool of `threads` threads.
+fn on_threads<R: Send>(threads: usize, f: impl FnOnce() -> R + Send) -> R {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
 fn rhs(n: usize) -> Vec<f64> {
     (0..n).map(|i| 1.0 + (i % 11) as f64).collect()
 }
@@ -108,11 +117,7 @@ fn the_factor_does_not_depend_on_the_thread_count() {
     );
     let b = rhs(whole.nrows());
     let run = |threads: usize, values: &[f64]| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
+        on_threads(threads, || {
             let mut llt = SymmetricPatternLlt::<f64>::new(Arc::clone(&symbolic));
             llt.factorize(values).map(|()| {
                 let mut x = b.clone();
@@ -181,11 +186,7 @@ fn the_single_precision_factor_solves_to_f32_accuracy() {
         double.solve_in_place(&mut x);
         let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let run = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| {
+            on_threads(threads, || {
                 let mut single = SymmetricPatternLlt::<f32>::new(Arc::clone(&symbolic));
                 single.factorize(lower.val()).expect("positive definite");
                 let mut y = b.clone();

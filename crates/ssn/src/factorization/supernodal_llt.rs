@@ -15,7 +15,7 @@ use super::dense_llt::llt_in_place;
 use super::dense_lu::par_for;
 use super::real::Real;
 use super::symmetric_pattern_lu::{
-    dot, for_each_update, forward_substitution, permuted, run_schedule, subtract_product, Scratch,
+    for_each_update, forward_substitution, permuted, run_schedule, subtract_product, Scratch,
     SymbolicSymmetricPatternLu,
 };
 
@@ -186,4 +186,32 @@ fn factor_supernode<T: Real>(
         solve_lower_triangular_in_place(top.rb(), bottom.rb_mut().transpose_mut(), par);
     }
     Ok(())
+}
+
+/// `Σ aᵢ bᵢ` over the shorter slice, in 16 interleaved partial sums added pairwise at the
+/// end: a fixed order (the same bits every call) that vectorizes, where a single running
+/// sum is a chain of dependent additions (the back-substitution was bound by it).
+fn dot<T: Real>(a: &[T], b: &[T]) -> T {
+    const LANES: usize = 16;
+    let n = a.len().min(b.len());
+    let split = n - n % LANES;
+    let (a_body, a_tail) = a[..n].split_at(split);
+    let (b_body, b_tail) = b[..n].split_at(split);
+    let mut acc = [T::ZERO; LANES];
+    for (x, y) in a_body.chunks_exact(LANES).zip(b_body.chunks_exact(LANES)) {
+        for k in 0..LANES {
+            acc[k] += x[k] * y[k];
+        }
+    }
+    let mut width = LANES;
+    while width > 1 {
+        width /= 2;
+        for k in 0..width {
+            acc[k] += acc[k + width];
+        }
+    }
+    a_tail
+        .iter()
+        .zip(b_tail)
+        .fold(acc[0], |sum, (&x, &y)| sum + x * y)
 }

@@ -759,34 +759,6 @@ pub(super) fn forward_substitution<T: Real>(
     }
 }
 
-/// `Σ aᵢ bᵢ` over the shorter slice, in 16 interleaved partial sums added pairwise at the
-/// end: a fixed order (the same bits every call) that vectorizes, where a single running
-/// sum is a chain of dependent additions (the back-substitutions were bound by it).
-pub(super) fn dot<T: Real>(a: &[T], b: &[T]) -> T {
-    const LANES: usize = 16;
-    let n = a.len().min(b.len());
-    let split = n - n % LANES;
-    let (a_body, a_tail) = a[..n].split_at(split);
-    let (b_body, b_tail) = b[..n].split_at(split);
-    let mut acc = [T::ZERO; LANES];
-    for (x, y) in a_body.chunks_exact(LANES).zip(b_body.chunks_exact(LANES)) {
-        for k in 0..LANES {
-            acc[k] += x[k] * y[k];
-        }
-    }
-    let mut width = LANES;
-    while width > 1 {
-        width /= 2;
-        for k in 0..width {
-            acc[k] += acc[k + width];
-        }
-    }
-    a_tail
-        .iter()
-        .zip(b_tail)
-        .fold(acc[0], |sum, (&x, &y)| sum + x * y)
-}
-
 /// Where one update of a supernode `s` reads from a descendant `d`: `d`'s block in the
 /// factor arrays (`range`, from the caller's `origin`), its leading dimension `d_nrows`
 /// and columns `d_ncols`, the block row `first` where the update's `m` rows start, the

@@ -417,11 +417,12 @@ impl<const D: usize> SchurSystem<D> {
         let workspace = workspace.as_mut().expect("just built");
         let (local_c, mass) = (&self.local_c, &structured.lumped_mass);
         let factorization = &mut self.factorization;
+        // Only the f32 Cholesky's GMRES sees an assembled K: a lower triangle.
+        debug_assert!(!assembled || self.symmetric);
         let k = SparseColMatRef::new(self.symbolic.as_ref(), &self.csc_values);
-        let symmetric = self.symmetric;
         let apply = |x: &[f64], y: &mut [f64]| {
             if assembled {
-                return csc_product(k, symmetric, x, y);
+                return lower_product(k, x, y);
             }
             let one = |(i, t): (usize, &mut [f64])| {
                 t.copy_from_slice((local_c[i] * blocks.apply_point(i, x) * h2).as_slice());
@@ -570,9 +571,9 @@ fn add_point_block<const D: usize>(
     }
 }
 
-/// `y = K x` for `K` in CSC, given whole or (`lower`) by its lower triangle: one pass
-/// over the stored values, in a fixed order.
-fn csc_product(k: SparseColMatRef<'_, usize, f64>, lower: bool, x: &[f64], y: &mut [f64]) {
+/// `y = K x` for a symmetric `K` given by its lower triangle in CSC: one pass over the
+/// stored values, in a fixed order.
+fn lower_product(k: SparseColMatRef<'_, usize, f64>, x: &[f64], y: &mut [f64]) {
     y.fill(0.0);
     let (col_ptr, row_idx, val) = (k.col_ptr(), k.row_idx(), k.val());
     for (j, &xj) in x.iter().enumerate() {
@@ -580,7 +581,7 @@ fn csc_product(k: SparseColMatRef<'_, usize, f64>, lower: bool, x: &[f64], y: &m
         for p in col_ptr[j]..col_ptr[j + 1] {
             let (i, v) = (row_idx[p], val[p]);
             y[i] += v * xj;
-            if lower && i != j {
+            if i != j {
                 below += v * x[i];
             }
         }
