@@ -1,6 +1,8 @@
 //! `cargo xtask test`: every test of the repository, in the order a failure is cheapest to
-//! read: the crates' tests (release), the verification suite, then the Python package's
-//! tests in a virtual environment under `target/python-venv` (`python/README.md`).
+//! read: the crates' tests (release), the distributed tests under `mpirun` when MUMPS and
+//! OpenMPI are installed (`docs/distributed.md`), the verification suite, then the Python
+//! package's tests in a virtual environment under `target/python-venv`
+//! (`python/README.md`).
 use std::path::Path;
 use std::process::Command;
 
@@ -10,8 +12,16 @@ pub(crate) fn run(root: &Path, python: bool) -> Result<bool, String> {
         root,
         "crates",
         "cargo",
-        &["test", "--release", "--workspace"],
+        // talus-mumps links MUMPS: built by the distributed stage only.
+        &[
+            "test",
+            "--release",
+            "--workspace",
+            "--exclude",
+            "talus-mumps",
+        ],
     )?;
+    ok &= distributed_tests(root)?;
     ok &= crate::verify::run(root, false)?;
     if python {
         ok &= python_tests(root)?;
@@ -19,6 +29,44 @@ pub(crate) fn run(root: &Path, python: bool) -> Result<bool, String> {
         eprintln!("xtask test: Python tests skipped (--no-python)");
     }
     Ok(ok)
+}
+
+/// The MUMPS handle's test and `mpirun -np 2 talus run` against one rank (cargo feature
+/// `mpi`), when `mpirun` and MUMPS' header are installed; skipped, saying so, otherwise.
+fn distributed_tests(root: &Path) -> Result<bool, String> {
+    let header = std::env::var_os("MUMPS_INCLUDE_DIR")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| "/usr/include".into())
+        .join("dmumps_c.h");
+    let mpirun = Command::new("mpirun").arg("--version").output().is_ok();
+    if !(mpirun && header.exists()) {
+        eprintln!(
+            "xtask test: distributed tests skipped (no mpirun or {}; Debian: apt-get install \
+             libmumps-dev libopenmpi-dev openmpi-bin libclang-dev)",
+            header.display()
+        );
+        return Ok(true);
+    }
+    Ok(stage(
+        root,
+        "mumps",
+        "cargo",
+        &["test", "--release", "-p", "talus-mumps"],
+    )? & stage(
+        root,
+        "distributed",
+        "cargo",
+        &[
+            "test",
+            "--release",
+            "-p",
+            "talus",
+            "--features",
+            "mpi",
+            "--test",
+            "distributed_ranks",
+        ],
+    )?)
 }
 
 fn python_tests(root: &Path) -> Result<bool, String> {

@@ -119,6 +119,10 @@ pub enum LinearSolver {
     /// The Schur system with faer's partial-pivoting LU at every step (for checking the
     /// no-pivot LU that `Auto` uses for non-associative flow).
     SchurPivoting,
+    /// The Schur system factorized by MUMPS over `MPI_COMM_WORLD` (cargo feature `mpi`;
+    /// `docs/distributed.md`): every rank runs the same solve and calls it together.
+    /// LU for non-associative flow, LDLᵀ for associative.
+    Distributed,
 }
 
 /// The inexact-Newton forcing term `η` of a Krylov solve: the direction must satisfy

@@ -10,7 +10,8 @@
 //! - [`run`]: a scene stepped to its end by the engine, with `history.csv`, checkpoints and
 //!   resume, one run loop for both methods;
 //! - [`output`]: VTU, `summary.json` and PNG pictures;
-//! - [`analysis`]: studies built on runs: factors of safety and the verification cases.
+//! - [`analysis`]: studies built on runs: factors of safety and the verification cases;
+//! - [`ranks`]: the MPI ranks of a distributed run (cargo feature `mpi`).
 //!
 //! ```no_run
 //! use talus::run::{fem::run_scene, RunOptions};
@@ -22,5 +23,6 @@
 pub mod analysis;
 pub mod model;
 pub mod output;
+pub mod ranks;
 pub mod run;
 pub mod scene;

@@ -17,6 +17,7 @@ use talus::scene::{builtin_footing, MpmScene, Scene, SceneFile};
 mod cli;
 
 use cli::exit::{self, Exit};
+use cli::ranks::{error, output_folder, reports};
 use cli::{interrupt, reduced};
 
 #[derive(Parser)]
@@ -83,8 +84,18 @@ fn main() -> ExitCode {
     // On a terminal a progress bar reports the run; elsewhere (CI, files) a line per tenth
     // of the run does, without colour codes; `-v`: a line per step.
     let cli = Cli::parse();
+    #[cfg(feature = "mpi")]
+    let mpi = match talus::ranks::init() {
+        Ok(mpi) => mpi,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return Exit::InvalidInput.into();
+        }
+    };
     let terminal = std::io::stderr().is_terminal();
     let default_filter = match (cli.verbose, terminal) {
+        // The other ranks of `mpirun` repeat rank 0's log.
+        _ if !reports() => "error",
         (true, _) => "info,talus=debug,talus_engine=debug",
         (false, true) => "warn",
         (false, false) => "info",
@@ -103,7 +114,7 @@ fn main() -> ExitCode {
     }
     let result = match cli.command {
         Command::Reduced(args) => reduced::run(&args).or_else(|e| {
-            eprintln!("error: {e}");
+            error(&e);
             Ok(e.exit().into())
         }),
         Command::Run {
@@ -124,13 +135,16 @@ fn main() -> ExitCode {
             figures,
         } => verify(json, quick, figures),
     };
-    match result {
+    let code = match result {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("error: {e}");
+            error(e);
             Exit::InvalidInput.into()
         }
-    }
+    };
+    #[cfg(feature = "mpi")]
+    let code = cli::ranks::finish(&mpi, code);
+    code
 }
 
 fn run(
@@ -143,6 +157,7 @@ fn run(
         Some(path) => SceneFile::from_path(&path)?,
         None => SceneFile::Fem(builtin_footing()),
     };
+    let out = output_folder(out);
     // Before anything is allocated: the estimated memory and work (docs/scenes.md, 'Size').
     let estimate = match &scene {
         SceneFile::Fem(s) => Some(SizeEstimate::of_fem(s)?),
@@ -161,7 +176,7 @@ fn run(
         );
         if let Err(e) = estimate.check(available) {
             if !allow_large {
-                eprintln!("error: {e}");
+                error(e);
                 return Ok(Exit::InvalidInput.into());
             }
             tracing::warn!("{e} (--allow-large: running anyway)");
@@ -188,7 +203,7 @@ fn run(
 
 /// The error, and the exit code, of a resume refused or a folder in use.
 fn refused(e: CheckpointError) -> ExitCode {
-    eprintln!("error: {e}");
+    error(&e);
     Exit::of_run_error(&RunError::Checkpoint(e)).into()
 }
 
@@ -220,10 +235,12 @@ fn resume(out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
         None if checkpoint.scene.held => "the scene the checkpoint holds".to_string(),
         None => "the built-in footing".to_string(),
     };
-    eprintln!(
-        "resuming {scene_name} from its checkpoint of step {} of {}",
-        checkpoint.step, checkpoint.steps
-    );
+    if reports() {
+        eprintln!(
+            "resuming {scene_name} from its checkpoint of step {} of {}",
+            checkpoint.step, checkpoint.steps
+        );
+    }
     let options = interruptible(RunOptions {
         progress: true,
         write_fields: true,
@@ -245,9 +262,9 @@ fn run_fem(
     let out = options.out_dir.clone();
     if scene.spec.stability.is_some() && scene.spec.stage.is_empty() {
         if options.checkpoint_every > 0 || resumed.is_some() {
-            eprintln!(
-                "error: a [stability] scene's trials are not checkpointed: run it without \
-                 --checkpoint-every"
+            error(
+                "a [stability] scene's trials are not checkpointed: run it without \
+                 --checkpoint-every",
             );
             return Ok(Exit::InvalidInput.into());
         }
@@ -275,9 +292,9 @@ fn run_fem3(
     let out = options.out_dir.clone();
     if scene.spec.stability.is_some() {
         if options.checkpoint_every > 0 || resumed.is_some() {
-            eprintln!(
-                "error: a [stability] scene's trials are not checkpointed: run it without \
-                 --checkpoint-every"
+            error(
+                "a [stability] scene's trials are not checkpointed: run it without \
+                 --checkpoint-every",
             );
             return Ok(Exit::InvalidInput.into());
         }
@@ -326,6 +343,9 @@ fn report_fem_run<const D: usize>(
         String::new()
     };
     let last = records.last();
+    if !reports() {
+        return;
+    }
     println!(
         "{} steps in {:.2} s; Newton iterations {accepted} accepted + {failed} failed ({:.1} \
          per step, at most {worst} in a solve); {substeps} sub-steps{floor}, smallest h \
@@ -368,6 +388,9 @@ where
         Ok(run) => run,
         Err(code) => return Ok(code.into()),
     };
+    if !reports() {
+        return Ok(ExitCode::SUCCESS);
+    }
     println!(
         "loading in {} steps, then {} trials in {:.2} s; outputs in {}",
         run.equilibrium.steps,
@@ -423,6 +446,9 @@ where
     } else {
         String::new()
     };
+    if !reports() {
+        return Ok(ExitCode::SUCCESS);
+    }
     println!(
         "{} steps in {:.2} s; {} Newton iterations, at most {} per step; largest residual {:.3e}{runout}; outputs in {}",
         summary.reports.len(),
@@ -445,7 +471,7 @@ fn interruptible(options: RunOptions) -> RunOptions {
 /// last line, and gives its exit code.
 fn ended<T>(result: Result<T, RunError>, out: &std::path::Path) -> Result<T, Exit> {
     result.map_err(|e| {
-        eprintln!("error: {e}");
+        error(&e);
         // A scene error stops the run before it starts: no summary of it.
         if !matches!(e, RunError::Scene(_)) {
             print_summary(out);
@@ -484,6 +510,9 @@ fn log_filter(default: &str) -> (tracing_subscriber::EnvFilter, Option<String>) 
 
 /// `summary.json` in words (nothing when the run stopped before writing it).
 fn print_summary(out: &std::path::Path) {
+    if !reports() {
+        return;
+    }
     if let Ok(summary) = talus::output::Summary::read(&out.join("summary.json")) {
         println!("{}", summary.sentence());
     }

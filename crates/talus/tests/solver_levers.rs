@@ -263,4 +263,18 @@ fn bad_levers_name_the_field_and_value() {
             assert!(nd.contains(n), "`{n}` not in: {nd}");
         }
     }
+    // MUMPS: refused in a build without MPI, naming what would make it valid; with MPI, the
+    // distributed factorization reaches the solver with a direct Newton solve.
+    let mumps = error("linear_solver = \"mumps\"");
+    if cfg!(feature = "mpi") {
+        assert_eq!(mumps, "accepted");
+        let s = scene("slope.toml", "linear_solver = \"mumps\"", |t| t).unwrap();
+        let solver = s.spec.solver.fem().solver;
+        assert_eq!(solver.linear_solver, talus_ssn::LinearSolver::Distributed);
+        assert_eq!(solver.newton_solve, NewtonSolve::Direct);
+    } else {
+        for n in ["solver.linear_solver", "\"mumps\"", "--features mpi"] {
+            assert!(mumps.contains(n), "`{n}` not in: {mumps}");
+        }
+    }
 }

@@ -2,6 +2,8 @@
 //! generalised in `docs/derivations.md`, 'The Newton matrix': `D`, `G` block diagonal,
 //! `R = diag(ρ_i)`).
 mod dense;
+#[cfg(feature = "mpi")]
+mod distributed_factor;
 pub(crate) mod schur;
 mod schur_factor;
 mod schur_pattern;

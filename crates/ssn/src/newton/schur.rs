@@ -83,6 +83,7 @@ impl<const D: usize> SchurSystem<D> {
         symmetric: bool,
         ordering: Ordering,
         single: bool,
+        distributed: bool,
     ) -> Result<Self, String> {
         let n_v = structured.lumped_mass.len();
         let n_points = structured.compliance.len();
@@ -116,7 +117,11 @@ impl<const D: usize> SchurSystem<D> {
             group_entries.push(group_entries[g] + block_len(m, symmetric));
         }
         let nnz = row_idx.len();
-        let factorization = SchurFactor::analyse(symbolic.as_ref(), symmetric, ordering, single)?;
+        let factorization = if distributed {
+            SchurFactor::distributed(symbolic.as_ref(), symmetric)?
+        } else {
+            SchurFactor::analyse(symbolic.as_ref(), symmetric, ordering, single)?
+        };
         Ok(Self {
             symmetric,
             symbolic,

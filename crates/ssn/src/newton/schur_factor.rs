@@ -23,6 +23,10 @@ pub(crate) enum Factorized {
     /// The pivoting LU, because the no-pivot LU refused a pivot or its direction failed
     /// the accuracy check.
     PivotingLu,
+    /// MUMPS over the MPI ranks (`LinearSolver::Distributed`), with its negative pivots
+    /// (`DistributedFactor::factorize`).
+    #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
+    Distributed(usize),
     /// No factorization: GMRES preconditioned by the last one, in `iterations`.
     Reused {
         iterations: usize,
@@ -102,6 +106,8 @@ pub(crate) enum SchurFactor {
         /// The no-pivot LU holds the last factorization (not the pivoting fallback).
         ready: bool,
     },
+    #[cfg(feature = "mpi")]
+    Distributed(super::distributed_factor::DistributedFactor),
 }
 
 impl SchurFactor {
@@ -134,19 +140,46 @@ impl SchurFactor {
         })
     }
 
-    /// Stored entries of the factors (`L`, or `L` and `U`).
+    /// MUMPS' analysis of `pattern` over the MPI ranks (`LinearSolver::Distributed`).
+    #[cfg(feature = "mpi")]
+    pub(crate) fn distributed(
+        pattern: SymbolicSparseColMatRef<'_, usize>,
+        symmetric: bool,
+    ) -> Result<Self, String> {
+        super::distributed_factor::DistributedFactor::analyse(pattern, symmetric)
+            .map(SchurFactor::Distributed)
+    }
+
+    #[cfg(not(feature = "mpi"))]
+    pub(crate) fn distributed(
+        _pattern: SymbolicSparseColMatRef<'_, usize>,
+        _symmetric: bool,
+    ) -> Result<Self, String> {
+        Err("the distributed factorization needs the cargo feature `mpi`".into())
+    }
+
+    /// Stored entries of the factors (`L`, or `L` and `U`; MUMPS': over all ranks, as
+    /// estimated before the first factorization).
     pub(crate) fn factor_nnz(&self) -> usize {
         match self {
             SchurFactor::Cholesky { cholesky, .. } => cholesky.factor_nnz(),
             SchurFactor::Lu { no_pivot, .. } => no_pivot.symbolic().factor_nnz(),
+            #[cfg(feature = "mpi")]
+            SchurFactor::Distributed(d) => {
+                let s = d.statistics();
+                s.factor_entries.max(s.estimated_factor_entries).max(0) as usize
+            }
         }
     }
 
-    /// Bytes of the stored factors (f64 and f32 storage as allocated).
+    /// Bytes of the stored factors (f64 and f32 storage as allocated; MUMPS': this rank's
+    /// share).
     pub(crate) fn factor_bytes(&self) -> usize {
         match self {
             SchurFactor::Cholesky { cholesky, .. } => cholesky.factor_bytes(),
             SchurFactor::Lu { no_pivot, .. } => 8 * no_pivot.symbolic().factor_nnz(),
+            #[cfg(feature = "mpi")]
+            SchurFactor::Distributed(d) => 8 * self.factor_nnz() / d.ranks(),
         }
     }
 
@@ -154,6 +187,8 @@ impl SchurFactor {
     pub(crate) fn ready(&self) -> bool {
         match self {
             SchurFactor::Cholesky { ready, .. } | SchurFactor::Lu { ready, .. } => *ready,
+            #[cfg(feature = "mpi")]
+            SchurFactor::Distributed(d) => d.ready,
         }
     }
 
@@ -194,6 +229,14 @@ impl SchurFactor {
             } => cholesky.solve_in_place_single(x),
             SchurFactor::Cholesky { cholesky, .. } => cholesky.solve_in_place(x),
             SchurFactor::Lu { no_pivot, .. } => no_pivot.solve_in_place(x),
+            #[cfg(feature = "mpi")]
+            SchurFactor::Distributed(d) => {
+                // A failed solve poisons x: GMRES then fails and the caller factorizes.
+                if let Err(e) = d.solve_in_place(x) {
+                    tracing::debug!(error = %e, "MUMPS solve failed");
+                    x.fill(f64::NAN);
+                }
+            }
         }
     }
 
@@ -253,6 +296,12 @@ impl SchurFactor {
                 let lu = fallback.as_mut().expect("just built");
                 lu.solve(k, rhs)?;
                 Ok(Factorized::PivotingLu)
+            }
+            #[cfg(feature = "mpi")]
+            SchurFactor::Distributed(d) => {
+                let negative = d.factorize(k)?;
+                d.solve_in_place(rhs)?;
+                Ok(Factorized::Distributed(negative))
             }
         }
     }

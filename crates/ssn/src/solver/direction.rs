@@ -81,7 +81,9 @@ impl<const D: usize> Solver<D> {
                 Some(f) => {
                     report.schur_steps += 1;
                     match f {
-                        Factorized::NoPivotLu(negative) => report.negative_pivots.push(negative),
+                        Factorized::NoPivotLu(negative) | Factorized::Distributed(negative) => {
+                            report.negative_pivots.push(negative)
+                        }
                         Factorized::Reused { .. } => report.krylov_solves += 1,
                         Factorized::Cholesky | Factorized::PivotingLu => {}
                     }

@@ -183,7 +183,10 @@ impl<const D: usize> Solver<D> {
         let symmetric = solver.problem.is_associative();
         match (&solver.problem.operator, settings.linear_solver) {
             (Operator::Dense(_), _) if n <= DENSE_LIMIT => solver.dense = Some(DenseSystem::new(n)),
-            (Operator::Structured(s), LinearSolver::Auto | LinearSolver::SchurPivoting) => {
+            (
+                Operator::Structured(s),
+                LinearSolver::Auto | LinearSolver::SchurPivoting | LinearSolver::Distributed,
+            ) => {
                 let blocks = solver
                     .blocks
                     .as_ref()
@@ -198,8 +201,15 @@ impl<const D: usize> Solver<D> {
                         "a single-precision factor needs an associative flow rule (Cholesky)",
                     ));
                 }
+                let distributed = settings.linear_solver == LinearSolver::Distributed;
+                if distributed && (single || !cfg!(feature = "mpi")) {
+                    return Err(invalid(
+                        "settings.linear_solver",
+                        "Distributed (MUMPS) needs the cargo feature `mpi` and f64 factors",
+                    ));
+                }
                 solver.schur = Some(
-                    SchurSystem::new(s, blocks, symmetric, settings.ordering, single)
+                    SchurSystem::new(s, blocks, symmetric, settings.ordering, single, distributed)
                         .map_err(|e| invalid("B", e))?,
                 );
             }

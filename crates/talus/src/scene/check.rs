@@ -173,6 +173,13 @@ pub fn solver(scene: &impl Locate, sv: &SolverSpec) -> Result<(), SceneError> {
              Newton iteration already (docs/krylov.md)",
         ));
     }
+    if sv.linear_solver == LinearSolverKind::Mumps && !cfg!(feature = "mpi") {
+        return Err(scene.error(
+            "solver.linear_solver",
+            "\"mumps\" needs MUMPS and MPI, which this build of talus does not have: build \
+             it with `cargo build --release -p talus --features mpi` (docs/distributed.md)",
+        ));
+    }
     if sv.ordering.ordering().is_none() {
         return Err(scene.error(
             "solver.ordering",

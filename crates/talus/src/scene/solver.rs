@@ -3,7 +3,7 @@
 //! `Settings::fem`), which the scene overrides key by key.
 use serde::{Deserialize, Serialize};
 use talus_engine::StepSettings;
-use talus_ssn::{Krylov, NewtonSolve, Ordering, Precision, Rho, Settings, Stall};
+use talus_ssn::{Krylov, LinearSolver, NewtonSolve, Ordering, Precision, Rho, Settings, Stall};
 
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, default)]
@@ -23,8 +23,10 @@ pub struct SolverSpec {
     /// (`Settings::fem`, `Settings::mpm`, `docs/solver.md`).
     pub stall_window: Option<usize>,
     /// How each Newton direction is solved: `direct`, a factorization per Newton iteration
-    /// (the default), or `krylov`, GMRES preconditioned by an earlier factorization
-    /// (`Krylov::DEFAULT`, `docs/krylov.md`).
+    /// (the default), `krylov`, GMRES preconditioned by an earlier factorization
+    /// (`Krylov::DEFAULT`, `docs/krylov.md`), or `mumps`, MUMPS' factorization over the MPI
+    /// ranks (a build with the cargo feature `mpi`; under `mpirun` with more than one rank
+    /// every scene uses it, `docs/distributed.md`).
     pub linear_solver: LinearSolverKind,
     /// The factorization's storage precision: `double`, or `single` (f32, only with
     /// `krylov`: the factor is then GMRES's preconditioner, `docs/krylov.md`).
@@ -45,6 +47,7 @@ pub enum LinearSolverKind {
     #[default]
     Direct,
     Krylov,
+    Mumps,
 }
 
 /// `[solver] precision`.
@@ -116,6 +119,8 @@ impl SolverSpec {
     /// keys (checked by `scene::check::solver`: a nested dissection this build cannot do
     /// keeps the preset's ordering here).
     pub fn step_settings(&self, base: StepSettings) -> StepSettings {
+        let distributed =
+            self.linear_solver == LinearSolverKind::Mumps || crate::ranks::ranks().distributed();
         // `stall_window = 0` turns off both early ends of a failing solve.
         let fold = match self.stall_window {
             Some(0) => None,
@@ -149,8 +154,16 @@ impl SolverSpec {
                 stall,
                 fold,
                 ordering: self.ordering.ordering().unwrap_or(base.solver.ordering),
+                // Under mpirun every rank must call MUMPS for every factorization: the
+                // direct solve, whatever the scene asked (docs/distributed.md).
+                linear_solver: if distributed {
+                    LinearSolver::Distributed
+                } else {
+                    base.solver.linear_solver
+                },
                 newton_solve: match self.linear_solver {
-                    LinearSolverKind::Direct => base.solver.newton_solve,
+                    _ if distributed => NewtonSolve::Direct,
+                    LinearSolverKind::Direct | LinearSolverKind::Mumps => base.solver.newton_solve,
                     LinearSolverKind::Krylov => NewtonSolve::Krylov(Krylov {
                         precision: match self.precision {
                             FactorPrecision::Double => Precision::Double,

@@ -1,0 +1,396 @@
+//! A thin handle on MUMPS' MPI solver (`dmumps`, Debian's `libmumps-dev`), as Talus'
+//! distributed factorization of the Newton matrix uses it (`docs/distributed.md`):
+//!
+//! - distributed assembled input (ICNTL(18) = 3): every rank passes its own entries,
+//!   duplicates summed by MUMPS;
+//! - the analysis once per pattern ([`Mumps::analyse`]), the numeric factorization per
+//!   call ([`Mumps::factorize`]), solves on it ([`Mumps::solve`]);
+//! - LU for unsymmetric matrices, LDLᵀ for symmetric positive definite or indefinite ones;
+//! - a centralized right-hand side and solution (ICNTL(20) = ICNTL(21) = 0), broadcast to
+//!   every rank: Talus keeps velocity-sized vectors on every rank.
+//!
+//! Every method is collective over `MPI_COMM_WORLD`: all ranks call it, in the same order.
+//! MPI must be initialized first (`mpi::initialize`), and finalized only after the last
+//! [`Mumps`] is dropped.
+//!
+//! No Rust crate wraps MUMPS' MPI version (`docs/distributed.md`, 'What was checked'); the
+//! C handle in `csrc/shim.c` keeps `DMUMPS_STRUC_C`'s layout in MUMPS' own header.
+mod ffi;
+
+use std::os::raw::c_int;
+use std::ptr::NonNull;
+
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::{Communicator, Root};
+
+/// Which factorization MUMPS computes (its `SYM`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Symmetry {
+    /// LU with threshold pivoting (`SYM = 0`).
+    Unsymmetric,
+    /// LDLᵀ without pivoting (`SYM = 1`); pass one triangle.
+    PositiveDefinite,
+    /// LDLᵀ with pivoting (`SYM = 2`); pass one triangle.
+    Symmetric,
+}
+
+/// A step of MUMPS that failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Phase {
+    Initialize,
+    Analysis,
+    Factorization,
+    Solve,
+}
+
+impl std::fmt::Display for Phase {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Phase::Initialize => "initialization",
+            Phase::Analysis => "analysis",
+            Phase::Factorization => "factorization",
+            Phase::Solve => "solve",
+        })
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MumpsError {
+    #[error("MPI is not initialized: call mpi::initialize before building a MUMPS solver")]
+    NoMpi,
+    #[error("MUMPS {phase} failed: INFOG(1) = {infog1}, INFOG(2) = {infog2} ({meaning})")]
+    Failed {
+        phase: Phase,
+        infog1: i32,
+        infog2: i32,
+        meaning: &'static str,
+    },
+    #[error("{field} = {value}: {reason}")]
+    Invalid {
+        field: &'static str,
+        value: String,
+        reason: &'static str,
+    },
+}
+
+/// MUMPS' figures for the last analysis and factorization, the same on every rank
+/// (MUMPS' user guide, §6.1: INFOG, RINFOG).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Statistics {
+    /// Entries in the factors as the analysis estimated them, summed over ranks (INFOG(20)).
+    pub estimated_factor_entries: i64,
+    /// Entries in the factors, summed over ranks (INFOG(29), after a factorization).
+    pub factor_entries: i64,
+    /// Floating-point operations of the elimination (RINFOG(3)).
+    pub flops: f64,
+    /// The ordering the analysis used (INFOG(7): 0 AMD, 2 AMF, 3 SCOTCH, 4 PORD, 5 METIS,
+    /// 6 QAMD, 7 automatic choice).
+    pub ordering: i32,
+    /// Negative pivots (INFOG(12); `Symmetry::Symmetric` and `PositiveDefinite` only, the
+    /// off-diagonal pivots for `Unsymmetric`).
+    pub negative_pivots: i32,
+    /// Largest memory a rank used in the factorization, in MB (INFOG(21)).
+    pub peak_megabytes_per_rank: i32,
+    /// Memory of all ranks in the factorization, in MB (INFOG(22)).
+    pub megabytes: i32,
+    /// The determinant's sign, when asked for (`Mumps::new`'s `determinant`): `-1`, `0` or
+    /// `1` (RINFOG(12)'s sign).
+    pub determinant_sign: Option<f64>,
+}
+
+/// MUMPS' counters of entries: a negative value counts millions (user guide, INFOG(20)).
+fn entries(v: c_int) -> i64 {
+    if v < 0 {
+        -(v as i64) * 1_000_000
+    } else {
+        v as i64
+    }
+}
+
+/// What MUMPS' most frequent INFOG(1) codes mean (user guide, §8).
+fn meaning(infog1: i32) -> &'static str {
+    match infog1 {
+        -5 | -7 | -13 => "an allocation failed: too little memory on some rank",
+        -6 => "the matrix is structurally singular",
+        -8 | -9 | -14 | -15 | -17 | -20 => {
+            "the workspace estimated by the analysis was too small (ICNTL(14))"
+        }
+        -10 => "the matrix is numerically singular",
+        -16 => "N is out of range",
+        -22 => "an array MUMPS needs was not given",
+        -38 => "the parallel analysis needs PT-SCOTCH or ParMETIS, which this MUMPS lacks",
+        -40 => "a matrix declared positive definite has a non-positive pivot",
+        _ => "see MUMPS' user guide, section 8",
+    }
+}
+
+/// The distributed factorization of one sparse `n × n` matrix. Not `Sync`; every call
+/// is collective and must come from the thread that initialized MPI.
+pub struct Mumps {
+    id: NonNull<ffi::Struc>,
+    world: SimpleCommunicator,
+    symmetry: Symmetry,
+    n: usize,
+    /// 1-based local entries (MUMPS keeps pointers to them between calls).
+    rows: Vec<c_int>,
+    cols: Vec<c_int>,
+    values: Vec<f64>,
+    analysed: bool,
+    factorized: bool,
+    determinant: bool,
+}
+
+// The handle owns its MUMPS instance; moving it to another thread is safe, calling it from
+// two is prevented by `&mut self`.
+unsafe impl Send for Mumps {}
+
+/// ICNTL(14): the analysis' workspace estimate is raised by this percentage, then doubled
+/// on each factorization refused for a too small workspace.
+const WORKSPACE_PERCENT: c_int = 30;
+const WORKSPACE_RETRIES: usize = 4;
+
+impl Mumps {
+    /// A MUMPS instance on `MPI_COMM_WORLD` (collective). `determinant`: compute the
+    /// determinant's sign with each factorization (ICNTL(33)).
+    pub fn new(symmetry: Symmetry, determinant: bool) -> Result<Self, MumpsError> {
+        if !mpi::environment::is_initialized() {
+            return Err(MumpsError::NoMpi);
+        }
+        let sym = match symmetry {
+            Symmetry::Unsymmetric => 0,
+            Symmetry::PositiveDefinite => 1,
+            Symmetry::Symmetric => 2,
+        };
+        let raw = unsafe { ffi::talus_dmumps_init(sym) };
+        let id = NonNull::new(raw).ok_or(MumpsError::Failed {
+            phase: Phase::Initialize,
+            infog1: -13,
+            infog2: 0,
+            meaning: meaning(-13),
+        })?;
+        let mut mumps = Self {
+            id,
+            world: SimpleCommunicator::world(),
+            symmetry,
+            n: 0,
+            rows: Vec::new(),
+            cols: Vec::new(),
+            values: Vec::new(),
+            analysed: false,
+            factorized: false,
+            determinant,
+        };
+        mumps.check(Phase::Initialize)?;
+        // Silent: errors come back as `MumpsError`, figures as `Statistics`.
+        for i in 1..=3 {
+            mumps.set_icntl(i, 0);
+        }
+        mumps.set_icntl(4, 0);
+        mumps.set_icntl(5, 0); // assembled input
+        mumps.set_icntl(14, WORKSPACE_PERCENT);
+        mumps.set_icntl(18, 3); // distributed: each rank its own entries
+        mumps.set_icntl(20, 0); // dense right-hand side on the host
+        mumps.set_icntl(21, 0); // solution on the host, then broadcast
+        if determinant {
+            mumps.set_icntl(33, 1);
+        }
+        Ok(mumps)
+    }
+
+    /// This rank's number and the number of ranks.
+    pub fn rank(&self) -> (usize, usize) {
+        (self.world.rank() as usize, self.world.size() as usize)
+    }
+
+    pub fn symmetry(&self) -> Symmetry {
+        self.symmetry
+    }
+
+    fn set_icntl(&mut self, i: c_int, value: c_int) {
+        unsafe { ffi::talus_dmumps_set_icntl(self.id.as_ptr(), i, value) }
+    }
+
+    /// Sets ICNTL(i) (MUMPS' user guide, §6.1) before [`analyse`](Self::analyse); the
+    /// entries this handle relies on (5, 18, 20, 21) are refused.
+    pub fn set_control(&mut self, i: usize, value: i32) -> Result<(), MumpsError> {
+        if !(1..=60).contains(&i) || [5, 18, 20, 21].contains(&i) {
+            return Err(MumpsError::Invalid {
+                field: "icntl",
+                value: i.to_string(),
+                reason: "not in 1..=60, or fixed by this handle (5, 18, 20, 21)",
+            });
+        }
+        self.set_icntl(i as c_int, value);
+        Ok(())
+    }
+
+    fn infog(&self, i: c_int) -> c_int {
+        unsafe { ffi::talus_dmumps_infog(self.id.as_ptr(), i) }
+    }
+
+    fn rinfog(&self, i: c_int) -> f64 {
+        unsafe { ffi::talus_dmumps_rinfog(self.id.as_ptr(), i) }
+    }
+
+    fn check(&self, phase: Phase) -> Result<(), MumpsError> {
+        let infog1 = self.infog(1);
+        if infog1 < 0 {
+            return Err(MumpsError::Failed {
+                phase,
+                infog1,
+                infog2: self.infog(2),
+                meaning: meaning(infog1),
+            });
+        }
+        Ok(())
+    }
+
+    /// The analysis of this rank's entries `(rows[k], cols[k])`, 0-based, of an `n × n`
+    /// matrix (one triangle when symmetric). Collective; call again for a new pattern.
+    pub fn analyse(&mut self, n: usize, rows: &[usize], cols: &[usize]) -> Result<(), MumpsError> {
+        let too_large = |field, value: usize| MumpsError::Invalid {
+            field,
+            value: value.to_string(),
+            reason: "exceeds MUMPS' 32-bit indices",
+        };
+        if n == 0 || n > c_int::MAX as usize {
+            return Err(too_large("n", n));
+        }
+        if rows.len() != cols.len() {
+            return Err(MumpsError::Invalid {
+                field: "cols",
+                value: cols.len().to_string(),
+                reason: "not as many column indices as row indices",
+            });
+        }
+        if let Some(k) = rows.iter().zip(cols).position(|(&i, &j)| i >= n || j >= n) {
+            return Err(MumpsError::Invalid {
+                field: "rows/cols",
+                value: format!("({}, {}) at entry {k}", rows[k], cols[k]),
+                reason: "an index outside the matrix",
+            });
+        }
+        self.n = n;
+        self.rows = rows.iter().map(|&i| i as c_int + 1).collect();
+        self.cols = cols.iter().map(|&j| j as c_int + 1).collect();
+        self.values = vec![0.0; rows.len()];
+        self.analysed = false;
+        self.factorized = false;
+        unsafe {
+            ffi::talus_dmumps_set_local_matrix(
+                self.id.as_ptr(),
+                n as c_int,
+                self.rows.len() as i64,
+                self.rows.as_mut_ptr(),
+                self.cols.as_mut_ptr(),
+                self.values.as_mut_ptr(),
+            );
+            ffi::talus_dmumps_job(self.id.as_ptr(), 1);
+        }
+        self.check(Phase::Analysis)?;
+        self.analysed = true;
+        Ok(())
+    }
+
+    /// The numeric factorization with this rank's `values`, in the order of
+    /// [`analyse`](Self::analyse)'s entries. Collective.
+    pub fn factorize(&mut self, values: &[f64]) -> Result<(), MumpsError> {
+        if !self.analysed {
+            return Err(MumpsError::Invalid {
+                field: "analyse",
+                value: "not called".into(),
+                reason: "factorize needs the analysis of the pattern first",
+            });
+        }
+        if values.len() != self.values.len() {
+            return Err(MumpsError::Invalid {
+                field: "values",
+                value: values.len().to_string(),
+                reason: "not one value per entry given to analyse",
+            });
+        }
+        self.factorized = false;
+        self.values.copy_from_slice(values);
+        unsafe { ffi::talus_dmumps_set_local_values(self.id.as_ptr(), self.values.as_mut_ptr()) };
+        let mut percent = WORKSPACE_PERCENT;
+        for attempt in 0..=WORKSPACE_RETRIES {
+            unsafe { ffi::talus_dmumps_job(self.id.as_ptr(), 2) };
+            let infog1 = self.infog(1);
+            // -8, -9, -14, -15, -17, -20: the analysis' workspace estimate was exceeded
+            // (pivoting grew the fronts); the user guide's remedy is a larger ICNTL(14).
+            let workspace = matches!(infog1, -8 | -9 | -14 | -15 | -17 | -20);
+            if !workspace || attempt == WORKSPACE_RETRIES {
+                break;
+            }
+            percent *= 2;
+            self.set_icntl(14, percent);
+        }
+        self.check(Phase::Factorization)?;
+        self.factorized = true;
+        Ok(())
+    }
+
+    /// `x ← A⁻¹ x` with the last factorization. Collective; the host's `x` is the
+    /// right-hand side, and every rank receives the solution.
+    pub fn solve(&mut self, x: &mut [f64]) -> Result<(), MumpsError> {
+        if !self.factorized {
+            return Err(MumpsError::Invalid {
+                field: "factorize",
+                value: "no successful factorization".into(),
+                reason: "solve needs a factorization",
+            });
+        }
+        if x.len() != self.n {
+            return Err(MumpsError::Invalid {
+                field: "x",
+                value: x.len().to_string(),
+                reason: "not the matrix's size",
+            });
+        }
+        unsafe {
+            ffi::talus_dmumps_set_rhs(self.id.as_ptr(), x.as_mut_ptr());
+            ffi::talus_dmumps_job(self.id.as_ptr(), 3);
+            // MUMPS must not keep a pointer into the caller's slice.
+            ffi::talus_dmumps_set_rhs(self.id.as_ptr(), std::ptr::null_mut());
+        }
+        self.check(Phase::Solve)?;
+        self.world.process_at_rank(0).broadcast_into(x);
+        Ok(())
+    }
+
+    /// The last analysis' and factorization's figures.
+    pub fn statistics(&self) -> Statistics {
+        let determinant_sign = self.determinant.then(|| {
+            let m = self.rinfog(12);
+            if m > 0.0 {
+                1.0
+            } else if m < 0.0 {
+                -1.0
+            } else {
+                0.0
+            }
+        });
+        Statistics {
+            estimated_factor_entries: entries(self.infog(20)),
+            factor_entries: entries(self.infog(29)),
+            flops: self.rinfog(3),
+            ordering: self.infog(7),
+            negative_pivots: self.infog(12),
+            peak_megabytes_per_rank: self.infog(21),
+            megabytes: self.infog(22),
+            determinant_sign,
+        }
+    }
+}
+
+impl Drop for Mumps {
+    fn drop(&mut self) {
+        // Collective too: every rank drops its instance at the same point.
+        unsafe { ffi::talus_dmumps_end(self.id.as_ptr()) }
+    }
+}
+
+/// `mpirun` flags the tests and benchmarks launch with: OpenMPI refuses root without
+/// `--allow-run-as-root` (CI containers run as root) and more ranks than cores without
+/// `--oversubscribe`.
+pub const MPIRUN_FLAGS: &[&str] = &["--allow-run-as-root", "--oversubscribe"];

@@ -1,0 +1,256 @@
+//! MUMPS through the handle on 1 and 2 ranks, against closed forms. Outside `mpirun` this
+//! program relaunches itself under `mpirun -np 1` and `-np 2` and fails if either fails.
+//!
+//! The matrices: the 1D convection–diffusion operator `tridiag(−1 − c, 2 + s, −1 + c)` and,
+//! for inertia, the symmetric `tridiag(−1, 2 − s, −1)`, whose eigenvalues are
+//! `2 − s − 2 cos(kπ/(n+1))`, k = 1..n (Golub & Van Loan, 4th ed., §4.8): the number of
+//! negative ones is the LDLᵀ's negative pivots (Sylvester's law of inertia) and fixes the
+//! determinant's sign.
+use std::process::{Command, ExitCode};
+
+use talus_mumps::{Mumps, Symmetry};
+
+const N: usize = 400;
+
+/// Entries of a tridiagonal matrix `(lower, diagonal, upper)`; rows split between ranks
+/// by blocks, the diagonal of the row at each block boundary given in two halves (one
+/// per neighbouring rank) so that MUMPS' summing of duplicates is exercised.
+fn local_entries(
+    rank: usize,
+    size: usize,
+    (lower, diagonal, upper): (f64, f64, f64),
+    triangle: bool,
+) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+    let (mut rows, mut cols, mut vals) = (Vec::new(), Vec::new(), Vec::new());
+    let block = N.div_ceil(size);
+    let (first, last) = (rank * block, ((rank + 1) * block).min(N));
+    for i in first..last {
+        let boundary = i == first && rank > 0;
+        let half = if boundary || (i + 1 == last && rank + 1 < size) {
+            0.5
+        } else {
+            1.0
+        };
+        rows.push(i);
+        cols.push(i);
+        vals.push(half * diagonal);
+        if i > 0 {
+            rows.push(i);
+            cols.push(i - 1);
+            vals.push(lower);
+        }
+        if i + 1 < N && !triangle {
+            rows.push(i);
+            cols.push(i + 1);
+            vals.push(upper);
+        }
+    }
+    // The other half of the boundary diagonals.
+    if rank + 1 < size {
+        rows.push(last);
+        cols.push(last);
+        vals.push(0.5 * diagonal);
+    }
+    if rank > 0 {
+        rows.push(first - 1);
+        cols.push(first - 1);
+        vals.push(0.5 * diagonal);
+    }
+    (rows, cols, vals)
+}
+
+fn tridiagonal_product((lower, diagonal, upper): (f64, f64, f64), x: &[f64]) -> Vec<f64> {
+    (0..N)
+        .map(|i| {
+            let mut y = diagonal * x[i];
+            if i > 0 {
+                y += lower * x[i - 1];
+            }
+            if i + 1 < N {
+                y += upper * x[i + 1];
+            }
+            y
+        })
+        .collect()
+}
+
+fn relative_error(x: &[f64], y: &[f64]) -> f64 {
+    let d = x
+        .iter()
+        .zip(y)
+        .map(|(a, b)| (a - b).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    d / y.iter().map(|b| b * b).sum::<f64>().sqrt()
+}
+
+/// Rank 0 reports every check; another rank only its failures.
+fn check(name: &str, ok: bool, detail: String, failures: &mut usize) {
+    let rank0 = std::env::var("OMPI_COMM_WORLD_RANK").map_or(true, |r| r == "0");
+    if rank0 || !ok {
+        eprintln!("{} {name}: {detail}", if ok { "ok" } else { "FAILED" });
+    }
+    if !ok {
+        *failures += 1;
+    }
+}
+
+fn under_mpirun(rank: usize, size: usize) -> usize {
+    let mut failures = 0;
+    let exact: Vec<f64> = (0..N).map(|i| (0.1 * i as f64).sin() + 1.0).collect();
+
+    // Unsymmetric LU, solved twice on the same factorization and refactorized.
+    let convection = (-1.3, 2.01, -0.7);
+    let (rows, cols, vals) = local_entries(rank, size, convection, false);
+    let mut lu = Mumps::new(Symmetry::Unsymmetric, true).expect("MUMPS starts");
+    lu.analyse(N, &rows, &cols).expect("analysis");
+    lu.factorize(&vals).expect("factorization");
+    let rhs = tridiagonal_product(convection, &exact);
+    let mut x = rhs.clone();
+    lu.solve(&mut x).expect("solve");
+    let error = relative_error(&x, &exact);
+    check(
+        "unsymmetric LU solves A x = b",
+        error < 1e-12,
+        format!("relative error {error:.2e}"),
+        &mut failures,
+    );
+    lu.factorize(&vals).expect("second factorization");
+    let mut again = rhs.clone();
+    lu.solve(&mut again).expect("second solve");
+    check(
+        "a second factorization gives the same bits",
+        again
+            .iter()
+            .zip(&x)
+            .all(|(a, b)| a.to_bits() == b.to_bits()),
+        String::new(),
+        &mut failures,
+    );
+    let stats = lu.statistics();
+    check(
+        "the determinant of a diagonally dominant tridiagonal matrix is positive",
+        stats.determinant_sign == Some(1.0),
+        format!("{stats:?}"),
+        &mut failures,
+    );
+    check(
+        "factor entries at least the matrix's",
+        stats.factor_entries >= 3 * N as i64 - 2,
+        format!("{}", stats.factor_entries),
+        &mut failures,
+    );
+
+    // Symmetric indefinite LDLᵀ: inertia against the closed-form eigenvalues.
+    // 93 negative eigenvalues: an odd count, so the determinant is negative.
+    let shift = 0.51;
+    let symmetric = (-1.0, 2.0 - shift, -1.0);
+    let negative = (1..=N)
+        .filter(|&k| {
+            2.0 - shift - 2.0 * (k as f64 * std::f64::consts::PI / (N as f64 + 1.0)).cos() < 0.0
+        })
+        .count();
+    let (rows, cols, vals) = local_entries(rank, size, symmetric, true);
+    let mut ldlt = Mumps::new(Symmetry::Symmetric, true).expect("MUMPS starts");
+    ldlt.analyse(N, &rows, &cols).expect("analysis");
+    ldlt.factorize(&vals).expect("factorization");
+    let mut x = tridiagonal_product(symmetric, &exact);
+    ldlt.solve(&mut x).expect("solve");
+    let error = relative_error(&x, &exact);
+    check(
+        "symmetric LDLᵀ solves A x = b",
+        error < 1e-10,
+        format!("relative error {error:.2e}"),
+        &mut failures,
+    );
+    let stats = ldlt.statistics();
+    let sign = if negative % 2 == 0 { 1.0 } else { -1.0 };
+    check(
+        "LDLᵀ's negative pivots are the negative eigenvalues",
+        stats.negative_pivots as usize == negative && stats.determinant_sign == Some(sign),
+        format!(
+            "{} negative pivots, {negative} negative eigenvalues, sign {:?}",
+            stats.negative_pivots, stats.determinant_sign
+        ),
+        &mut failures,
+    );
+    // The unsymmetric LU of the same matrix (both triangles): the determinant's sign.
+    let (rows, cols, vals) = local_entries(rank, size, symmetric, false);
+    let mut lu = Mumps::new(Symmetry::Unsymmetric, true).expect("MUMPS starts");
+    lu.analyse(N, &rows, &cols).expect("analysis");
+    lu.factorize(&vals).expect("factorization");
+    check(
+        "the LU's determinant sign is (−1)^(negative eigenvalues)",
+        lu.statistics().determinant_sign == Some(sign),
+        format!("{:?} against {sign}", lu.statistics().determinant_sign),
+        &mut failures,
+    );
+
+    // SPD LDLᵀ without pivoting, and its refusal of an indefinite matrix.
+    let spd = (-1.0, 2.0 + shift, -1.0);
+    let (rows, cols, vals) = local_entries(rank, size, spd, true);
+    let mut llt = Mumps::new(Symmetry::PositiveDefinite, false).expect("MUMPS starts");
+    llt.analyse(N, &rows, &cols).expect("analysis");
+    llt.factorize(&vals).expect("factorization");
+    let mut x = tridiagonal_product(spd, &exact);
+    llt.solve(&mut x).expect("solve");
+    let error = relative_error(&x, &exact);
+    check(
+        "positive definite LDLᵀ solves A x = b",
+        error < 1e-12,
+        format!("relative error {error:.2e}"),
+        &mut failures,
+    );
+
+    // Bad input is an error naming the field.
+    let err = llt
+        .factorize(&vals[..vals.len() - 1])
+        .unwrap_err()
+        .to_string();
+    check(
+        "a short value array is refused",
+        err.starts_with("values = "),
+        err,
+        &mut failures,
+    );
+    let err = llt.analyse(N, &[N], &[0]).unwrap_err().to_string();
+    check(
+        "an index outside the matrix is refused",
+        err.starts_with("rows/cols = "),
+        err,
+        &mut failures,
+    );
+    failures
+}
+
+fn main() -> ExitCode {
+    if std::env::var_os("OMPI_COMM_WORLD_SIZE").is_some() || std::env::var_os("PMI_SIZE").is_some()
+    {
+        let universe = mpi::initialize().expect("MPI initializes once");
+        use mpi::traits::Communicator;
+        let world = universe.world();
+        let failures = under_mpirun(world.rank() as usize, world.size() as usize);
+        return if failures == 0 {
+            ExitCode::SUCCESS
+        } else {
+            ExitCode::FAILURE
+        };
+    }
+    let exe = std::env::current_exe().expect("the test's own path");
+    let mut ok = true;
+    for ranks in ["1", "2"] {
+        let status = Command::new("mpirun")
+            .args(talus_mumps::MPIRUN_FLAGS)
+            .args(["-np", ranks])
+            .arg(&exe)
+            .status()
+            .expect("mpirun runs (Debian's openmpi-bin)");
+        eprintln!("distributed_solve on {ranks} rank(s): {status}");
+        ok &= status.success();
+    }
+    if ok {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
+}

@@ -1,0 +1,66 @@
+//! `talus` under `mpirun` (`docs/distributed.md`): rank 0 writes the output folder and
+//! reports; the other ranks run the same scene into a scratch folder removed at the end,
+//! and keep their errors unless rank 0 did not fail too.
+use std::fmt::Display;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::Mutex;
+
+use talus::ranks::ranks;
+
+use super::exit::Exit;
+
+/// A non-root rank's last error, printed only if that rank fails alone.
+static DEFERRED: Mutex<Option<String>> = Mutex::new(None);
+
+/// Prints an error on rank 0; on another rank keeps it for [`finish`].
+pub fn error(e: impl Display) {
+    if ranks().is_root() {
+        eprintln!("error: {e}");
+    } else if let Ok(mut last) = DEFERRED.lock() {
+        *last = Some(e.to_string());
+    }
+}
+
+/// Whether this rank reports (prints summaries and notices): rank 0.
+pub fn reports() -> bool {
+    ranks().is_root()
+}
+
+/// The folder this rank writes: `out` on rank 0, a scratch folder elsewhere.
+pub fn output_folder(out: PathBuf) -> PathBuf {
+    let r = ranks();
+    if r.is_root() {
+        out
+    } else {
+        std::env::temp_dir().join(format!("talus-rank{}-{}", r.rank, std::process::id()))
+    }
+}
+
+/// The process' exit: with more than one rank, an input or output failure (the ones a
+/// rank can meet alone: a file, a lock, a disk) stops every rank by `MPI_Abort`, so that
+/// none is left waiting in MUMPS; a non-root rank first gives rank 0 two seconds to report
+/// the same error and abort. Outcomes every rank reaches together (converged, collapsed,
+/// not converged) exit normally.
+#[cfg(feature = "mpi")]
+pub fn finish(mpi: &talus::ranks::Mpi, code: ExitCode) -> ExitCode {
+    let r = ranks();
+    if !r.is_root() {
+        let _ = std::fs::remove_dir_all(output_folder(PathBuf::new()));
+    }
+    let alone = [Exit::InvalidInput, Exit::Io]
+        .into_iter()
+        .find(|&e| ExitCode::from(e) == code);
+    match alone {
+        Some(e) if r.distributed() => {
+            if !r.is_root() {
+                std::thread::sleep(std::time::Duration::from_secs(2));
+                if let Some(message) = DEFERRED.lock().ok().and_then(|m| m.clone()) {
+                    eprintln!("rank {}: error: {message}", r.rank);
+                }
+            }
+            mpi.abort(i32::from(e.code()))
+        }
+        _ => code,
+    }
+}

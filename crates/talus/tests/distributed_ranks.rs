@@ -1,0 +1,223 @@
+//! `mpirun -np 2 talus run` against one rank (`docs/distributed.md`): the paper footing
+//! (FEM, non-associative), the 3D slope's factor of safety and the MPM column. With two
+//! ranks every Newton matrix is factorized by MUMPS over both; with one, by Talus' own
+//! factorization: two independent linear solvers, so histories that agree to 1e-10 of
+//! their scale check the distributed path end to end.
+//!
+//! Built with the cargo feature `mpi` only (Debian `libmumps-dev libopenmpi-dev
+//! openmpi-bin`); `cargo xtask test` runs it when MUMPS and `mpirun` are installed.
+#![cfg(feature = "mpi")]
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use common::{history_column, replaced, target_tmp_dir, FOOTING};
+
+const MPIRUN_FLAGS: &[&str] = &["--allow-run-as-root", "--oversubscribe"];
+
+/// `talus run scene --out out` on `ranks` ranks (`None`: without `mpirun`), killed after
+/// `limit`: a rank left waiting would otherwise hang the test.
+fn run(ranks: Option<usize>, scene: &Path, out: &Path, limit: Duration) -> Output {
+    let talus = env!("CARGO_BIN_EXE_talus");
+    let mut command = match ranks {
+        Some(n) => {
+            let mut c = Command::new("mpirun");
+            c.args(MPIRUN_FLAGS).args(["-np", &n.to_string(), talus]);
+            c
+        }
+        None => Command::new(talus),
+    };
+    let _ = std::fs::remove_dir_all(out);
+    let mut child = command
+        .arg("run")
+        .arg(scene)
+        .arg("--out")
+        .arg(out)
+        .env("TALUS_LOG", "warn")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("mpirun and talus start");
+    let start = Instant::now();
+    while child
+        .try_wait()
+        .expect("the run can be waited for")
+        .is_none()
+    {
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let output = child.wait_with_output().expect("killed run's output");
+            panic!(
+                "{} still running after {limit:?}: {}",
+                scene.display(),
+                String::from_utf8_lossy(&output.stderr)
+            );
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    child.wait_with_output().expect("the run's output")
+}
+
+fn succeeded(output: Output, what: &str) -> Output {
+    assert!(
+        output.status.success(),
+        "{what}: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    output
+}
+
+/// The largest difference of a history column between two runs over the column's
+/// largest magnitude (entries near zero are compared at the column's scale).
+fn column_difference(a: &Path, b: &Path, name: &str) -> f64 {
+    let (x, y) = (history_column(a, name), history_column(b, name));
+    assert_eq!(
+        x.len(),
+        y.len(),
+        "{name}: the runs took different numbers of steps"
+    );
+    let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    assert!(scale > 0.0, "{name} is zero throughout: nothing compared");
+    x.iter()
+        .zip(&y)
+        .fold(0.0f64, |m, (p, q)| m.max((p - q).abs()))
+        / scale
+}
+
+fn scene_file(test: &str, text: &str) -> (PathBuf, PathBuf) {
+    let dir = target_tmp_dir("distributed_ranks", test);
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, text).unwrap();
+    (scene, dir)
+}
+
+/// The paper footing (Guillet et al. 2024, Fig. 3: φ = 27°, ψ = 14.3°, non-associative)
+/// to step 80, past the plateau's start at step 49. Newton to 1e-13: the histories of two
+/// runs differ by what their solves left, and at 1e-12 a step one run ended at a relative
+/// residual of 7.6e-13 and the other after one more iteration gave reactions 1.03e-10
+/// apart.
+fn footing_scene() -> String {
+    let text = replaced(FOOTING, "steps = 300", "steps = 80");
+    let text = replaced(&text, "vtu_every = 30", "vtu_every = 0");
+    let text = replaced(&text, "plots = true", "plots = false");
+    format!("{text}\n[solver]\ntolerance = 1e-13\n")
+}
+
+#[test]
+fn paper_footing_on_two_ranks_matches_one_rank() {
+    let (scene, dir) = scene_file("footing", &footing_scene());
+    let limit = Duration::from_secs(300);
+    let one = dir.join("one");
+    succeeded(run(None, &scene, &one, limit), "one rank");
+    let two = dir.join("two");
+    let output = succeeded(run(Some(2), &scene, &two, limit), "two ranks");
+    // Rank 0 alone reports: the run's line once.
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(stdout.matches("80 steps in").count(), 1, "{stdout}");
+    for column in [
+        "time",
+        "reaction_force",
+        "footing_displacement",
+        "footing_fy",
+    ] {
+        let d = column_difference(&one, &two, column);
+        assert!(
+            d <= 1e-10,
+            "{column}: one and two ranks differ by {d:.2e} of its scale"
+        );
+    }
+    // A second two-rank run. MUMPS assembles the fronts' contributions in the order its
+    // messages arrive, so the bits may differ (docs/distributed.md, 'Reproducibility');
+    // the histories agree as closely as with one rank.
+    let again = dir.join("again");
+    succeeded(run(Some(2), &scene, &again, limit), "two ranks again");
+    for column in ["reaction_force", "footing_fy"] {
+        let d = column_difference(&two, &again, column);
+        assert!(
+            d <= 1e-10,
+            "{column}: two two-rank runs differ by {d:.2e} of its scale"
+        );
+    }
+}
+
+#[test]
+fn column_collapse_on_two_ranks_matches_one_rank() {
+    // The a = 2 column matched to Newton's implicit MPM (scenes/column_newton.toml) at
+    // h = 1e-3 s for 20 steps: no step halved, so both runs take the same sub-steps.
+    let text = include_str!("../../../scenes/column_newton.toml");
+    let text = replaced(text, "step = 0.016666666666666666", "step = 1e-3");
+    let text = replaced(&text, "steps = 60", "steps = 20");
+    let (scene, dir) = scene_file("column", &format!("{text}\n[solver]\ntolerance = 1e-13\n"));
+    let limit = Duration::from_secs(300);
+    let one = dir.join("one");
+    succeeded(run(None, &scene, &one, limit), "one rank");
+    let two = dir.join("two");
+    succeeded(run(Some(2), &scene, &two, limit), "two ranks");
+    for column in ["time", "front", "runout_normalized", "kinetic_energy"] {
+        let d = column_difference(&one, &two, column);
+        assert!(
+            d <= 1e-10,
+            "{column}: one and two ranks differ by {d:.2e} of its scale"
+        );
+    }
+}
+
+/// The factor of safety and its bracket from `summary.json`.
+fn factor_of_safety(out: &Path) -> (f64, f64, f64) {
+    let text = std::fs::read_to_string(out.join("summary.json")).expect("summary.json");
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let fos = &v["factor_of_safety"];
+    let number = |x: &serde_json::Value| x.as_f64().unwrap_or_else(|| panic!("{text}"));
+    (
+        number(&fos["value"]),
+        number(&fos["bracket"][0]),
+        number(&fos["bracket"][1]),
+    )
+}
+
+#[test]
+fn slope_3d_factor_of_safety_on_two_ranks_matches_one_rank() {
+    // scenes/slope_3d.toml (Sysala et al.'s 45° slope, 20k unknowns) as shipped: one rank
+    // uses its f32 factor with GMRES; two ranks, MUMPS' f64 LDLᵀ.
+    let text = include_str!("../../../scenes/slope_3d.toml");
+    let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/slope_3d.msh");
+    let text = replaced(
+        text,
+        "path = \"slope_3d.msh\"",
+        &format!("path = {:?}", mesh.to_str().unwrap()),
+    );
+    let (scene, dir) = scene_file("slope_3d", &text);
+    let limit = Duration::from_secs(900);
+    let one = dir.join("one");
+    succeeded(run(None, &scene, &one, limit), "one rank");
+    let two = dir.join("two");
+    succeeded(run(Some(2), &scene, &two, limit), "two ranks");
+    let (f1, stable1, fails1) = factor_of_safety(&one);
+    let (f2, stable2, fails2) = factor_of_safety(&two);
+    assert!(
+        (stable1..=fails1).contains(&f2) && (stable2..=fails2).contains(&f1),
+        "one rank F = {f1} [{stable1}, {fails1}], two ranks F = {f2} [{stable2}, {fails2}]"
+    );
+}
+
+#[test]
+fn a_bad_scene_stops_every_rank_with_the_error_on_rank_0() {
+    let text = replaced(FOOTING, "poisson_ratio = 0.3", "poisson_ratio = 0.7");
+    let (scene, dir) = scene_file("bad", &text);
+    let start = Instant::now();
+    let output = run(Some(2), &scene, &dir.join("out"), Duration::from_secs(60));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success(), "a bad scene ran: {stderr}");
+    assert!(
+        stderr.contains("error:") && stderr.contains("material.poisson_ratio"),
+        "the error names the field: {stderr}"
+    );
+    assert!(
+        start.elapsed() < Duration::from_secs(30),
+        "{:?} to stop",
+        start.elapsed()
+    );
+}
