@@ -1,5 +1,6 @@
 //! `cargo xtask bench`: the divan benchmarks and the MPM column benchmark (a harness of its
-//! own), then the figures of merit as ratios of medians measured in the same run.
+//! own), then the figures of merit as ratios of medians measured in the same run, then the
+//! distributed benchmark when MUMPS and `mpirun` are installed.
 use std::path::Path;
 
 use crate::run_checked;
@@ -116,6 +117,30 @@ pub fn run(root: &Path) -> Result<bool, String> {
     }
     println!("\n3D: Newton iteration / elastic Cholesky factorization and solve (target <= 2.5)");
     ok &= print_ratios(&outputs[6], "newton_3d");
+    // MUMPS over MPI ranks against the scenes' own solver (docs/distributed.md), where
+    // MUMPS and mpirun are installed; TALUS_DISTRIBUTED_BENCH_CASES=slope_3d skips the
+    // 400k-unknown footing's minutes.
+    match crate::mpi::missing() {
+        Some(missing) => println!("\nDistributed benchmark skipped ({missing})"),
+        None => {
+            println!("\n== cargo bench -p talus --features mpi --bench distributed");
+            let out = run_checked(
+                root,
+                "cargo",
+                &[
+                    "bench",
+                    "-q",
+                    "-p",
+                    "talus",
+                    "--features",
+                    "mpi",
+                    "--bench",
+                    "distributed",
+                ],
+            )?;
+            print!("{}", String::from_utf8_lossy(&out.stdout));
+        }
+    }
     Ok(ok)
 }
 

@@ -9,6 +9,7 @@ use std::process::{Command, ExitCode};
 mod bench;
 mod docs;
 mod fuzz;
+mod mpi;
 mod test;
 mod verify;
 

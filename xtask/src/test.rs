@@ -34,17 +34,8 @@ pub(crate) fn run(root: &Path, python: bool) -> Result<bool, String> {
 /// The MUMPS handle's test and `mpirun -np 2 talus run` against one rank (cargo feature
 /// `mpi`), when `mpirun` and MUMPS' header are installed; skipped, saying so, otherwise.
 fn distributed_tests(root: &Path) -> Result<bool, String> {
-    let header = std::env::var_os("MUMPS_INCLUDE_DIR")
-        .map(std::path::PathBuf::from)
-        .unwrap_or_else(|| "/usr/include".into())
-        .join("dmumps_c.h");
-    let mpirun = Command::new("mpirun").arg("--version").output().is_ok();
-    if !(mpirun && header.exists()) {
-        eprintln!(
-            "xtask test: distributed tests skipped (no mpirun or {}; Debian: apt-get install \
-             libmumps-dev libopenmpi-dev openmpi-bin libclang-dev)",
-            header.display()
-        );
+    if let Some(missing) = crate::mpi::missing() {
+        eprintln!("xtask test: distributed tests skipped ({missing})");
         return Ok(true);
     }
     Ok(stage(

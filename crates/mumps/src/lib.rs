@@ -390,6 +390,15 @@ impl Drop for Mumps {
     }
 }
 
+/// This rank and the number of ranks of `MPI_COMM_WORLD`, once MPI is initialized.
+pub fn world() -> Option<(usize, usize)> {
+    if !mpi::environment::is_initialized() {
+        return None;
+    }
+    let world = SimpleCommunicator::world();
+    Some((world.rank() as usize, world.size() as usize))
+}
+
 /// `mpirun` flags the tests and benchmarks launch with: OpenMPI refuses root without
 /// `--allow-run-as-root` (CI containers run as root) and more ranks than cores without
 /// `--oversubscribe`.

@@ -187,10 +187,11 @@ fn run(
         Ok(lock) => lock,
         Err(e) => return Ok(refused(e)),
     };
+    // Rank 0 alone writes fields and checkpoints (another rank resumes from rank 0's).
     let options = interruptible(RunOptions {
-        progress: true,
-        write_fields: true,
-        checkpoint_every,
+        progress: reports(),
+        write_fields: reports(),
+        checkpoint_every: if reports() { checkpoint_every } else { 0 },
         ..RunOptions::new(out.clone())
     });
     match scene {
@@ -210,6 +211,16 @@ fn refused(e: CheckpointError) -> ExitCode {
 /// `talus resume OUT`: the folder held, the checkpoint read, its scene checked and parsed,
 /// the run continued. Every refusal leaves the folder as it was.
 fn resume(out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    // Another rank of `mpirun` resumes from copies in its scratch folder.
+    let out = match cli::ranks::resume_folder(out) {
+        Ok(out) => out,
+        Err(e) => {
+            error(format!(
+                "the checkpoint of rank 0's folder cannot be read: {e}"
+            ));
+            return Ok(Exit::InvalidInput.into());
+        }
+    };
     // Held before the checkpoint is read: a second resume of the folder stops here. A
     // folder that does not exist is not created (no checkpoint in it, below).
     let _lock = if out.is_dir() {
@@ -242,8 +253,8 @@ fn resume(out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
         );
     }
     let options = interruptible(RunOptions {
-        progress: true,
-        write_fields: true,
+        progress: reports(),
+        write_fields: reports(),
         ..RunOptions::new(out.clone())
     });
     match scene {
@@ -380,8 +391,8 @@ where
         return Ok(refused(e));
     }
     let options = interruptible(RunOptions {
-        progress: true,
-        write_fields: true,
+        progress: reports(),
+        write_fields: reports(),
         ..RunOptions::new(out.clone())
     });
     let run = match ended(talus::analysis::stability::run(scene, &options), &out) {

@@ -143,6 +143,67 @@ fn paper_footing_on_two_ranks_matches_one_rank() {
     }
 }
 
+/// `mpirun -np 2 talus resume out`, killed after `limit`.
+fn resume(out: &Path, limit: Duration) -> Output {
+    let mut child = Command::new("mpirun")
+        .args(MPIRUN_FLAGS)
+        .args(["-np", "2", env!("CARGO_BIN_EXE_talus"), "resume"])
+        .arg(out)
+        .env("TALUS_LOG", "warn")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("mpirun starts");
+    let start = Instant::now();
+    while child.try_wait().expect("waitable").is_none() {
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            panic!("resume still running after {limit:?}");
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    child.wait_with_output().expect("the resume's output")
+}
+
+#[test]
+fn a_two_rank_run_resumes_from_its_checkpoint_on_two_ranks() {
+    let (scene, dir) = scene_file("resume", &footing_scene());
+    let limit = Duration::from_secs(300);
+    let whole = dir.join("whole");
+    succeeded(run(Some(2), &scene, &whole, limit), "two ranks");
+    // The same run with a checkpoint every 30 steps: its last at step 60, from which
+    // the resume runs steps 61 to 80 again.
+    let resumed = dir.join("resumed");
+    let mut command = Command::new("mpirun");
+    let output = command
+        .args(MPIRUN_FLAGS)
+        .args(["-np", "2", env!("CARGO_BIN_EXE_talus"), "run"])
+        .arg(&scene)
+        .args(["--checkpoint-every", "30", "--out"])
+        .arg(&resumed)
+        .env("TALUS_LOG", "warn")
+        .output()
+        .expect("mpirun starts");
+    succeeded(output, "two ranks with checkpoints");
+    let checkpoint = std::fs::read_to_string(resumed.join("checkpoint/last.checkpoint"))
+        .expect("rank 0 wrote the checkpoint");
+    assert!(checkpoint.starts_with("talus-checkpoint") && checkpoint.contains(" step=60 "));
+    let output = succeeded(resume(&resumed, limit), "resume on two ranks");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(
+        stderr.matches("resuming").count(),
+        1,
+        "rank 0 alone says so: {stderr}"
+    );
+    for column in ["time", "reaction_force", "footing_fy"] {
+        let d = column_difference(&whole, &resumed, column);
+        assert!(
+            d <= 1e-10,
+            "{column}: resumed and whole runs differ by {d:.2e} of its scale"
+        );
+    }
+}
+
 #[test]
 fn column_collapse_on_two_ranks_matches_one_rank() {
     // The a = 2 column matched to Newton's implicit MPM (scenes/column_newton.toml) at

@@ -4,6 +4,7 @@
 mod dense;
 #[cfg(feature = "mpi")]
 mod distributed_factor;
+mod owned_assembly;
 pub(crate) mod schur;
 mod schur_factor;
 mod schur_pattern;

@@ -3,6 +3,7 @@ use nalgebra::SMatrix;
 use rayon::prelude::*;
 use talus_bipotential::NaturalMapLinearization;
 
+use super::owned_assembly::OwnedAssembly;
 use super::schur_factor::{Factorized, LuChoice, SchurFactor};
 use super::schur_pattern::{block_len, point_groups, schur_pattern, SchurPattern};
 use crate::factorization::Ordering;
@@ -32,6 +33,9 @@ pub(crate) struct SchurSystem<const D: usize> {
     contributions: Vec<f64>,
     csc_values: Vec<f64>,
     factorization: SchurFactor,
+    /// This rank's share of the assembly when MUMPS factorizes `K` over the MPI ranks
+    /// (then `csc_values` stay unused).
+    owned: Option<OwnedAssembly>,
     local_c: Vec<SMatrix<f64, D, D>>,
     rhs: Vec<f64>,
     a_inv_r: Vec<f64>,
@@ -117,10 +121,21 @@ impl<const D: usize> SchurSystem<D> {
             group_entries.push(group_entries[g] + block_len(m, symmetric));
         }
         let nnz = row_idx.len();
-        let factorization = if distributed {
-            SchurFactor::distributed(symbolic.as_ref(), symmetric)?
+        let (factorization, owned) = if distributed {
+            let (rank, size) = SchurFactor::world()?;
+            let owned = OwnedAssembly::new(
+                rank,
+                size,
+                &group_entries,
+                &positions,
+                symbolic.col_ptr(),
+                row_idx,
+            );
+            let factor = SchurFactor::distributed(n_v, &owned.rows, &owned.cols, symmetric)?;
+            (factor, Some(owned))
         } else {
-            SchurFactor::analyse(symbolic.as_ref(), symmetric, ordering, single)?
+            let factor = SchurFactor::analyse(symbolic.as_ref(), symmetric, ordering, single)?;
+            (factor, None)
         };
         Ok(Self {
             symmetric,
@@ -130,8 +145,13 @@ impl<const D: usize> SchurSystem<D> {
             contributions: vec![0.0; group_entries[n_groups]],
             group_ptr,
             group_entries,
-            csc_values: vec![0.0; nnz],
+            csc_values: if owned.is_some() {
+                Vec::new()
+            } else {
+                vec![0.0; nnz]
+            },
             factorization,
+            owned,
             local_c: vec![SMatrix::zeros(); n_points],
             rhs: vec![0.0; n_v],
             a_inv_r: vec![0.0; D * n_points],
@@ -260,6 +280,16 @@ impl<const D: usize> SchurSystem<D> {
                     }
                 }
             }
+            None if self.owned.is_some() => {
+                let groups = self.owned.as_ref().map_or(0..0, |o| o.groups.clone());
+                self.fill_contributions(structured, blocks, groups, parallel);
+                let owned = self.owned.as_mut().expect("checked by the guard");
+                owned.sum(&self.contributions);
+                self.krylov.counts.factorizations += 1;
+                self.factorization
+                    .solve_distributed(&owned.values, &mut self.rhs)
+                    .map_err(SchurFailure::Factorization)?
+            }
             None => {
                 self.assemble(structured, blocks, parallel);
                 let k = SparseColMatRef::new(self.symbolic.as_ref(), &self.csc_values);
@@ -293,6 +323,37 @@ impl<const D: usize> SchurSystem<D> {
     /// `K`'s values (CSC) from this iteration's local `Cᵢ`: the contributions summed in a
     /// fixed order.
     fn assemble(&mut self, structured: &Structured<D>, blocks: &PointBlocks<D>, parallel: bool) {
+        let groups = 0..self.group_entries.len() - 1;
+        self.fill_contributions(structured, blocks, groups, parallel);
+        let (contributions, gather, gather_ptr) =
+            (&self.contributions, &self.gather, &self.gather_ptr);
+        let sum = |(p, out): (usize, &mut f64)| {
+            let mut acc = 0.0;
+            for &k in &gather[gather_ptr[p]..gather_ptr[p + 1]] {
+                acc += contributions[k as usize];
+            }
+            *out = acc;
+        };
+        if parallel {
+            self.csc_values
+                .par_iter_mut()
+                .enumerate()
+                .with_min_len(4096)
+                .for_each(sum);
+        } else {
+            self.csc_values.iter_mut().enumerate().for_each(sum);
+        }
+    }
+
+    /// The masses and the contributions `h² Σᵢ Bᵢᵀ Cᵢ Bᵢ` of the point groups `groups`, in
+    /// `contributions` (the other groups' are left as they were).
+    fn fill_contributions(
+        &mut self,
+        structured: &Structured<D>,
+        blocks: &PointBlocks<D>,
+        groups: std::ops::Range<usize>,
+        parallel: bool,
+    ) {
         let h2 = structured.h * structured.h;
         let symmetric = self.symmetric;
         // The contributions in the order of `new` (masses, then h² Σᵢ Bᵢᵀ Cᵢ Bᵢ per group,
@@ -301,10 +362,12 @@ impl<const D: usize> SchurSystem<D> {
         let n_v = structured.lumped_mass.len();
         let (masses, mut rest) = self.contributions.split_at_mut(n_v);
         masses.copy_from_slice(&structured.lumped_mass);
-        let mut per_group = Vec::with_capacity(self.group_entries.len() - 1);
-        for w in self.group_entries.windows(2) {
+        let mut per_group = Vec::with_capacity(groups.len());
+        for (g, w) in self.group_entries.windows(2).enumerate() {
             let (this, tail) = rest.split_at_mut(w[1] - w[0]);
-            per_group.push(this);
+            if groups.contains(&g) {
+                per_group.push(this);
+            }
             rest = tail;
         }
         let group_ptr = &self.group_ptr;
@@ -312,7 +375,9 @@ impl<const D: usize> SchurSystem<D> {
         // Each point adds h² Bᵢᵀ (Cᵢ Bᵢ) to its group's m × m block, row a of the block as
         // Σ_k h² B[k, a] · (C B)[k, :]: contiguous rows, so the inner loop vectorizes.
         // The symmetric case keeps only `dofs[a] ≥ dofs[b]`, packed from a scratch block.
+        let first = groups.start;
         let fill = |scratch: &mut Vec<f64>, (g, out): (usize, &mut &mut [f64])| {
+            let g = first + g;
             let m = blocks.point(group_ptr[g]).0.len();
             scratch.clear();
             scratch.resize(D * m + if symmetric { m * m } else { 0 }, 0.0);
@@ -352,25 +417,6 @@ impl<const D: usize> SchurSystem<D> {
                 .iter_mut()
                 .enumerate()
                 .for_each(|x| fill(&mut scratch, x));
-        }
-        drop(per_group);
-        let (contributions, gather, gather_ptr) =
-            (&self.contributions, &self.gather, &self.gather_ptr);
-        let sum = |(p, out): (usize, &mut f64)| {
-            let mut acc = 0.0;
-            for &k in &gather[gather_ptr[p]..gather_ptr[p + 1]] {
-                acc += contributions[k as usize];
-            }
-            *out = acc;
-        };
-        if parallel {
-            self.csc_values
-                .par_iter_mut()
-                .enumerate()
-                .with_min_len(4096)
-                .for_each(sum);
-        } else {
-            self.csc_values.iter_mut().enumerate().for_each(sum);
         }
     }
 

@@ -140,22 +140,58 @@ impl SchurFactor {
         })
     }
 
-    /// MUMPS' analysis of `pattern` over the MPI ranks (`LinearSolver::Distributed`).
+    /// This rank and the number of ranks of a distributed factorization.
+    #[cfg(feature = "mpi")]
+    pub(crate) fn world() -> Result<(usize, usize), String> {
+        super::distributed_factor::world()
+    }
+
+    #[cfg(not(feature = "mpi"))]
+    pub(crate) fn world() -> Result<(usize, usize), String> {
+        Err("the distributed factorization needs the cargo feature `mpi`".into())
+    }
+
+    /// MUMPS' analysis of this rank's entries of `K` (`LinearSolver::Distributed`).
     #[cfg(feature = "mpi")]
     pub(crate) fn distributed(
-        pattern: SymbolicSparseColMatRef<'_, usize>,
+        n: usize,
+        rows: &[usize],
+        cols: &[usize],
         symmetric: bool,
     ) -> Result<Self, String> {
-        super::distributed_factor::DistributedFactor::analyse(pattern, symmetric)
+        super::distributed_factor::DistributedFactor::analyse(n, rows, cols, symmetric)
             .map(SchurFactor::Distributed)
     }
 
     #[cfg(not(feature = "mpi"))]
     pub(crate) fn distributed(
-        _pattern: SymbolicSparseColMatRef<'_, usize>,
+        _n: usize,
+        _rows: &[usize],
+        _cols: &[usize],
         _symmetric: bool,
     ) -> Result<Self, String> {
         Err("the distributed factorization needs the cargo feature `mpi`".into())
+    }
+
+    /// Factorizes this rank's `values` of `K` over the MPI ranks and solves
+    /// `K x = rhs` in place (collective).
+    pub(crate) fn solve_distributed(
+        &mut self,
+        values: &[f64],
+        rhs: &mut [f64],
+    ) -> Result<Factorized, String> {
+        match self {
+            #[cfg(feature = "mpi")]
+            SchurFactor::Distributed(d) => {
+                let negative = d.factorize(values)?;
+                d.solve_in_place(rhs)?;
+                Ok(Factorized::Distributed(negative))
+            }
+            _ => {
+                let _ = (values, rhs);
+                Err("not a distributed factorization".into())
+            }
+        }
     }
 
     /// Stored entries of the factors (`L`, or `L` and `U`; MUMPS': over all ranks, as
@@ -297,11 +333,10 @@ impl SchurFactor {
                 lu.solve(k, rhs)?;
                 Ok(Factorized::PivotingLu)
             }
+            // Its values are this rank's entries (`solve_distributed`), not `k`.
             #[cfg(feature = "mpi")]
-            SchurFactor::Distributed(d) => {
-                let negative = d.factorize(k)?;
-                d.solve_in_place(rhs)?;
-                Ok(Factorized::Distributed(negative))
+            SchurFactor::Distributed(_) => {
+                Err("the distributed factorization takes its rank's entries only".into())
             }
         }
     }

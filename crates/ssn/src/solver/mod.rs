@@ -202,10 +202,13 @@ impl<const D: usize> Solver<D> {
                     ));
                 }
                 let distributed = settings.linear_solver == LinearSolver::Distributed;
-                if distributed && (single || !cfg!(feature = "mpi")) {
+                if distributed
+                    && (settings.newton_solve != NewtonSolve::Direct || !cfg!(feature = "mpi"))
+                {
                     return Err(invalid(
                         "settings.linear_solver",
-                        "Distributed (MUMPS) needs the cargo feature `mpi` and f64 factors",
+                        "Distributed (MUMPS) needs the cargo feature `mpi` and \
+                         `NewtonSolve::Direct`",
                     ));
                 }
                 solver.schur = Some(

@@ -37,6 +37,24 @@ pub fn output_folder(out: PathBuf) -> PathBuf {
     }
 }
 
+/// The folder a resume of `out` continues on this rank: `out` on rank 0; elsewhere the
+/// scratch folder, given copies of `out`'s checkpoint and `history.csv` (the state is the
+/// same on every rank, `talus::ranks`), which rank 0 alone writes.
+pub fn resume_folder(out: PathBuf) -> std::io::Result<PathBuf> {
+    if ranks().is_root() {
+        return Ok(out);
+    }
+    let scratch = output_folder(PathBuf::new());
+    let checkpoint = talus::run::checkpoint::path(&out);
+    let copy = talus::run::checkpoint::path(&scratch);
+    if let Some(dir) = copy.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    std::fs::copy(&checkpoint, &copy)?;
+    std::fs::copy(out.join("history.csv"), scratch.join("history.csv"))?;
+    Ok(scratch)
+}
+
 /// The process' exit: with more than one rank, an input or output failure (the ones a
 /// rank can meet alone: a file, a lock, a disk) stops every rank by `MPI_Abort`, so that
 /// none is left waiting in MUMPS; a non-root rank first gives rank 0 two seconds to report
@@ -45,6 +63,11 @@ pub fn output_folder(out: PathBuf) -> PathBuf {
 #[cfg(feature = "mpi")]
 pub fn finish(mpi: &talus::ranks::Mpi, code: ExitCode) -> ExitCode {
     let r = ranks();
+    if talus::ranks::launched_by_mpi() {
+        if let Some(kib) = peak_kib() {
+            tracing::info!(rank = r.rank, peak_mib = kib / 1024, "peak resident memory");
+        }
+    }
     if !r.is_root() {
         let _ = std::fs::remove_dir_all(output_folder(PathBuf::new()));
     }
@@ -63,4 +86,12 @@ pub fn finish(mpi: &talus::ranks::Mpi, code: ExitCode) -> ExitCode {
         }
         _ => code,
     }
+}
+
+/// This process' peak resident memory (`VmHWM`, KiB), where Linux gives it.
+#[cfg(feature = "mpi")]
+fn peak_kib() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find_map(|l| l.strip_prefix("VmHWM:"))?;
+    line.trim().trim_end_matches("kB").trim().parse().ok()
 }
