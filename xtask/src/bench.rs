@@ -118,8 +118,8 @@ pub fn run(root: &Path) -> Result<bool, String> {
     println!("\n3D: Newton iteration / elastic Cholesky factorization and solve (target <= 2.5)");
     ok &= print_ratios(&outputs[6], "newton_3d");
     // MUMPS over MPI ranks against the scenes' own solver (docs/distributed.md), where
-    // MUMPS and mpirun are installed; TALUS_DISTRIBUTED_BENCH_CASES=slope_3d skips the
-    // 400k-unknown footing's minutes.
+    // MUMPS and mpirun are installed (about 4 minutes; TALUS_DISTRIBUTED_BENCH_CASES adds
+    // footing_320x156, whose first step alone takes more than 10 minutes on one rank).
     match crate::mpi::missing() {
         Some(missing) => println!("\nDistributed benchmark skipped ({missing})"),
         None => {

@@ -1,8 +1,9 @@
 //! Seconds per Newton iteration and peak memory per rank of MUMPS' distributed
 //! factorization (`docs/distributed.md`) against Talus' own solver, in one run on one
 //! machine: the 3D slope's factor of safety (`scenes/slope_3d.toml`, 20k unknowns) and
-//! the first steps of the paper footing on the 320×156 mesh (99 840 P2 triangles, 400k
-//! unknowns), each by `talus run`:
+//! the first steps of the paper footing on an NX×NY mesh (`footing_NXxNY`: 104×48 is 9 984
+//! P2 triangles, 40k unknowns; 320×156, 99 840 and 400k, whose first step on one rank
+//! takes more than 10 minutes here), each by `talus run`:
 //!
 //! - `own`: one rank, the scene's own solver (the baseline of the ratios);
 //! - `mumps ×N`: `mpirun -np N`, every factorization by MUMPS over N ranks (`N = 1` is
@@ -15,7 +16,7 @@
 //! MUMPS' statistics of its first factorization (entries of the factors, flops, the
 //! largest memory of a rank, INFOG(21)).
 //!
-//! Cases: `TALUS_DISTRIBUTED_BENCH_CASES` (default `slope_3d,footing_320x156`); ranks:
+//! Cases: `TALUS_DISTRIBUTED_BENCH_CASES` (default `slope_3d,footing_104x48`); ranks:
 //! `TALUS_DISTRIBUTED_BENCH_RANKS` (default `1,2`); footing steps:
 //! `TALUS_DISTRIBUTED_BENCH_STEPS` (default 3). Run with
 //! `cargo bench -p talus --features mpi --bench distributed` (needs `mpirun`).
@@ -58,9 +59,12 @@ fn scene_text(case: &str, steps: usize, mumps: bool) -> Result<String, String> {
                 text
             }
         }
-        "footing_320x156" => {
+        footing if footing.starts_with("footing_") => {
+            let (nx, ny) = footing["footing_".len()..]
+                .split_once('x')
+                .ok_or_else(|| format!("{case}: footing_NXxNY"))?;
             let text = read("footing.toml")?
-                .replacen("cells = [32, 14]", "cells = [320, 156]", 1)
+                .replacen("cells = [32, 14]", &format!("cells = [{nx}, {ny}]"), 1)
                 .replacen("steps = 300", &format!("steps = {steps}"), 1)
                 .replacen("vtu_every = 30", "vtu_every = 0", 1)
                 .replacen("plots = true", "plots = false", 1);
@@ -164,7 +168,7 @@ fn main() {
         return;
     }
     let cases = std::env::var("TALUS_DISTRIBUTED_BENCH_CASES")
-        .unwrap_or_else(|_| "slope_3d,footing_320x156".into());
+        .unwrap_or_else(|_| "slope_3d,footing_104x48".into());
     let ranks: Vec<usize> = std::env::var("TALUS_DISTRIBUTED_BENCH_RANKS")
         .unwrap_or_else(|_| "1,2".into())
         .split(',')
