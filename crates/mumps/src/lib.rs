@@ -87,7 +87,8 @@ pub struct Statistics {
     /// 6 QAMD, 7 automatic choice).
     pub ordering: i32,
     /// Negative pivots (INFOG(12); `Symmetry::Symmetric` and `PositiveDefinite` only, the
-    /// off-diagonal pivots for `Unsymmetric`).
+    /// off-diagonal pivots for `Unsymmetric`). Without those of a root node factorized by
+    /// ScaLAPACK (ICNTL(13) = 0, the default, on large matrices): then a lower bound.
     pub negative_pivots: i32,
     /// Largest memory a rank used in the factorization, in MB (INFOG(21)).
     pub peak_megabytes_per_rank: i32,
@@ -124,8 +125,10 @@ fn meaning(infog1: i32) -> &'static str {
     }
 }
 
-/// The distributed factorization of one sparse `n × n` matrix. Not `Sync`; every call
-/// is collective and must come from the thread that initialized MPI.
+/// The distributed factorization of one sparse `n × n` matrix. Neither `Send` nor `Sync`:
+/// MPI is initialized for one thread (`MPI_THREAD_SINGLE`), so every call, collective,
+/// stays on the thread that initialized MPI. The checks of a call's arguments are this
+/// rank's: give every rank valid ones, or the others wait in the call.
 pub struct Mumps {
     id: NonNull<ffi::Struc>,
     world: SimpleCommunicator,
@@ -139,10 +142,6 @@ pub struct Mumps {
     factorized: bool,
     determinant: bool,
 }
-
-// The handle owns its MUMPS instance; moving it to another thread is safe, calling it from
-// two is prevented by `&mut self`.
-unsafe impl Send for Mumps {}
 
 /// ICNTL(14): the analysis' workspace estimate is raised by this percentage, then doubled
 /// on each factorization refused for a too small workspace.

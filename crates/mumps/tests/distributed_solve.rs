@@ -95,16 +95,33 @@ fn check(name: &str, ok: bool, detail: String, failures: &mut usize) {
     }
 }
 
+/// MUMPS analysed and factorized on this rank's `entries`.
+fn factorized(
+    symmetry: Symmetry,
+    determinant: bool,
+    (rows, cols, vals): &(Vec<usize>, Vec<usize>, Vec<f64>),
+) -> Mumps {
+    let mut m = Mumps::new(symmetry, determinant).expect("MUMPS starts");
+    m.analyse(N, rows, cols).expect("analysis");
+    m.factorize(vals).expect("factorization");
+    m
+}
+
+/// The relative error of `m`'s solution of `A x = A exact` for the tridiagonal `matrix`.
+fn solve_error(m: &mut Mumps, matrix: (f64, f64, f64), exact: &[f64]) -> f64 {
+    let mut x = tridiagonal_product(matrix, exact);
+    m.solve(&mut x).expect("solve");
+    relative_error(&x, exact)
+}
+
 fn under_mpirun(rank: usize, size: usize) -> usize {
     let mut failures = 0;
     let exact: Vec<f64> = (0..N).map(|i| (0.1 * i as f64).sin() + 1.0).collect();
 
     // Unsymmetric LU, solved twice on the same factorization and refactorized.
     let convection = (-1.3, 2.01, -0.7);
-    let (rows, cols, vals) = local_entries(rank, size, convection, false);
-    let mut lu = Mumps::new(Symmetry::Unsymmetric, true).expect("MUMPS starts");
-    lu.analyse(N, &rows, &cols).expect("analysis");
-    lu.factorize(&vals).expect("factorization");
+    let entries = local_entries(rank, size, convection, false);
+    let mut lu = factorized(Symmetry::Unsymmetric, true, &entries);
     let rhs = tridiagonal_product(convection, &exact);
     let mut x = rhs.clone();
     lu.solve(&mut x).expect("solve");
@@ -115,7 +132,7 @@ fn under_mpirun(rank: usize, size: usize) -> usize {
         format!("relative error {error:.2e}"),
         &mut failures,
     );
-    lu.factorize(&vals).expect("second factorization");
+    lu.factorize(&entries.2).expect("second factorization");
     let mut again = rhs.clone();
     lu.solve(&mut again).expect("second solve");
     check(
@@ -150,13 +167,9 @@ fn under_mpirun(rank: usize, size: usize) -> usize {
             2.0 - shift - 2.0 * (k as f64 * std::f64::consts::PI / (N as f64 + 1.0)).cos() < 0.0
         })
         .count();
-    let (rows, cols, vals) = local_entries(rank, size, symmetric, true);
-    let mut ldlt = Mumps::new(Symmetry::Symmetric, true).expect("MUMPS starts");
-    ldlt.analyse(N, &rows, &cols).expect("analysis");
-    ldlt.factorize(&vals).expect("factorization");
-    let mut x = tridiagonal_product(symmetric, &exact);
-    ldlt.solve(&mut x).expect("solve");
-    let error = relative_error(&x, &exact);
+    let entries = local_entries(rank, size, symmetric, true);
+    let mut ldlt = factorized(Symmetry::Symmetric, true, &entries);
+    let error = solve_error(&mut ldlt, symmetric, &exact);
     check(
         "symmetric LDLᵀ solves A x = b",
         error < 1e-10,
@@ -175,10 +188,11 @@ fn under_mpirun(rank: usize, size: usize) -> usize {
         &mut failures,
     );
     // The unsymmetric LU of the same matrix (both triangles): the determinant's sign.
-    let (rows, cols, vals) = local_entries(rank, size, symmetric, false);
-    let mut lu = Mumps::new(Symmetry::Unsymmetric, true).expect("MUMPS starts");
-    lu.analyse(N, &rows, &cols).expect("analysis");
-    lu.factorize(&vals).expect("factorization");
+    let lu = factorized(
+        Symmetry::Unsymmetric,
+        true,
+        &local_entries(rank, size, symmetric, false),
+    );
     check(
         "the LU's determinant sign is (−1)^(negative eigenvalues)",
         lu.statistics().determinant_sign == Some(sign),
@@ -186,15 +200,12 @@ fn under_mpirun(rank: usize, size: usize) -> usize {
         &mut failures,
     );
 
-    // SPD LDLᵀ without pivoting, and its refusal of an indefinite matrix.
+    // Positive definite LDLᵀ without pivoting.
     let spd = (-1.0, 2.0 + shift, -1.0);
-    let (rows, cols, vals) = local_entries(rank, size, spd, true);
-    let mut llt = Mumps::new(Symmetry::PositiveDefinite, false).expect("MUMPS starts");
-    llt.analyse(N, &rows, &cols).expect("analysis");
-    llt.factorize(&vals).expect("factorization");
-    let mut x = tridiagonal_product(spd, &exact);
-    llt.solve(&mut x).expect("solve");
-    let error = relative_error(&x, &exact);
+    let entries = local_entries(rank, size, spd, true);
+    let vals = &entries.2;
+    let mut llt = factorized(Symmetry::PositiveDefinite, false, &entries);
+    let error = solve_error(&mut llt, spd, &exact);
     check(
         "positive definite LDLᵀ solves A x = b",
         error < 1e-12,

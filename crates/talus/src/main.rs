@@ -473,9 +473,11 @@ where
     Ok(ExitCode::SUCCESS)
 }
 
-/// `options` stopped after the step in progress by SIGINT/SIGTERM (`cli::interrupt`).
+/// `options` stopped after the step in progress by SIGINT/SIGTERM (`cli::interrupt`); under
+/// `mpirun` after the step in progress on every rank, once any rank has the signal (the
+/// ranks agree after each step: they reach the signal at different times).
 fn interruptible(options: RunOptions) -> RunOptions {
-    stop_when(options, interrupt::requested)
+    stop_when(options, || talus::ranks::any(interrupt::requested()))
 }
 
 /// The run's result; a failed run prints its error, then `summary.json` in words as its

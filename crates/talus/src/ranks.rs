@@ -3,6 +3,7 @@
 //! factorization is split between them (MUMPS). Rank 0 writes the outputs.
 //!
 //! Without the feature, or outside `mpirun`, there is one rank.
+use std::fmt::Display;
 use std::sync::OnceLock;
 
 /// This process' rank and the number of ranks.
@@ -41,6 +42,40 @@ pub fn launched_by_mpi() -> bool {
         .any(|v| std::env::var_os(v).is_some())
 }
 
+/// A failure this rank may meet alone (a file it writes, a lock, a full disk): with more
+/// than one rank, prints it and stops every rank (`MPI_Abort`, exit code 5) at once,
+/// before this rank drops a MUMPS instance (whose end the others would never join).
+pub fn local_failure(e: &dyn Display) {
+    let r = ranks();
+    if !r.distributed() {
+        return;
+    }
+    eprintln!("rank {}: error: {e}", r.rank);
+    #[cfg(feature = "mpi")]
+    {
+        use mpi::traits::Communicator;
+        mpi::topology::SimpleCommunicator::world().abort(5);
+    }
+}
+
+/// Whether `flag` is set on any rank (collective with more than one rank: every rank
+/// must call it at the same point, e.g. after each step, which they all take).
+pub fn any(flag: bool) -> bool {
+    #[cfg(feature = "mpi")]
+    if ranks().distributed() {
+        use mpi::collective::SystemOperation;
+        use mpi::traits::CommunicatorCollectives;
+        let mut any = 0u8;
+        mpi::topology::SimpleCommunicator::world().all_reduce_into(
+            &u8::from(flag),
+            &mut any,
+            SystemOperation::max(),
+        );
+        return any != 0;
+    }
+    flag
+}
+
 /// MPI, initialized when this process was started by an MPI launcher; finalized on drop,
 /// after every MUMPS instance is gone.
 #[cfg(feature = "mpi")]
@@ -75,6 +110,14 @@ pub fn init() -> Result<Mpi, String> {
     };
     let _ = RANKS.set(ranks);
     share_cores(ranks);
+    if ranks.distributed() {
+        // A panic (a bug) on one rank stops every rank instead of leaving them in MUMPS.
+        let report = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            report(info);
+            mpi::topology::SimpleCommunicator::world().abort(101);
+        }));
+    }
     Ok(Mpi(Some(universe)))
 }
 
@@ -85,17 +128,31 @@ fn share_cores(ranks: Ranks) {
     if std::env::var_os("RAYON_NUM_THREADS").is_some() || !ranks.distributed() {
         return;
     }
+    // Slurm writes `8(x2)`: the leading count.
+    let leading = |v: String| -> Option<usize> {
+        let digits: String = v.chars().take_while(char::is_ascii_digit).collect();
+        digits.parse().ok()
+    };
     let local = [
         "OMPI_COMM_WORLD_LOCAL_SIZE",
         "SLURM_NTASKS_PER_NODE",
         "MPI_LOCALNRANKS",
     ]
     .iter()
-    .find_map(|v| std::env::var(v).ok()?.parse::<usize>().ok())
+    .find_map(|v| leading(std::env::var(v).ok()?))
     .unwrap_or(ranks.size)
     .max(1);
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let threads = (cores / local).max(1);
+    // A rank bound to some cores (mpirun's default for 2 ranks, `srun --cpus-per-task`)
+    // sees only those: they are its own. Unbound, it sees the machine's, shared.
+    let visible = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let machine = std::fs::read_to_string("/proc/cpuinfo")
+        .map(|s| s.lines().filter(|l| l.starts_with("processor")).count())
+        .unwrap_or(visible);
+    let threads = if visible < machine {
+        visible
+    } else {
+        (visible / local).max(1)
+    };
     if let Err(e) = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build_global()

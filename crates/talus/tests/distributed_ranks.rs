@@ -10,6 +10,7 @@
 
 mod common;
 
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -18,9 +19,9 @@ use common::{history_column, replaced, target_tmp_dir, FOOTING};
 
 const MPIRUN_FLAGS: &[&str] = &["--allow-run-as-root", "--oversubscribe"];
 
-/// `talus run scene --out out` on `ranks` ranks (`None`: without `mpirun`), killed after
-/// `limit`: a rank left waiting would otherwise hang the test.
-fn run(ranks: Option<usize>, scene: &Path, out: &Path, limit: Duration) -> Output {
+/// `talus ARGS` on `ranks` ranks (`None`: without `mpirun`), killed after `limit`: a rank
+/// left waiting would otherwise hang the test.
+fn talus(ranks: Option<usize>, args: &[&OsStr], limit: Duration) -> Output {
     let talus = env!("CARGO_BIN_EXE_talus");
     let mut command = match ranks {
         Some(n) => {
@@ -30,29 +31,24 @@ fn run(ranks: Option<usize>, scene: &Path, out: &Path, limit: Duration) -> Outpu
         }
         None => Command::new(talus),
     };
-    let _ = std::fs::remove_dir_all(out);
+    // MUMPS' statistics at `info`: the runs on several ranks show that MUMPS factorized.
     let mut child = command
-        .arg("run")
-        .arg(scene)
-        .arg("--out")
-        .arg(out)
-        .env("TALUS_LOG", "warn")
+        .args(args)
+        .env(
+            "TALUS_LOG",
+            "warn,talus_ssn::newton::distributed_factor=info",
+        )
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .expect("mpirun and talus start");
     let start = Instant::now();
-    while child
-        .try_wait()
-        .expect("the run can be waited for")
-        .is_none()
-    {
+    while child.try_wait().expect("waitable").is_none() {
         if start.elapsed() > limit {
             let _ = child.kill();
             let output = child.wait_with_output().expect("killed run's output");
             panic!(
-                "{} still running after {limit:?}: {}",
-                scene.display(),
+                "talus {args:?} still running after {limit:?}: {}",
                 String::from_utf8_lossy(&output.stderr)
             );
         }
@@ -61,11 +57,34 @@ fn run(ranks: Option<usize>, scene: &Path, out: &Path, limit: Duration) -> Outpu
     child.wait_with_output().expect("the run's output")
 }
 
+/// `talus run scene --out out` on `ranks` ranks, into a new `out`.
+fn run(ranks: Option<usize>, scene: &Path, out: &Path, limit: Duration) -> Output {
+    let _ = std::fs::remove_dir_all(out);
+    let args = [
+        "run".as_ref(),
+        scene.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ];
+    talus(ranks, &args, limit)
+}
+
 fn succeeded(output: Output, what: &str) -> Output {
     assert!(
         output.status.success(),
         "{what}: {}",
         String::from_utf8_lossy(&output.stderr)
+    );
+    output
+}
+
+/// `output` of a run on two ranks that factorized with MUMPS over both.
+fn by_mumps_on_two_ranks(output: Output, what: &str) -> Output {
+    let output = succeeded(output, what);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("MUMPS factorization ranks=2"),
+        "{what}: no MUMPS factorization over 2 ranks logged: {stderr}"
     );
     output
 }
@@ -113,7 +132,7 @@ fn paper_footing_on_two_ranks_matches_one_rank() {
     let one = dir.join("one");
     succeeded(run(None, &scene, &one, limit), "one rank");
     let two = dir.join("two");
-    let output = succeeded(run(Some(2), &scene, &two, limit), "two ranks");
+    let output = by_mumps_on_two_ranks(run(Some(2), &scene, &two, limit), "two ranks");
     // Rank 0 alone reports: the run's line once.
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert_eq!(stdout.matches("80 steps in").count(), 1, "{stdout}");
@@ -133,7 +152,7 @@ fn paper_footing_on_two_ranks_matches_one_rank() {
     // messages arrive, so the bits may differ (docs/distributed.md, 'Reproducibility');
     // the histories agree as closely as with one rank.
     let again = dir.join("again");
-    succeeded(run(Some(2), &scene, &again, limit), "two ranks again");
+    by_mumps_on_two_ranks(run(Some(2), &scene, &again, limit), "two ranks again");
     for column in ["reaction_force", "footing_fy"] {
         let d = column_difference(&two, &again, column);
         assert!(
@@ -143,52 +162,30 @@ fn paper_footing_on_two_ranks_matches_one_rank() {
     }
 }
 
-/// `mpirun -np 2 talus resume out`, killed after `limit`.
-fn resume(out: &Path, limit: Duration) -> Output {
-    let mut child = Command::new("mpirun")
-        .args(MPIRUN_FLAGS)
-        .args(["-np", "2", env!("CARGO_BIN_EXE_talus"), "resume"])
-        .arg(out)
-        .env("TALUS_LOG", "warn")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("mpirun starts");
-    let start = Instant::now();
-    while child.try_wait().expect("waitable").is_none() {
-        if start.elapsed() > limit {
-            let _ = child.kill();
-            panic!("resume still running after {limit:?}");
-        }
-        std::thread::sleep(Duration::from_millis(100));
-    }
-    child.wait_with_output().expect("the resume's output")
-}
-
 #[test]
 fn a_two_rank_run_resumes_from_its_checkpoint_on_two_ranks() {
     let (scene, dir) = scene_file("resume", &footing_scene());
     let limit = Duration::from_secs(300);
     let whole = dir.join("whole");
-    succeeded(run(Some(2), &scene, &whole, limit), "two ranks");
+    by_mumps_on_two_ranks(run(Some(2), &scene, &whole, limit), "two ranks");
     // The same run with a checkpoint every 30 steps: its last at step 60, from which
     // the resume runs steps 61 to 80 again.
     let resumed = dir.join("resumed");
-    let mut command = Command::new("mpirun");
-    let output = command
-        .args(MPIRUN_FLAGS)
-        .args(["-np", "2", env!("CARGO_BIN_EXE_talus"), "run"])
-        .arg(&scene)
-        .args(["--checkpoint-every", "30", "--out"])
-        .arg(&resumed)
-        .env("TALUS_LOG", "warn")
-        .output()
-        .expect("mpirun starts");
-    succeeded(output, "two ranks with checkpoints");
+    let _ = std::fs::remove_dir_all(&resumed);
+    let args = [
+        "run".as_ref(),
+        scene.as_os_str(),
+        "--checkpoint-every".as_ref(),
+        "30".as_ref(),
+        "--out".as_ref(),
+        resumed.as_os_str(),
+    ];
+    succeeded(talus(Some(2), &args, limit), "two ranks with checkpoints");
     let checkpoint = std::fs::read_to_string(resumed.join("checkpoint/last.checkpoint"))
         .expect("rank 0 wrote the checkpoint");
     assert!(checkpoint.starts_with("talus-checkpoint") && checkpoint.contains(" step=60 "));
-    let output = succeeded(resume(&resumed, limit), "resume on two ranks");
+    let args = ["resume".as_ref(), resumed.as_os_str()];
+    let output = by_mumps_on_two_ranks(talus(Some(2), &args, limit), "resume on two ranks");
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(
         stderr.matches("resuming").count(),
@@ -216,7 +213,7 @@ fn column_collapse_on_two_ranks_matches_one_rank() {
     let one = dir.join("one");
     succeeded(run(None, &scene, &one, limit), "one rank");
     let two = dir.join("two");
-    succeeded(run(Some(2), &scene, &two, limit), "two ranks");
+    by_mumps_on_two_ranks(run(Some(2), &scene, &two, limit), "two ranks");
     for column in ["time", "front", "runout_normalized", "kinetic_energy"] {
         let d = column_difference(&one, &two, column);
         assert!(
@@ -255,7 +252,7 @@ fn slope_3d_factor_of_safety_on_two_ranks_matches_one_rank() {
     let one = dir.join("one");
     succeeded(run(None, &scene, &one, limit), "one rank");
     let two = dir.join("two");
-    succeeded(run(Some(2), &scene, &two, limit), "two ranks");
+    by_mumps_on_two_ranks(run(Some(2), &scene, &two, limit), "two ranks");
     let (f1, stable1, fails1) = factor_of_safety(&one);
     let (f2, stable2, fails2) = factor_of_safety(&two);
     assert!(

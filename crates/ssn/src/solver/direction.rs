@@ -44,6 +44,13 @@ impl<const D: usize> Solver<D> {
                 report.krylov_iterations += counts.krylov_iterations;
                 report.krylov_failures += counts.krylov_failures;
             }
+            // Under MPI every rank would factorize the whole stress-sized system: a singular
+            // local block or a failed MUMPS factorization (alike on every rank) halves the
+            // step instead (docs/distributed.md, 'When a rank fails').
+            if used.is_none() && self.settings.linear_solver == LinearSolver::Distributed {
+                tracing::warn!("no distributed Schur direction: the step is refused");
+                return Err(Status::SingularJacobian);
+            }
             // The stress-sized system: by GMRES on its last factorization, or factorized.
             let mut stress_reused = false;
             if used.is_none() {

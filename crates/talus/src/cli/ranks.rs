@@ -3,11 +3,13 @@
 //! and keep their errors unless rank 0 did not fail too.
 use std::fmt::Display;
 use std::path::PathBuf;
+#[cfg(feature = "mpi")]
 use std::process::ExitCode;
 use std::sync::Mutex;
 
 use talus::ranks::ranks;
 
+#[cfg(feature = "mpi")]
 use super::exit::Exit;
 
 /// A non-root rank's last error, printed only if that rank fails alone.

@@ -30,7 +30,7 @@ pub enum RunError {
         source: std::io::Error,
     },
     #[error(transparent)]
-    Output(#[from] OutputError),
+    Output(OutputError),
     /// The run stopped at `step`; what was written before it is kept.
     #[error("step {step}: {source}")]
     Step { step: usize, source: FemStepError },
@@ -52,7 +52,24 @@ pub enum RunError {
     },
     /// A checkpoint could not be written, or not resumed.
     #[error(transparent)]
-    Checkpoint(#[from] CheckpointError),
+    Checkpoint(CheckpointError),
+}
+
+// Output and checkpoint failures are this rank's alone under `mpirun` (rank 0 writes the
+// folder): `ranks::local_failure` stops every rank before this one drops its MUMPS
+// instance, whose end is collective (docs/distributed.md, 'When a rank fails').
+impl From<OutputError> for RunError {
+    fn from(e: OutputError) -> Self {
+        crate::ranks::local_failure(&e);
+        RunError::Output(e)
+    }
+}
+
+impl From<CheckpointError> for RunError {
+    fn from(e: CheckpointError) -> Self {
+        crate::ranks::local_failure(&e);
+        RunError::Checkpoint(e)
+    }
 }
 
 /// How a run is carried out. New fields come with defaults: build it with
@@ -106,9 +123,13 @@ impl RunOptions {
 }
 
 pub(crate) fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
-    move |source| RunError::Io {
-        path: path.to_path_buf(),
-        source,
+    move |source| {
+        let e = RunError::Io {
+            path: path.to_path_buf(),
+            source,
+        };
+        crate::ranks::local_failure(&e);
+        e
     }
 }
 

@@ -66,6 +66,10 @@ impl<S> Begin<S> {
     /// How often the run checkpoints: the resumed run's plan, or `options.checkpoint_every`
     /// with the scene at `path` whose text is `source`.
     fn plan(&self, path: Option<&Path>, source: &str, options: &RunOptions) -> Option<Plan> {
+        // Under `mpirun` rank 0 alone checkpoints; the others resume from its checkpoint.
+        if !crate::ranks::ranks().is_root() {
+            return None;
+        }
         match self {
             Self::Resumed(c) => Some(Plan {
                 every: c.every,

@@ -180,6 +180,16 @@ pub fn solver(scene: &impl Locate, sv: &SolverSpec) -> Result<(), SceneError> {
              it with `cargo build --release -p talus --features mpi` (docs/distributed.md)",
         ));
     }
+    if sv.linear_solver == LinearSolverKind::Mumps
+        && cfg!(feature = "mpi")
+        && !crate::ranks::launched_by_mpi()
+    {
+        return Err(scene.error(
+            "solver.linear_solver",
+            "\"mumps\" runs under mpirun: `mpirun -np N talus run …` (N = 1 included, \
+             docs/distributed.md)",
+        ));
+    }
     if sv.ordering.ordering().is_none() {
         return Err(scene.error(
             "solver.ordering",
