@@ -106,6 +106,17 @@ fn column_difference(a: &Path, b: &Path, name: &str) -> f64 {
         / scale
 }
 
+/// Every one of `columns` agrees between the runs in `a` and `b` to 1e-10 of its scale.
+fn assert_columns_agree(a: &Path, b: &Path, columns: &[&str], what: &str) {
+    for column in columns {
+        let d = column_difference(a, b, column);
+        assert!(
+            d <= 1e-10,
+            "{column}: {what} differ by {d:.2e} of its scale"
+        );
+    }
+}
+
 fn scene_file(test: &str, text: &str) -> (PathBuf, PathBuf) {
     let dir = target_tmp_dir("distributed_ranks", test);
     let scene = dir.join("scene.toml");
@@ -136,30 +147,28 @@ fn paper_footing_on_two_ranks_matches_one_rank() {
     // Rank 0 alone reports: the run's line once.
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert_eq!(stdout.matches("80 steps in").count(), 1, "{stdout}");
-    for column in [
-        "time",
-        "reaction_force",
-        "footing_displacement",
-        "footing_fy",
-    ] {
-        let d = column_difference(&one, &two, column);
-        assert!(
-            d <= 1e-10,
-            "{column}: one and two ranks differ by {d:.2e} of its scale"
-        );
-    }
+    assert_columns_agree(
+        &one,
+        &two,
+        &[
+            "time",
+            "reaction_force",
+            "footing_displacement",
+            "footing_fy",
+        ],
+        "one and two ranks",
+    );
     // A second two-rank run. MUMPS assembles the fronts' contributions in the order its
     // messages arrive, so the bits may differ (docs/distributed.md, 'Reproducibility');
     // the histories agree as closely as with one rank.
     let again = dir.join("again");
     by_mumps_on_two_ranks(run(Some(2), &scene, &again, limit), "two ranks again");
-    for column in ["reaction_force", "footing_fy"] {
-        let d = column_difference(&two, &again, column);
-        assert!(
-            d <= 1e-10,
-            "{column}: two two-rank runs differ by {d:.2e} of its scale"
-        );
-    }
+    assert_columns_agree(
+        &two,
+        &again,
+        &["reaction_force", "footing_fy"],
+        "two two-rank runs",
+    );
 }
 
 #[test]
@@ -192,13 +201,12 @@ fn a_two_rank_run_resumes_from_its_checkpoint_on_two_ranks() {
         1,
         "rank 0 alone says so: {stderr}"
     );
-    for column in ["time", "reaction_force", "footing_fy"] {
-        let d = column_difference(&whole, &resumed, column);
-        assert!(
-            d <= 1e-10,
-            "{column}: resumed and whole runs differ by {d:.2e} of its scale"
-        );
-    }
+    assert_columns_agree(
+        &whole,
+        &resumed,
+        &["time", "reaction_force", "footing_fy"],
+        "resumed and whole runs",
+    );
 }
 
 #[test]
@@ -214,13 +222,12 @@ fn column_collapse_on_two_ranks_matches_one_rank() {
     succeeded(run(None, &scene, &one, limit), "one rank");
     let two = dir.join("two");
     by_mumps_on_two_ranks(run(Some(2), &scene, &two, limit), "two ranks");
-    for column in ["time", "front", "runout_normalized", "kinetic_energy"] {
-        let d = column_difference(&one, &two, column);
-        assert!(
-            d <= 1e-10,
-            "{column}: one and two ranks differ by {d:.2e} of its scale"
-        );
-    }
+    assert_columns_agree(
+        &one,
+        &two,
+        &["time", "front", "runout_normalized", "kinetic_energy"],
+        "one and two ranks",
+    );
 }
 
 /// The factor of safety and its bracket from `summary.json`.

@@ -23,7 +23,8 @@ pub(crate) struct SchurSystem<const D: usize> {
     /// The contributions of `new`'s enumeration (masses, then each point group's
     /// `h² Σᵢ Bᵢᵀ Cᵢ Bᵢ` entries) that sum into each CSC value, in enumeration order
     /// (CSR-like: `gather[p]` for value `p`). Each value is summed by one thread in that
-    /// fixed order: the matrix is the same whatever the thread count.
+    /// fixed order: the matrix is the same whatever the thread count. Empty, as
+    /// `csc_values`, when `owned` assembles this rank's share only.
     gather_ptr: Vec<usize>,
     gather: Vec<u32>,
     /// Points sharing their dofs (`schur_pattern::point_groups`).
@@ -100,18 +101,23 @@ impl<const D: usize> SchurSystem<D> {
         let count = u32::try_from(positions.len())
             .map_err(|_| format!("{} Schur contributions exceed u32", positions.len()))?;
         // Counting sort of the contributions by destination, stable: enumeration order kept.
-        let mut gather_ptr = vec![0usize; row_idx.len() + 1];
-        for &p in &positions {
-            gather_ptr[p + 1] += 1;
-        }
-        for p in 0..row_idx.len() {
-            gather_ptr[p + 1] += gather_ptr[p];
-        }
-        let mut next = gather_ptr.clone();
-        let mut gather = vec![0u32; positions.len()];
-        for (k, &p) in (0..count).zip(&positions) {
-            gather[next[p]] = k;
-            next[p] += 1;
+        // Not on a rank of a distributed factorization: it sums only its own entries
+        // (`OwnedAssembly`), never the whole `K`.
+        let (mut gather_ptr, mut gather) = (Vec::new(), Vec::new());
+        if !distributed {
+            gather_ptr = vec![0usize; row_idx.len() + 1];
+            for &p in &positions {
+                gather_ptr[p + 1] += 1;
+            }
+            for p in 0..row_idx.len() {
+                gather_ptr[p + 1] += gather_ptr[p];
+            }
+            let mut next = gather_ptr.clone();
+            gather = vec![0u32; positions.len()];
+            for (k, &p) in (0..count).zip(&positions) {
+                gather[next[p]] = k;
+                next[p] += 1;
+            }
         }
         let n_groups = group_ptr.len().saturating_sub(1);
         let mut group_entries = Vec::with_capacity(n_groups + 1);
