@@ -1,5 +1,5 @@
 //! `cargo xtask test`: every test of the repository, in the order a failure is cheapest to
-//! read: the crates' tests (release), the distributed tests under `mpirun` when MUMPS and
+//! read: the crates' tests (release), talus-ssn's with METIS, the distributed tests under `mpirun` when MUMPS and
 //! OpenMPI are installed (`docs/distributed.md`), the verification suite, then the Python
 //! package's tests in a virtual environment under `target/python-venv`
 //! (`python/README.md`).
@@ -20,6 +20,14 @@ pub(crate) fn run(root: &Path, python: bool) -> Result<bool, String> {
             "--exclude",
             "talus-mumps",
         ],
+    )?;
+    // METIS (built from source by `cc`): the nested-dissection ordering and the ranks'
+    // partition of `K` (`docs/distributed.md`).
+    ok &= stage(
+        root,
+        "metis",
+        "cargo",
+        &["test", "--release", "-p", "talus-ssn", "--features", "metis"],
     )?;
     ok &= distributed_tests(root)?;
     ok &= crate::verify::run(root, false)?;

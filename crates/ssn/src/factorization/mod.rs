@@ -30,6 +30,8 @@
 mod cholesky;
 mod dense_llt;
 mod dense_lu;
+#[cfg(feature = "metis")]
+pub(crate) mod metis_graph;
 mod ordering;
 mod real;
 mod subtrees;

@@ -63,85 +63,13 @@ pub(crate) fn symbolic_cholesky(
 pub fn nested_dissection(
     pattern: SymbolicSparseColMatRef<'_, usize>,
 ) -> Result<(Vec<usize>, Vec<usize>), SymbolicError> {
-    use metis_sys::{idx_t, METIS_NodeND, METIS_SetDefaultOptions, METIS_NOPTIONS};
+    use metis_sys::idx_t;
     let n = pattern.nrows();
-    if pattern.ncols() != n {
-        return Err(SymbolicError::new(format!(
-            "nested dissection of a {}×{} pattern",
-            n,
-            pattern.ncols()
-        )));
-    }
+    let mut graph = super::metis_graph::MetisGraph::of_pattern(pattern)?;
     if n == 0 {
         return Ok((Vec::new(), Vec::new()));
     }
-    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
-    // Both directions of every off-diagonal entry, then each list sorted and deduplicated:
-    // METIS wants a symmetric graph without self loops or repeated edges.
-    let mut degree = vec![0usize; n + 1];
-    for j in 0..n {
-        for &i in &ri[cp[j]..cp[j + 1]] {
-            if i != j {
-                degree[i + 1] += 1;
-                degree[j + 1] += 1;
-            }
-        }
-    }
-    for j in 0..n {
-        degree[j + 1] += degree[j];
-    }
-    let mut next = degree.clone();
-    let mut adjacency = vec![0usize; degree[n]];
-    for j in 0..n {
-        for &i in &ri[cp[j]..cp[j + 1]] {
-            if i != j {
-                adjacency[next[i]] = j;
-                next[i] += 1;
-                adjacency[next[j]] = i;
-                next[j] += 1;
-            }
-        }
-    }
-    drop(next);
-    let too_large = |what: &str| SymbolicError::new(format!("{what} exceeds METIS' indices"));
-    let mut xadj: Vec<idx_t> = Vec::with_capacity(n + 1);
-    let mut adjncy: Vec<idx_t> = Vec::with_capacity(adjacency.len());
-    xadj.push(0);
-    for j in 0..n {
-        let list = &mut adjacency[degree[j]..degree[j + 1]];
-        list.sort_unstable();
-        let mut last = usize::MAX;
-        for &i in list.iter() {
-            if i != last {
-                adjncy.push(idx_t::try_from(i).map_err(|_| too_large("a vertex"))?);
-                last = i;
-            }
-        }
-        xadj.push(idx_t::try_from(adjncy.len()).map_err(|_| too_large("the edge count"))?);
-    }
-    drop((adjacency, degree));
-    let mut options = [0 as idx_t; METIS_NOPTIONS as usize];
-    let mut nvtxs = idx_t::try_from(n).map_err(|_| too_large("the order"))?;
-    let (mut perm, mut iperm) = (vec![0 as idx_t; n], vec![0 as idx_t; n]);
-    // SAFETY: xadj (n + 1 entries) and adjncy (xadj[n]) describe a symmetric graph without
-    // self loops or repeated edges; perm and iperm have n entries; no vertex weights.
-    let status = unsafe {
-        METIS_SetDefaultOptions(options.as_mut_ptr());
-        METIS_NodeND(
-            &mut nvtxs,
-            xadj.as_mut_ptr(),
-            adjncy.as_mut_ptr(),
-            std::ptr::null_mut(),
-            options.as_mut_ptr(),
-            perm.as_mut_ptr(),
-            iperm.as_mut_ptr(),
-        )
-    };
-    if status != metis_sys::rstatus_et_METIS_OK {
-        return Err(SymbolicError::new(format!(
-            "METIS_NodeND returned {status}"
-        )));
-    }
+    let (perm, iperm) = graph.nested_dissection()?;
     // METIS: row i of the permuted matrix is row perm[i] of the input.
     let to_usize = |v: Vec<idx_t>| -> Result<Vec<usize>, SymbolicError> {
         v.into_iter()

@@ -5,6 +5,7 @@ mod dense;
 #[cfg(feature = "mpi")]
 mod distributed_factor;
 mod owned_assembly;
+mod partition;
 pub(crate) mod schur;
 mod schur_factor;
 mod schur_pattern;

@@ -1,19 +1,13 @@
 //! This rank's share of `K`'s assembly when MUMPS factorizes it over the MPI ranks
-//! (`docs/distributed.md`, 'What runs where'): one contiguous range of point groups, about
-//! 1/N of `h² Σᵢ Bᵢᵀ Cᵢ Bᵢ`'s contributions, and on rank 0 the masses. The rank hands
-//! MUMPS only the entries these touch (distributed assembled input); MUMPS sums the ones
-//! two ranks share.
-use std::ops::Range;
+//! (`docs/distributed.md`, 'What runs where'): the point groups METIS' partition gives it
+//! (`partition.rs`) and, on rank 0, the masses. The rank hands MUMPS only the entries
+//! these touch (distributed assembled input); MUMPS sums the ones two ranks share.
 
 /// The entries of `K` one rank assembles, each summed from its own contributions in
 /// `SchurSystem::new`'s enumeration order.
 pub(crate) struct OwnedAssembly {
-    /// Point groups whose contributions this rank computes.
-    pub(crate) groups: Range<usize>,
-    /// Contribution indices (masses first, then groups) this rank computes (read by the
-    /// tests: every contribution is one rank's).
-    #[cfg_attr(not(test), allow(dead_code))]
-    pub(crate) contributions: Range<usize>,
+    /// Point groups whose contributions this rank computes, ascending.
+    pub(crate) groups: Vec<usize>,
     /// Row and column of each entry (0-based), ascending CSC positions.
     pub(crate) rows: Vec<usize>,
     pub(crate) cols: Vec<usize>,
@@ -24,38 +18,28 @@ pub(crate) struct OwnedAssembly {
 }
 
 impl OwnedAssembly {
-    /// Rank `rank` of `size`: groups split into contiguous ranges of about equal numbers
-    /// of contributions (`group_entries[g]`: the first contribution of group g, masses
-    /// before it). `positions[k]`: the CSC position of contribution k; `col_ptr`,
-    /// `row_idx`: K's pattern.
+    /// Rank `rank`'s share: the groups `g` with `owners[g] == rank` (`group_entries[g]`:
+    /// the first contribution of group g, masses before it), the masses on rank 0.
+    /// `positions[k]`: the CSC position of contribution k; `col_ptr`, `row_idx`: K's
+    /// pattern.
     pub(crate) fn new(
         rank: usize,
-        size: usize,
+        owners: &[usize],
         group_entries: &[usize],
         positions: &[usize],
         col_ptr: &[usize],
         row_idx: &[usize],
     ) -> Self {
-        let n_groups = group_entries.len() - 1;
-        let masses = group_entries[0];
-        let total = group_entries[n_groups] - masses;
-        // The first group whose contributions start at or after r/size of the total.
-        let boundary = |r: usize| {
-            let target = masses + total * r / size;
-            group_entries[..n_groups].partition_point(|&e| e < target)
-        };
-        let groups = boundary(rank)..boundary(rank + 1);
-        let first = if rank == 0 {
-            0
-        } else {
-            group_entries[groups.start]
-        };
-        let contributions = first..group_entries[groups.end];
+        let groups: Vec<usize> = (0..owners.len()).filter(|&g| owners[g] == rank).collect();
+        let masses = if rank == 0 { 0..group_entries[0] } else { 0..0 };
+        let contributions = masses.chain(
+            groups
+                .iter()
+                .flat_map(|&g| group_entries[g]..group_entries[g + 1]),
+        );
         // Entries in ascending CSC position; each one's contributions in order.
-        let mut by_position: Vec<(usize, u32)> = contributions
-            .clone()
-            .map(|k| (positions[k], k as u32))
-            .collect();
+        let mut by_position: Vec<(usize, u32)> =
+            contributions.map(|k| (positions[k], k as u32)).collect();
         by_position.sort_unstable();
         let mut gather_ptr = vec![0];
         let mut gather = Vec::with_capacity(by_position.len());
@@ -74,7 +58,6 @@ impl OwnedAssembly {
         let values = vec![0.0; rows.len()];
         Self {
             groups,
-            contributions,
             rows,
             cols,
             gather_ptr,
@@ -99,8 +82,9 @@ impl OwnedAssembly {
 mod tests {
     use super::*;
 
-    /// Three groups over a 3 × 3 pattern, split over 1, 2 and 3 ranks: the ranks' entries
-    /// summed together are the whole matrix, and every contribution is some rank's once.
+    /// Three groups over a 3 × 3 pattern, split over 1, 2 and 3 ranks (every assignment of
+    /// the groups to them): the ranks' entries summed together are the whole matrix, every
+    /// contribution some rank's once.
     #[test]
     fn the_ranks_shares_add_up_to_the_whole_matrix() {
         // Dense 3 × 3 CSC pattern; 3 masses on the diagonal, then groups of 4, 2 and 3
@@ -114,22 +98,31 @@ mod tests {
         for (k, &p) in positions.iter().enumerate() {
             whole[p] += contributions[k];
         }
-        for size in 1..=3 {
-            let mut summed = [0.0; 9];
-            let mut seen = vec![0; 12];
-            for rank in 0..size {
-                let mut own =
-                    OwnedAssembly::new(rank, size, &group_entries, &positions, &col_ptr, &row_idx);
-                for k in own.contributions.clone() {
-                    seen[k] += 1;
+        for size in 1..=3usize {
+            for code in 0..size.pow(3) {
+                let owners: Vec<usize> = (0..3).map(|g| code / size.pow(g) % size).collect();
+                let mut summed = [0.0; 9];
+                let mut seen = vec![0; 12];
+                for rank in 0..size {
+                    let mut own = OwnedAssembly::new(
+                        rank,
+                        &owners,
+                        &group_entries,
+                        &positions,
+                        &col_ptr,
+                        &row_idx,
+                    );
+                    for k in own.gather.iter() {
+                        seen[*k as usize] += 1;
+                    }
+                    own.sum(&contributions);
+                    for (e, v) in own.values.iter().enumerate() {
+                        summed[3 * own.cols[e] + own.rows[e]] += v;
+                    }
                 }
-                own.sum(&contributions);
-                for (e, v) in own.values.iter().enumerate() {
-                    summed[3 * own.cols[e] + own.rows[e]] += v;
-                }
+                assert_eq!(seen, vec![1; 12], "{size} ranks, owners {owners:?}");
+                assert_eq!(summed, whole, "{size} ranks, owners {owners:?}");
             }
-            assert_eq!(seen, vec![1; 12], "{size} ranks");
-            assert_eq!(summed, whole, "{size} ranks");
         }
     }
 }

@@ -4,6 +4,7 @@ use rayon::prelude::*;
 use talus_bipotential::NaturalMapLinearization;
 
 use super::owned_assembly::OwnedAssembly;
+use super::partition::group_owners;
 use super::schur_factor::{Factorized, LuChoice, SchurFactor};
 use super::schur_pattern::{block_len, point_groups, schur_pattern, SchurPattern};
 use crate::factorization::Ordering;
@@ -129,13 +130,22 @@ impl<const D: usize> SchurSystem<D> {
         let nnz = row_idx.len();
         let (factorization, owned) = if distributed {
             let (rank, size) = SchurFactor::world()?;
+            let owners = group_owners(symbolic.as_ref(), blocks, &group_ptr, size)?;
             let owned = OwnedAssembly::new(
                 rank,
-                size,
+                &owners,
                 &group_entries,
                 &positions,
                 symbolic.col_ptr(),
                 row_idx,
+            );
+            tracing::debug!(
+                rank,
+                groups = owned.groups.len(),
+                of_groups = n_groups,
+                entries = owned.rows.len(),
+                of_entries = nnz,
+                "this rank's share of K's assembly"
             );
             let factor = SchurFactor::distributed(n_v, &owned.rows, &owned.cols, symmetric)?;
             (factor, Some(owned))
@@ -287,10 +297,10 @@ impl<const D: usize> SchurSystem<D> {
                 }
             }
             None if self.owned.is_some() => {
-                let groups = self.owned.as_ref().map_or(0..0, |o| o.groups.clone());
-                self.fill_contributions(structured, blocks, groups, parallel);
-                let owned = self.owned.as_mut().expect("checked by the guard");
+                let mut owned = self.owned.take().expect("checked by the guard");
+                self.fill_contributions(structured, blocks, Some(&owned.groups), parallel);
                 owned.sum(&self.contributions);
+                let owned = self.owned.insert(owned);
                 self.krylov.counts.factorizations += 1;
                 self.factorization
                     .solve_distributed(&owned.values, &mut self.rhs)
@@ -329,8 +339,7 @@ impl<const D: usize> SchurSystem<D> {
     /// `K`'s values (CSC) from this iteration's local `Cᵢ`: the contributions summed in a
     /// fixed order.
     fn assemble(&mut self, structured: &Structured<D>, blocks: &PointBlocks<D>, parallel: bool) {
-        let groups = 0..self.group_entries.len() - 1;
-        self.fill_contributions(structured, blocks, groups, parallel);
+        self.fill_contributions(structured, blocks, None, parallel);
         let (contributions, gather, gather_ptr) =
             (&self.contributions, &self.gather, &self.gather_ptr);
         let sum = |(p, out): (usize, &mut f64)| {
@@ -351,13 +360,14 @@ impl<const D: usize> SchurSystem<D> {
         }
     }
 
-    /// The masses and the contributions `h² Σᵢ Bᵢᵀ Cᵢ Bᵢ` of the point groups `groups`, in
-    /// `contributions` (the other groups' are left as they were).
+    /// The masses and the contributions `h² Σᵢ Bᵢᵀ Cᵢ Bᵢ` of the point groups `groups`
+    /// (ascending; `None`: all), in `contributions` (the other groups' are left as they
+    /// were).
     fn fill_contributions(
         &mut self,
         structured: &Structured<D>,
         blocks: &PointBlocks<D>,
-        groups: std::ops::Range<usize>,
+        groups: Option<&[usize]>,
         parallel: bool,
     ) {
         let h2 = structured.h * structured.h;
@@ -368,11 +378,17 @@ impl<const D: usize> SchurSystem<D> {
         let n_v = structured.lumped_mass.len();
         let (masses, mut rest) = self.contributions.split_at_mut(n_v);
         masses.copy_from_slice(&structured.lumped_mass);
-        let mut per_group = Vec::with_capacity(groups.len());
+        let n_groups = self.group_entries.len() - 1;
+        let mut per_group = Vec::with_capacity(groups.map_or(n_groups, <[usize]>::len));
+        let mut wanted = groups.map(|g| g.iter().peekable());
         for (g, w) in self.group_entries.windows(2).enumerate() {
             let (this, tail) = rest.split_at_mut(w[1] - w[0]);
-            if groups.contains(&g) {
-                per_group.push(this);
+            let take = match wanted.as_mut() {
+                None => true,
+                Some(list) => list.next_if_eq(&&g).is_some(),
+            };
+            if take {
+                per_group.push((g, this));
             }
             rest = tail;
         }
@@ -381,9 +397,8 @@ impl<const D: usize> SchurSystem<D> {
         // Each point adds h² Bᵢᵀ (Cᵢ Bᵢ) to its group's m × m block, row a of the block as
         // Σ_k h² B[k, a] · (C B)[k, :]: contiguous rows, so the inner loop vectorizes.
         // The symmetric case keeps only `dofs[a] ≥ dofs[b]`, packed from a scratch block.
-        let first = groups.start;
-        let fill = |scratch: &mut Vec<f64>, (g, out): (usize, &mut &mut [f64])| {
-            let g = first + g;
+        let fill = |scratch: &mut Vec<f64>, (g, out): &mut (usize, &mut [f64])| {
+            let g = *g;
             let m = blocks.point(group_ptr[g]).0.len();
             scratch.clear();
             scratch.resize(D * m + if symmetric { m * m } else { 0 }, 0.0);
@@ -414,15 +429,11 @@ impl<const D: usize> SchurSystem<D> {
         if parallel {
             per_group
                 .par_iter_mut()
-                .enumerate()
                 .with_min_len(64)
                 .for_each_init(Vec::new, fill);
         } else {
             let mut scratch = Vec::new();
-            per_group
-                .iter_mut()
-                .enumerate()
-                .for_each(|x| fill(&mut scratch, x));
+            per_group.iter_mut().for_each(|x| fill(&mut scratch, x));
         }
     }
 
