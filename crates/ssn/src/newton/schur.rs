@@ -130,7 +130,9 @@ impl<const D: usize> SchurSystem<D> {
         let nnz = row_idx.len();
         let (factorization, owned) = if distributed {
             let (rank, size) = SchurFactor::world()?;
+            let start = std::time::Instant::now();
             let owners = group_owners(symbolic.as_ref(), blocks, &group_ptr, size)?;
+            let partition_seconds = start.elapsed().as_secs_f64();
             let owned = OwnedAssembly::new(
                 rank,
                 &owners,
@@ -145,6 +147,7 @@ impl<const D: usize> SchurSystem<D> {
                 of_groups = n_groups,
                 entries = owned.rows.len(),
                 of_entries = nnz,
+                partition_seconds,
                 "this rank's share of K's assembly"
             );
             let factor = SchurFactor::distributed(n_v, &owned.rows, &owned.cols, symmetric)?;
