@@ -27,7 +27,14 @@ pub(crate) fn run(root: &Path, python: bool) -> Result<bool, String> {
         root,
         "metis",
         "cargo",
-        &["test", "--release", "-p", "talus-ssn", "--features", "metis"],
+        &[
+            "test",
+            "--release",
+            "-p",
+            "talus-ssn",
+            "--features",
+            "metis",
+        ],
     )?;
     ok &= distributed_tests(root)?;
     ok &= crate::verify::run(root, false)?;

@@ -1,9 +1,9 @@
 //! Seconds per Newton iteration and peak memory per rank of MUMPS' distributed
 //! factorization (`docs/distributed.md`) against Talus' own solver, in one run on one
 //! machine: the 3D slope's factor of safety (`scenes/slope_3d.toml`, 20k unknowns) and
-//! the first steps of the paper footing on an NX×NY mesh (`footing_NXxNY`: 104×48 is 9 984
-//! P2 triangles, 40k unknowns; 320×156, 99 840 and 400k, whose first step on one rank
-//! takes more than 10 minutes here), each by `talus run`:
+//! the first steps of the paper footing on an NX×NY mesh (`footing_NXxNY`, graded as
+//! `builtin_footing_with_cells`: 104×48 is 9 984 P2 triangles, 40k unknowns; 320×156,
+//! 99 840 and 400k), each by `talus run`:
 //!
 //! - `own`: one rank, the scene's own solver (the baseline of the ratios);
 //! - `mumps ×N`: `mpirun -np N`, every factorization by MUMPS over N ranks (`N = 1` is
@@ -22,6 +22,8 @@
 //! `cargo bench -p talus --features mpi --bench distributed` (needs `mpirun`).
 use std::path::{Path, PathBuf};
 use std::process::Command;
+
+use talus::scene::paper_grading;
 
 // `--bind-to none`: OpenMPI binds each of up to 2 ranks to one core, which would leave a
 // one-rank run one core for its threads.
@@ -63,8 +65,14 @@ fn scene_text(case: &str, steps: usize, mumps: bool) -> Result<String, String> {
             let (nx, ny) = footing["footing_".len()..]
                 .split_once('x')
                 .ok_or_else(|| format!("{case}: footing_NXxNY"))?;
+            let ny_cells: usize = ny.parse().map_err(|_| format!("{case}: footing_NXxNY"))?;
             let text = read("footing.toml")?
                 .replacen("cells = [32, 14]", &format!("cells = [{nx}, {ny}]"), 1)
+                .replacen(
+                    "ratio = [1.0, 1.1]",
+                    &format!("ratio = [1.0, {}]", paper_grading(ny_cells)),
+                    1,
+                )
                 .replacen("steps = 300", &format!("steps = {steps}"), 1)
                 .replacen("vtu_every = 30", "vtu_every = 0", 1)
                 .replacen("plots = true", "plots = false", 1);

@@ -157,6 +157,7 @@ fn run(
         Some(path) => SceneFile::from_path(&path)?,
         None => SceneFile::Fem(builtin_footing()),
     };
+    talus::ranks::set_root_folder(out.clone());
     let out = output_folder(out);
     // Before anything is allocated: the estimated memory and work (docs/scenes.md, 'Size').
     let estimate = match &scene {
@@ -187,10 +188,11 @@ fn run(
         Ok(lock) => lock,
         Err(e) => return Ok(refused(e)),
     };
-    // Rank 0 alone writes fields and checkpoints (another rank resumes from rank 0's).
+    // Rank 0 alone writes checkpoints (another rank resumes from rank 0's) and pictures;
+    // every rank its piece of the VTUs (`run/pieces.rs`).
     let options = interruptible(RunOptions {
         progress: reports(),
-        write_fields: reports(),
+        write_fields: true,
         checkpoint_every: if reports() { checkpoint_every } else { 0 },
         ..RunOptions::new(out.clone())
     });
@@ -211,6 +213,7 @@ fn refused(e: CheckpointError) -> ExitCode {
 /// `talus resume OUT`: the folder held, the checkpoint read, its scene checked and parsed,
 /// the run continued. Every refusal leaves the folder as it was.
 fn resume(out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    talus::ranks::set_root_folder(out.clone());
     // Another rank of `mpirun` resumes from copies in its scratch folder.
     let out = match cli::ranks::resume_folder(out) {
         Ok(out) => out,
@@ -254,7 +257,7 @@ fn resume(out: PathBuf) -> Result<ExitCode, Box<dyn std::error::Error>> {
     }
     let options = interruptible(RunOptions {
         progress: reports(),
-        write_fields: reports(),
+        write_fields: true,
         ..RunOptions::new(out.clone())
     });
     match scene {

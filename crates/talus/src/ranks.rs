@@ -29,6 +29,19 @@ impl Ranks {
 
 static RANKS: OnceLock<Ranks> = OnceLock::new();
 
+static ROOT_FOLDER: OnceLock<std::path::PathBuf> = OnceLock::new();
+
+/// Records rank 0's output folder on every rank (the `talus` binary, before a run): each
+/// rank writes its piece of the field snapshots there (`docs/distributed.md`, 'Outputs').
+pub fn set_root_folder(out: std::path::PathBuf) {
+    let _ = ROOT_FOLDER.set(out);
+}
+
+/// Rank 0's output folder, once [`set_root_folder`] recorded it.
+pub fn root_folder() -> Option<&'static std::path::Path> {
+    ROOT_FOLDER.get().map(|p| p.as_path())
+}
+
 /// The ranks [`init`] found, else one.
 pub fn ranks() -> Ranks {
     RANKS.get().copied().unwrap_or(Ranks::ONE)

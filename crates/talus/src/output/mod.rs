@@ -20,6 +20,7 @@ mod plot_curves;
 mod plot_field;
 mod plot_particles;
 mod pvd;
+mod pvtu;
 mod results;
 mod spacing;
 mod stage_summary;
@@ -32,7 +33,8 @@ pub use error::OutputError;
 pub use map_frame::ColourScale;
 pub use mesh::MeshView;
 pub use particles_vtu::{
-    write_particle_vtu, write_particle_vtu_with, ParticleExtras, ParticleSnapshot,
+    write_particle_vtu, write_particle_vtu_piece, write_particle_vtu_with, ParticleExtras,
+    ParticleSnapshot,
 };
 pub use plateau::{plateau, Plateau, PlateauCriterion};
 pub use plot_curves::{
@@ -42,6 +44,7 @@ pub use plot_curves::{
 pub use plot_field::{plot_field_map, plot_field_on_mesh, FieldMap};
 pub use plot_particles::{plot_particles, ParticlePlot};
 pub use pvd::write_pvd;
+pub use pvtu::{piece_range, write_pvtu};
 pub use results::{BadColumn, Results, ResultsProgress};
 pub use stage_summary::StageSummary;
 pub use summary::{
@@ -49,5 +52,6 @@ pub use summary::{
     RunStatus, Summary,
 };
 pub use vtu::{
-    pressure, principal_stresses, von_mises, write_vtu, write_vtu_with, FieldExtras, FieldSnapshot,
+    pressure, principal_stresses, von_mises, write_vtu, write_vtu_piece, write_vtu_with,
+    FieldExtras, FieldSnapshot,
 };

@@ -115,6 +115,45 @@ pub fn write_particle_vtu_with<const N: usize, const D: usize>(
     super::atomic::write(path, xml)
 }
 
+/// The piece of [`write_particle_vtu_with`]'s file holding the particles `particles` (a
+/// non-empty range; a piece of a `.pvtu`, [`super::write_pvtu`]); returns the XML written.
+/// Errors as [`write_particle_vtu_with`]'s, checked on all the particles, and a range
+/// past them or empty.
+pub fn write_particle_vtu_piece<const N: usize, const D: usize>(
+    path: &Path,
+    s: &ParticleSnapshot<N, D>,
+    extras: &ParticleExtras<N>,
+    particles: std::ops::Range<usize>,
+) -> Result<String, OutputError> {
+    s.validate()?;
+    let n = s.position.len();
+    extras.validate(n)?;
+    if particles.end > n || particles.start >= particles.end {
+        return Err(OutputError::invalid(
+            "particles",
+            format!("{particles:?} is not a non-empty range of the {n} particles"),
+        ));
+    }
+    let r = particles;
+    let piece = ParticleSnapshot {
+        time: s.time,
+        position: &s.position[r.clone()],
+        velocity: &s.velocity[r.clone()],
+        volume: &s.volume[r.clone()],
+        mass: &s.mass[r.clone()],
+        stress: &s.stress[r.clone()],
+        plastic_strain: &s.plastic_strain[r.clone()],
+    };
+    let piece_extras = ParticleExtras {
+        displacement: extras.displacement.map(|u| &u[r.clone()]),
+        material: extras.material.map(|m| &m[r.clone()]),
+    };
+    let derived = piece.validate()?;
+    let xml = particle_vtu_string(&piece, &piece_extras, &derived);
+    super::atomic::write(path, &xml)?;
+    Ok(xml)
+}
+
 fn particle_vtu_string<const N: usize, const D: usize>(
     s: &ParticleSnapshot<N, D>,
     extras: &ParticleExtras<N>,

@@ -44,8 +44,8 @@ pub fn write_pvd(path: &Path, entries: &[(f64, String)]) -> Result<(), OutputErr
     super::atomic::write(path, x)
 }
 
-/// File names go into an XML attribute.
-fn xml_escape(s: &str) -> String {
+/// File names go into an XML attribute (here and in `pvtu.rs`).
+pub(super) fn xml_escape(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     for c in s.chars() {
         match c {

@@ -229,6 +229,69 @@ pub fn write_vtu_with<const N: usize, const D: usize>(
     super::atomic::write(path, xml)
 }
 
+/// The piece of [`write_vtu_with`]'s file holding the elements `cells` (a range of
+/// `s.mesh.elements`) and the nodes they use, renumbered in their order (a piece of a
+/// `.pvtu`, [`super::write_pvtu`]); returns the XML written. Errors as
+/// [`write_vtu_with`]'s, checked on the whole snapshot, and a range past its elements.
+pub fn write_vtu_piece<const N: usize, const D: usize>(
+    path: &Path,
+    s: &FieldSnapshot<N, D>,
+    extras: &FieldExtras<D>,
+    cells: std::ops::Range<usize>,
+) -> Result<String, OutputError> {
+    s.validate()?;
+    let n_elements = s.mesh.elements.len();
+    extras.validate(n_elements)?;
+    if cells.end > n_elements || cells.start > cells.end {
+        return Err(OutputError::invalid(
+            "cells",
+            format!("{cells:?} is not a range of the {n_elements} elements"),
+        ));
+    }
+    // Old node → new (usize::MAX: not in the piece), in ascending old order.
+    let mut new_of = vec![usize::MAX; s.mesh.nodes.len()];
+    for e in &s.mesh.elements[cells.clone()] {
+        for &n in e {
+            new_of[n] = 0;
+        }
+    }
+    let mut kept = Vec::new();
+    for (old, new) in new_of.iter_mut().enumerate() {
+        if *new == 0 {
+            *new = kept.len();
+            kept.push(old);
+        }
+    }
+    let pick = |v: &[[f64; N]]| -> Vec<[f64; N]> { kept.iter().map(|&n| v[n]).collect() };
+    let (nodes, displacement, velocity) =
+        (pick(s.mesh.nodes), pick(s.displacement), pick(s.velocity));
+    let elements: Vec<Vec<usize>> = s.mesh.elements[cells.clone()]
+        .iter()
+        .map(|e| e.iter().map(|&n| new_of[n]).collect())
+        .collect();
+    let piece = FieldSnapshot {
+        mesh: MeshView {
+            nodes: &nodes,
+            elements: &elements,
+        },
+        time: s.time,
+        displacement: &displacement,
+        velocity: &velocity,
+        stress: &s.stress[cells.clone()],
+        plastic_strain: &s.plastic_strain[cells.clone()],
+        material: s.material.map(|m| &m[cells.clone()]),
+        pore_pressure: s.pore_pressure.map(|p| &p[cells.clone()]),
+    };
+    let piece_extras = FieldExtras {
+        strain: extras.strain.map(|e| &e[cells.clone()]),
+        plastic_strain_increment: extras.plastic_strain_increment.map(|e| &e[cells.clone()]),
+    };
+    let derived = piece.validate()?;
+    let xml = vtu_string(&piece, &piece_extras, &derived);
+    super::atomic::write(path, &xml)?;
+    Ok(xml)
+}
+
 fn vtu_string<const N: usize, const D: usize>(
     s: &FieldSnapshot<N, D>,
     extras: &FieldExtras<D>,

@@ -244,7 +244,15 @@ pub fn is_owned(sub: &str, name: &str) -> bool {
     let real = real_name(name);
     match sub {
         "" => owned_at_top(&real),
-        "vtu" => step_file(&real, ".vtu"),
+        "vtu" => step_file(&real, ".vtu") || step_file(&real, ".pvtu"),
+        // A snapshot's pieces under `mpirun` (`crate::run::pieces`), in `vtu/step_NNNNN/`.
+        piece_dir if piece_dir.starts_with("vtu/") => {
+            step_file(&piece_dir[4..], "")
+                && real
+                    .strip_prefix("piece_")
+                    .and_then(|n| n.strip_suffix(".vtu"))
+                    .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+        }
         "snapshots" => step_file(&real, ".png"),
         "checkpoint" => real == "last.checkpoint",
         _ => false,
@@ -258,7 +266,23 @@ pub fn clear_owned(out: &Path) -> Result<Vec<String>, CheckpointError> {
     let mut removed = Vec::new();
     // In words: the top's files by name, a subfolder's by name when few, else counted.
     let mut said = Vec::new();
-    for sub in ["", "vtu", "snapshots", "checkpoint"] {
+    // The snapshots' folders of pieces, `vtu/step_NNNNN` (before `vtu` itself).
+    let mut piece_dirs: Vec<String> = std::fs::read_dir(out.join("vtu"))
+        .map(|entries| {
+            entries
+                .flatten()
+                .filter(|e| e.file_type().is_ok_and(|t| t.is_dir()))
+                .filter_map(|e| e.file_name().to_str().map(|n| format!("vtu/{n}")))
+                .filter(|sub| step_file(&sub[4..], ""))
+                .collect()
+        })
+        .unwrap_or_default();
+    piece_dirs.sort();
+    let subs = piece_dirs
+        .iter()
+        .map(String::as_str)
+        .chain(["", "vtu", "snapshots", "checkpoint"]);
+    for sub in subs {
         let dir = if sub.is_empty() {
             out.to_path_buf()
         } else {
@@ -353,6 +377,12 @@ mod tests {
         assert!(!is_owned("vtu", "step_1.vtu"));
         assert!(!is_owned("vtu", "mine.vtu"));
         assert!(!is_owned("vtu", "step_0001a.vtu"));
+        assert!(is_owned("vtu", "step_00030.pvtu"));
+        assert!(is_owned("vtu/step_00030", "piece_12.vtu"));
+        assert!(is_owned("vtu/step_00030", ".piece_1.partial.vtu"));
+        assert!(!is_owned("vtu/step_00030", "piece_.vtu"));
+        assert!(!is_owned("vtu/step_00030", "notes.vtu"));
+        assert!(!is_owned("vtu/mine", "piece_1.vtu"));
         assert!(is_owned("snapshots", "step_00020.png"));
         assert!(!is_owned("snapshots", "step_00020.vtu"));
         assert!(is_owned("checkpoint", "last.checkpoint"));
@@ -364,12 +394,18 @@ mod tests {
     #[test]
     fn clearing_keeps_what_the_run_does_not_write() {
         let dir = temp("clear");
-        std::fs::create_dir_all(dir.join("vtu")).unwrap();
+        std::fs::create_dir_all(dir.join("vtu/step_00030")).unwrap();
+        std::fs::create_dir_all(dir.join("vtu/step_00060")).unwrap();
         std::fs::create_dir_all(dir.join("snapshots")).unwrap();
         for name in [
             "history.csv",
             "notes.txt",
             "vtu/step_00999.vtu",
+            "vtu/step_00030.pvtu",
+            "vtu/step_00030/piece_0.vtu",
+            "vtu/step_00030/piece_1.vtu",
+            "vtu/step_00060/piece_0.vtu",
+            "vtu/step_00060/mine.txt",
             "vtu/mine.vtu",
             "snapshots/step_00000.png",
         ] {
@@ -379,13 +415,19 @@ mod tests {
         assert_eq!(
             removed,
             [
+                "vtu/step_00030/piece_0.vtu",
+                "vtu/step_00030/piece_1.vtu",
+                "vtu/step_00060/piece_0.vtu",
                 "history.csv",
+                "vtu/step_00030.pvtu",
                 "vtu/step_00999.vtu",
                 "snapshots/step_00000.png"
             ]
         );
         assert!(dir.join("notes.txt").exists());
         assert!(dir.join("vtu/mine.vtu").exists());
+        assert!(!dir.join("vtu/step_00030").exists(), "emptied: removed");
+        assert!(dir.join("vtu/step_00060/mine.txt").exists());
         assert!(!dir.join("snapshots").exists(), "emptied: removed");
         std::fs::remove_dir_all(&dir).unwrap();
     }

@@ -5,6 +5,7 @@ pub mod checkpoint;
 pub mod fem;
 pub mod folder;
 pub mod mpm;
+mod pieces;
 mod steps;
 
 use std::io::IsTerminal;

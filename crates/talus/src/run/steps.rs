@@ -169,6 +169,9 @@ where
             // Stale files of an earlier run (VTUs of later steps, its checkpoint) would
             // not match the new ones.
             folder::clear_owned(out)?;
+            // Under `mpirun` no rank writes its piece of step 0's VTU into rank 0's folder
+            // before rank 0 has cleared it (every rank passes here: a collective).
+            crate::ranks::any(false);
             let mut history = History::create(history_path, &outputs.columns())?;
             let row = outputs.row(0, &state, None);
             history.row::<D::Stats>(0, stepper.discretization().time(&state), None, &row)?;

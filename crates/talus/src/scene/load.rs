@@ -30,9 +30,15 @@ pub fn builtin_footing_with_cells(cells: [usize; 2]) -> Scene {
     } = &mut scene.spec.mesh
     {
         *c = cells;
-        ratio[1] = 1.1f64.powf(14.0 / cells[1] as f64);
+        ratio[1] = paper_grading(cells[1]);
     }
     scene
+}
+
+/// The vertical `ratio` of the paper mesh's grading on `ny` cells: the 14 cells' total
+/// `1.1^13`, spread as `1.1^(14/ny)` per cell.
+pub fn paper_grading(ny: usize) -> f64 {
+    1.1f64.powf(14.0 / ny as f64)
 }
 
 /// A FEM scene in 2D or 3D (`V` its vectors): the errors and paths of both.

@@ -23,7 +23,8 @@ mod water;
 pub use error::SceneError;
 pub use file::SceneFile;
 pub use load::{
-    builtin_footing, builtin_footing_with_cells, Scene, Scene3, SceneOf, BUILTIN_FOOTING,
+    builtin_footing, builtin_footing_with_cells, paper_grading, Scene, Scene3, SceneOf,
+    BUILTIN_FOOTING,
 };
 pub use material::{Flow, MaterialModel, MaterialSpec, Materials, RegionSpec};
 pub use monitor::{

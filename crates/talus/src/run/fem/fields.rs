@@ -203,14 +203,16 @@ where
     Ok(element_tensor_means(model, &increments))
 }
 
-/// The VTU of `state` at `path`; with `start`, the state its step started from, it holds
-/// the step's `plastic_strain_increment`.
+/// The VTU of `state` at `path` (`piece`: of those elements only, returning its XML); with
+/// `start`, the state its step started from, it holds the step's
+/// `plastic_strain_increment`.
 pub(super) fn write_snapshot<const N: usize, const D: usize>(
     model: &Model<D>,
     state: &State<D>,
     start: Option<Start<N>>,
     path: &Path,
-) -> Result<(), RunError>
+    piece: Option<std::ops::Range<usize>>,
+) -> Result<Option<String>, RunError>
 where
     Mandel<D>: Dimension<Point = [f64; N]>,
 {
@@ -241,27 +243,30 @@ where
                 message: e.to_string(),
             })
         })?;
-    output::write_vtu_with(
-        path,
-        &FieldSnapshot {
-            mesh: MeshView {
-                nodes: model.mesh.node_positions(),
-                elements: model.mesh.elements(),
-            },
-            time: state.time,
-            displacement: &state.displacement,
-            velocity: &velocity,
-            stress: &stress,
-            plastic_strain: &plastic,
-            material: Some(&material),
-            pore_pressure: pore_pressure.as_deref(),
+    let snapshot = FieldSnapshot {
+        mesh: MeshView {
+            nodes: model.mesh.node_positions(),
+            elements: model.mesh.elements(),
         },
-        &FieldExtras {
-            strain: Some(&strain),
-            plastic_strain_increment: increment.as_deref(),
-        },
-    )?;
-    Ok(())
+        time: state.time,
+        displacement: &state.displacement,
+        velocity: &velocity,
+        stress: &stress,
+        plastic_strain: &plastic,
+        material: Some(&material),
+        pore_pressure: pore_pressure.as_deref(),
+    };
+    let extras = FieldExtras {
+        strain: Some(&strain),
+        plastic_strain_increment: increment.as_deref(),
+    };
+    Ok(match piece {
+        None => {
+            output::write_vtu_with(path, &snapshot, &extras)?;
+            None
+        }
+        Some(cells) => Some(output::write_vtu_piece(path, &snapshot, &extras, cells)?),
+    })
 }
 
 /// The VTUs of a FEM run, 2D or 3D: `vtu/step_NNNNN.vtu` at step 0, every `vtu_every`
@@ -342,17 +347,7 @@ impl<'a, const N: usize> Vtus<'a, N> {
     /// its last state, are removed.
     pub(super) fn restore(&mut self, pvd: Vec<(f64, String)>) -> Result<(), RunError> {
         self.pvd = pvd;
-        let listed = |n: usize| {
-            self.pvd
-                .iter()
-                .any(|(_, f)| *f == format!("vtu/step_{n:05}.vtu"))
-        };
-        crate::run::checkpoint::drop_numbered_files(
-            &self.out.join("vtu"),
-            "step_",
-            ".vtu",
-            listed,
-        )?;
+        crate::run::pieces::drop_unlisted(self.out, &self.pvd)?;
         if self.write_fields && !self.pvd.is_empty() {
             output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
         }
@@ -369,12 +364,12 @@ impl<'a, const N: usize> Vtus<'a, N> {
     where
         Mandel<D>: Dimension<Point = [f64; N]>,
     {
-        let dir = self.out.join("vtu");
-        std::fs::create_dir_all(&dir).map_err(crate::run::io_err(&dir))?;
-        let name = format!("step_{step:05}.vtu");
         let start = self.last_steps.start_of(step, state);
-        write_snapshot(model, state, start, &dir.join(&name))?;
-        self.pvd.push((state.time, format!("vtu/{name}")));
+        let n = model.mesh.elements().len();
+        let file = crate::run::pieces::write_snapshot(self.out, step, n, |path, piece| {
+            write_snapshot(model, state, start, path, piece)
+        })?;
+        self.pvd.push((state.time, file));
         output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
         Ok(())
     }

@@ -376,7 +376,8 @@ where
             return Ok(());
         }
         self.vtus.finish(self.model, step, state)?;
-        if self.scene.spec.output.plots && step > 0 {
+        // Pictures are rank 0's alone; every rank writes its piece of the VTUs.
+        if self.scene.spec.output.plots && step > 0 && crate::ranks::ranks().is_root() {
             write_plots(
                 self.scene,
                 self.model,

@@ -40,7 +40,9 @@ impl FieldWriter<'_> {
         if due(step, self.vtu_every, self.last_step) {
             self.write_vtu(model, particles, step, time)?;
         }
-        if due(step, self.snapshot_every, self.last_step) {
+        // Pictures are rank 0's alone; every rank writes its piece of the VTU.
+        let pictures = crate::ranks::ranks().is_root();
+        if pictures && due(step, self.snapshot_every, self.last_step) {
             let dir = self.out.join("snapshots");
             std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
             self.png(
@@ -53,7 +55,8 @@ impl FieldWriter<'_> {
         Ok(())
     }
 
-    /// `vtu/step_NNNNN.vtu` of the particles at `time`, listed in the collection.
+    /// `vtu/step_NNNNN.vtu` of the particles at `time` (under `mpirun`, this rank's piece,
+    /// `crate::run::pieces`), listed in the collection.
     fn write_vtu<const D: usize, const N: usize>(
         &mut self,
         model: &MpmModel<D>,
@@ -64,11 +67,11 @@ impl FieldWriter<'_> {
     where
         Mandel<D>: Dimension<Point = [f64; N]>,
     {
-        let dir = self.out.join("vtu");
-        std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
-        let name = format!("step_{step:05}.vtu");
-        write_vtu(&dir.join(&name), &model.particles, particles, time)?;
-        self.pvd.push((time, format!("vtu/{name}")));
+        let file =
+            crate::run::pieces::write_snapshot(self.out, step, particles.len(), |path, piece| {
+                write_vtu(path, &model.particles, particles, time, piece)
+            })?;
+        self.pvd.push((time, file));
         // The collection lists every VTU written so far: ParaView opens a killed run.
         output::write_pvd(&self.out.join("solution.pvd"), &self.pvd)?;
         Ok(())
@@ -88,6 +91,9 @@ impl FieldWriter<'_> {
     {
         if self.pvd.last().map(|(t, _)| *t) != Some(time) {
             self.write_vtu(model, particles, step, time)?;
+        }
+        if !crate::ranks::ranks().is_root() {
+            return Ok(());
         }
         self.png(model, particles, &self.out.join("plastic_strain.png"), time)
     }
@@ -139,7 +145,8 @@ fn write_vtu<const D: usize, const N: usize>(
     initial: &Particles<D>,
     p: &Particles<D>,
     time: f64,
-) -> Result<(), RunError>
+    piece: Option<std::ops::Range<usize>>,
+) -> Result<Option<String>, RunError>
 where
     Mandel<D>: Dimension<Point = [f64; N]>,
 {
@@ -161,21 +168,26 @@ where
         .map(|(x, x0)| std::array::from_fn(|a| x[a] - x0[a]))
         .collect();
     let material: Vec<usize> = (0..p.len()).map(|i| p.material_of(i)).collect();
-    output::write_particle_vtu_with(
-        path,
-        &ParticleSnapshot {
-            time,
-            position: &p.position,
-            velocity: &p.velocity,
-            volume: &p.volume,
-            mass: &p.mass,
-            stress: &p.stress,
-            plastic_strain: &p.plastic_strain,
-        },
-        &ParticleExtras {
-            displacement: Some(&displacement),
-            material: Some(&material),
-        },
-    )?;
-    Ok(())
+    let snapshot = ParticleSnapshot {
+        time,
+        position: &p.position,
+        velocity: &p.velocity,
+        volume: &p.volume,
+        mass: &p.mass,
+        stress: &p.stress,
+        plastic_strain: &p.plastic_strain,
+    };
+    let extras = ParticleExtras {
+        displacement: Some(&displacement),
+        material: Some(&material),
+    };
+    Ok(match piece {
+        None => {
+            output::write_particle_vtu_with(path, &snapshot, &extras)?;
+            None
+        }
+        Some(range) => Some(output::write_particle_vtu_piece(
+            path, &snapshot, &extras, range,
+        )?),
+    })
 }

@@ -319,7 +319,7 @@ where
         }
         self.fields
             .finish(self.model, &state.particles, step, state.time)?;
-        if self.plots && self.reaction_curve.len() > 1 {
+        if self.plots && self.reaction_curve.len() > 1 && crate::ranks::ranks().is_root() {
             output::plot_force_displacement(
                 &self.out.join("force_displacement.png"),
                 &self.reaction_curve,
@@ -352,12 +352,7 @@ where
         self.fields.pvd = p.pvd;
         self.reaction_curve = p.reaction_curve;
         // The VTUs of later steps, and the one an interruption wrote of its last state.
-        let pvd = &self.fields.pvd;
-        let listed = |n: usize| {
-            pvd.iter()
-                .any(|(_, f)| *f == format!("vtu/step_{n:05}.vtu"))
-        };
-        checkpoint::drop_numbered_files(&self.out.join("vtu"), "step_", ".vtu", listed)?;
+        crate::run::pieces::drop_unlisted(self.out, &self.fields.pvd)?;
         let earlier = |n: usize| n <= step;
         checkpoint::drop_numbered_files(&self.out.join("snapshots"), "step_", ".png", earlier)?;
         if self.write_fields && !self.fields.pvd.is_empty() {
