@@ -113,6 +113,8 @@ fn main() -> ExitCode {
         tracing::warn!("no SIGINT/SIGTERM handler ({e}): an interrupted run leaves no summary");
     }
     let result = match cli.command {
+        // One process' tool: under `mpirun`, rank 0 alone solves and prints.
+        Command::Reduced(_) if !reports() => Ok(ExitCode::SUCCESS),
         Command::Reduced(args) => reduced::run(&args).or_else(|e| {
             error(&e);
             Ok(e.exit().into())
@@ -539,12 +541,15 @@ fn verify(
     quick: bool,
     figures: Option<PathBuf>,
 ) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    // Under `mpirun` every rank runs the cases (their solves are MUMPS' collectives, the
+    // distributed solver verified); rank 0 alone draws and prints.
+    let figures = figures.filter(|_| reports());
     if let Some(dir) = &figures {
         std::fs::create_dir_all(dir)?;
     }
     let results = talus::analysis::verification::all_cases(quick, figures.as_deref());
     let failed = results.iter().filter(|r| !r.passed()).count();
-    for r in &results {
+    for r in results.iter().filter(|_| reports()) {
         if json {
             let mut v = serde_json::to_value(r)?;
             v["error"] = serde_json::json!(r.error());

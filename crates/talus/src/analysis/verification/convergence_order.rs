@@ -39,7 +39,7 @@ pub fn newton_convergence_order(figures: Option<&std::path::Path>) -> Vec<CaseRe
     // The paper footing: relative residual histories of the first 60 steps.
     let mut scene = builtin_footing();
     scene.spec.time.steps = 60;
-    let out_dir = std::env::temp_dir().join("talus-convergence-order");
+    let out_dir = super::stability::case_dir("convergence-order");
     let summary = run_scene(&scene, &RunOptions::new(out_dir)).ok();
     let records = summary.map(|s| s.records).unwrap_or_default();
     let histories: Vec<Vec<f64>> = records

@@ -109,8 +109,8 @@ pub fn layered_footing(strength_ratio: f64, refinement: u32) -> Option<LayeredRu
         return None;
     };
     let model = Model::from_scene(&scene).ok()?;
-    let out = std::env::temp_dir().join(format!(
-        "talus-layered-footing-{strength_ratio}-{}x{}",
+    let out = super::stability::case_dir(&format!(
+        "layered-footing-{strength_ratio}-{}x{}",
         cells[0], cells[1]
     ));
     let summary = run_scene(&scene, &RunOptions::new(out)).ok()?;

@@ -53,8 +53,8 @@ pub fn prandtl(phi_deg: f64, order: &str, cells: [usize; 2]) -> Option<PrandtlRu
         )
         .replacen("order = \"P2\"", &format!("order = \"{order}\""), 1);
     let scene = Scene::parse(&text, None).ok()?;
-    let out = std::env::temp_dir().join(format!(
-        "talus-prandtl-{phi_deg}-{order}-{}x{}",
+    let out = super::stability::case_dir(&format!(
+        "prandtl-{phi_deg}-{order}-{}x{}",
         cells[0], cells[1]
     ));
     let summary = run_scene(&scene, &RunOptions::new(out)).ok()?;

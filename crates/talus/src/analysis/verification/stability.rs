@@ -33,9 +33,16 @@ pub(super) fn scene_path(name: &str) -> PathBuf {
         .join(name)
 }
 
-/// The output folder of the case `name`.
+/// The output folder of the case `name`, under the system's temporary directory; under
+/// `mpirun` (every rank runs the cases) one per rank.
 pub fn case_dir(name: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("talus-verify-{name}"))
+    let ranks = crate::ranks::ranks();
+    let rank = if ranks.is_root() {
+        String::new()
+    } else {
+        format!("-rank{}", ranks.rank)
+    };
+    std::env::temp_dir().join(format!("talus-verify-{name}{rank}"))
 }
 
 fn options(name: &str) -> RunOptions {
