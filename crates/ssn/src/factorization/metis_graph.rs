@@ -12,6 +12,18 @@ pub(crate) struct MetisGraph {
     adjncy: Vec<idx_t>,
 }
 
+/// METIS' `idx_t`s as indices, each checked below `n` (`what` in the message).
+fn below(v: Vec<idx_t>, n: usize, what: &str) -> Result<Vec<usize>, SymbolicError> {
+    v.into_iter()
+        .map(|p| {
+            usize::try_from(p)
+                .ok()
+                .filter(|&p| p < n)
+                .ok_or_else(|| SymbolicError::new(format!("METIS returned {what} {p}")))
+        })
+        .collect()
+}
+
 fn too_large(what: &str) -> SymbolicError {
     SymbolicError::new(format!("{what} exceeds METIS' indices"))
 }
@@ -81,7 +93,7 @@ impl MetisGraph {
 
     /// METIS' nested dissection (`METIS_NodeND`, default options): `(perm, iperm)`, row
     /// i of the permuted matrix being row `perm[i]` of the input.
-    pub(crate) fn nested_dissection(&mut self) -> Result<(Vec<idx_t>, Vec<idx_t>), SymbolicError> {
+    pub(crate) fn nested_dissection(&mut self) -> Result<(Vec<usize>, Vec<usize>), SymbolicError> {
         let n = self.xadj.len() - 1;
         let mut nvtxs = self.order()?;
         let mut options = [0 as idx_t; METIS_NOPTIONS as usize];
@@ -105,7 +117,7 @@ impl MetisGraph {
                 "METIS_NodeND returned {status}"
             )));
         }
-        Ok((perm, iperm))
+        Ok((below(perm, n, "index")?, below(iperm, n, "index")?))
     }
 
     /// METIS' k-way partition into `parts` (`METIS_PartGraphKway`, default options: a
@@ -161,13 +173,6 @@ impl MetisGraph {
                 "METIS_PartGraphKway returned {status}"
             )));
         }
-        part.into_iter()
-            .map(|p| {
-                usize::try_from(p)
-                    .ok()
-                    .filter(|&p| p < parts)
-                    .ok_or_else(|| SymbolicError::new(format!("METIS returned part {p}")))
-            })
-            .collect()
+        below(part, parts, "part")
     }
 }

@@ -63,25 +63,12 @@ pub(crate) fn symbolic_cholesky(
 pub fn nested_dissection(
     pattern: SymbolicSparseColMatRef<'_, usize>,
 ) -> Result<(Vec<usize>, Vec<usize>), SymbolicError> {
-    use metis_sys::idx_t;
     let n = pattern.nrows();
     let mut graph = super::metis_graph::MetisGraph::of_pattern(pattern)?;
     if n == 0 {
         return Ok((Vec::new(), Vec::new()));
     }
-    let (perm, iperm) = graph.nested_dissection()?;
-    // METIS: row i of the permuted matrix is row perm[i] of the input.
-    let to_usize = |v: Vec<idx_t>| -> Result<Vec<usize>, SymbolicError> {
-        v.into_iter()
-            .map(|p| {
-                usize::try_from(p)
-                    .ok()
-                    .filter(|&p| p < n)
-                    .ok_or_else(|| SymbolicError::new(format!("METIS returned index {p}")))
-            })
-            .collect()
-    };
-    Ok((to_usize(perm)?, to_usize(iperm)?))
+    graph.nested_dissection()
 }
 
 /// `(fwd, inv)` renumbered along a postorder of the elimination tree of the permuted
