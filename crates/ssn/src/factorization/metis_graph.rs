@@ -4,7 +4,7 @@
 use faer::sparse::SymbolicSparseColMatRef;
 use metis_sys::{idx_t, METIS_SetDefaultOptions, METIS_NOPTIONS};
 
-use super::ordering::SymbolicError;
+use super::symbolic_error::SymbolicError;
 
 /// The symmetric closure of a pattern without its diagonal, in METIS' compressed rows.
 pub(crate) struct MetisGraph {

@@ -35,6 +35,7 @@ pub(crate) mod metis_graph;
 mod ordering;
 mod real;
 mod subtrees;
+mod symbolic_error;
 mod supernodal_llt;
 mod symmetric_pattern_lu;
 

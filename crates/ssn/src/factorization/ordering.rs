@@ -10,16 +10,8 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::SymbolicSparseColMatRef;
 use faer::Side;
 
-/// The pattern could not be analysed.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("symbolic LU: {0}")]
-pub struct SymbolicError(String);
+pub use super::symbolic_error::SymbolicError;
 
-impl SymbolicError {
-    pub(crate) fn new(message: String) -> Self {
-        Self(message)
-    }
-}
 
 /// Which fill-reducing ordering the symbolic analysis uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
