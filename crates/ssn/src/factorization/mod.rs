@@ -35,8 +35,8 @@ pub(crate) mod metis_graph;
 mod ordering;
 mod real;
 mod subtrees;
-mod symbolic_error;
 mod supernodal_llt;
+mod symbolic_error;
 mod symmetric_pattern_lu;
 
 #[cfg(feature = "metis")]

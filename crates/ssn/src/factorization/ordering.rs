@@ -12,7 +12,6 @@ use faer::Side;
 
 pub use super::symbolic_error::SymbolicError;
 
-
 /// Which fill-reducing ordering the symbolic analysis uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Ordering {
