@@ -1,6 +1,7 @@
 //! `talus` under `mpirun` (`docs/distributed.md`): rank 0 writes the output folder and
-//! reports; the other ranks run the same scene into a scratch folder removed at the end,
-//! and keep their errors unless rank 0 did not fail too.
+//! reports; the other ranks run the same scene into a scratch folder removed at the end
+//! (their pieces of the VTUs go to rank 0's folder, `run/pieces.rs`), and keep their
+//! errors unless rank 0 did not fail too.
 use std::fmt::Display;
 use std::path::PathBuf;
 #[cfg(feature = "mpi")]
