@@ -19,13 +19,14 @@ pub(crate) fn write_snapshot(
 ) -> Result<String, RunError> {
     let ranks = crate::ranks::ranks();
     let stem = format!("step_{step:05}");
-    if !ranks.distributed() {
+    // One process, or ranks without a folder in common (`talus verify`'s cases, a library
+    // call): each writes the whole snapshot into its own folder.
+    let Some(root) = shared_root() else {
         let dir = out.join("vtu");
         std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
         write(&dir.join(format!("{stem}.vtu")), None)?;
         return Ok(format!("vtu/{stem}.vtu"));
-    }
-    let root = crate::ranks::root_folder().unwrap_or(out);
+    };
     let dir = root.join("vtu").join(&stem);
     std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
     let piece = |r: usize| format!("piece_{r}.vtu");
@@ -47,6 +48,16 @@ pub(crate) fn write_snapshot(
     Ok(format!("vtu/{stem}.pvtu"))
 }
 
+/// Rank 0's folder, when this is one of several ranks that all write there.
+fn shared_root() -> Option<&'static Path> {
+    crate::ranks::root_folder().filter(|_| crate::ranks::ranks().distributed())
+}
+
+/// The folder the snapshots of a run into `out` are in: rank 0's under `mpirun`.
+pub(crate) fn folder(out: &Path) -> &Path {
+    shared_root().unwrap_or(out)
+}
+
 /// Removes from `out/vtu` the snapshots `pvd` does not list (a resume's later steps, the
 /// one an interruption wrote of its last state): `step_NNNNN.vtu`, or `step_NNNNN.pvtu`
 /// and its folder of pieces.
@@ -60,11 +71,17 @@ pub(crate) fn drop_unlisted(
             .any(|(_, f)| *f == format!("vtu/step_{n:05}.{ext}"))
     };
     crate::run::checkpoint::drop_numbered_files(&dir, "step_", ".vtu", |n| listed(n, "vtu"))?;
-    crate::run::checkpoint::drop_numbered_files(&dir, "step_", ".pvtu", |n| {
-        let keep = listed(n, "pvtu");
-        if !keep {
-            let _ = std::fs::remove_dir_all(dir.join(format!("step_{n:05}")));
+    crate::run::checkpoint::drop_numbered_files(&dir, "step_", ".pvtu", |n| listed(n, "pvtu"))?;
+    // The folders of pieces of unlisted steps, their `.pvtu` written or not (a run killed
+    // between its ranks' pieces and rank 0's `.pvtu`).
+    for entry in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let step = name.strip_prefix("step_").filter(|n| n.len() >= 5);
+        if let Some(n) = step.and_then(|n| n.parse::<usize>().ok()) {
+            if entry.file_type().is_ok_and(|t| t.is_dir()) && !listed(n, "pvtu") {
+                let _ = std::fs::remove_dir_all(entry.path());
+            }
         }
-        keep
-    })
+    }
+    Ok(())
 }

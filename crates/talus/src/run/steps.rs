@@ -157,7 +157,10 @@ where
     let resumed = match &mut begin {
         Begin::Resumed(c) => Some(Resuming {
             kept: checkpoint::history_prefix(&history_path, c.step)?,
-            files: checkpoint::keep_existing_files(out, &mut c.outputs).into(),
+            // Under `mpirun` the snapshots are in rank 0's folder, whichever rank reads
+            // the list (`run/pieces.rs`): every rank keeps the same list.
+            files: checkpoint::keep_existing_files(crate::run::pieces::folder(out), &mut c.outputs)
+                .into(),
         }),
         Begin::Fresh(_) | Begin::Continue(_) => None,
     };
