@@ -1,7 +1,8 @@
 //! Which rank assembles which point groups when MUMPS factorizes `K` over the MPI ranks
 //! (`docs/distributed.md`, 'What runs where'): METIS' k-way partition of `K`'s graph, each
 //! velocity dof weighted by the groups anchored at it (a group's anchor: its smallest dof),
-//! so that the ranks get about equal numbers of contributions and share few entries. A
+//! so that the ranks get about equal numbers of groups (of contributions, where the groups'
+//! blocks are of one size) and share few entries. A
 //! group goes to its anchor's part. METIS runs with its fixed seed: every rank computes the
 //! same parts from the same pattern.
 use faer::sparse::SymbolicSparseColMatRef;
