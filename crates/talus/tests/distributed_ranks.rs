@@ -98,12 +98,25 @@ fn column_difference(a: &Path, b: &Path, name: &str) -> f64 {
         y.len(),
         "{name}: the runs took different numbers of steps"
     );
+    assert!(
+        x.iter().any(|v| *v != 0.0),
+        "{name} is zero throughout: nothing compared"
+    );
+    relative_difference(&x, &y)
+}
+
+/// `max |x − y|` over `max |x|` (0 when they are equal, zero throughout included).
+fn relative_difference(x: &[f64], y: &[f64]) -> f64 {
     let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    assert!(scale > 0.0, "{name} is zero throughout: nothing compared");
-    x.iter()
-        .zip(&y)
-        .fold(0.0f64, |m, (p, q)| m.max((p - q).abs()))
-        / scale
+    let worst = x
+        .iter()
+        .zip(y)
+        .fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
+    if worst == 0.0 {
+        0.0
+    } else {
+        worst / scale
+    }
 }
 
 /// Every one of `columns` agrees between the runs in `a` and `b` to 1e-10 of its scale.
@@ -162,18 +175,8 @@ fn assert_snapshots_match(a: &Path, b: &Path, step: usize, names: &[&str]) {
         let want: Vec<f64> = a.iter().flat_map(|f| array(f, name)).collect();
         let got: Vec<f64> = b.iter().flat_map(|f| array(f, name)).collect();
         assert_eq!(got.len(), want.len(), "{name}");
-        let scale = want
-            .iter()
-            .fold(0.0f64, |m, v| m.max(v.abs()))
-            .max(f64::MIN_POSITIVE);
-        let worst = got
-            .iter()
-            .zip(&want)
-            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-        assert!(
-            worst <= 1e-10 * scale,
-            "step {step} {name}: {worst:e} of {scale:e}"
-        );
+        let difference = relative_difference(&want, &got);
+        assert!(difference <= 1e-10, "step {step} {name}: {difference:e}");
     }
 }
 

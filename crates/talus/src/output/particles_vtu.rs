@@ -125,7 +125,7 @@ pub fn write_particle_vtu_piece<const N: usize, const D: usize>(
     extras: &ParticleExtras<N>,
     particles: std::ops::Range<usize>,
 ) -> Result<String, OutputError> {
-    s.validate()?;
+    let derived = s.validate()?;
     let n = s.position.len();
     extras.validate(n)?;
     if particles.end > n || particles.start >= particles.end {
@@ -148,8 +148,7 @@ pub fn write_particle_vtu_piece<const N: usize, const D: usize>(
         displacement: extras.displacement.map(|u| &u[r.clone()]),
         material: extras.material.map(|m| &m[r.clone()]),
     };
-    let derived = piece.validate()?;
-    let xml = particle_vtu_string(&piece, &piece_extras, &derived);
+    let xml = particle_vtu_string(&piece, &piece_extras, &derived.slice(r));
     super::atomic::write(path, &xml)?;
     Ok(xml)
 }

@@ -171,6 +171,17 @@ pub(super) struct Derived {
     principal: Vec<[f64; 3]>,
 }
 
+impl Derived {
+    /// The entries `range` (a piece's, computed once with the whole snapshot's).
+    pub(super) fn slice(&self, range: std::ops::Range<usize>) -> Self {
+        Self {
+            von_mises: self.von_mises[range.clone()].to_vec(),
+            pressure: self.pressure[range.clone()].to_vec(),
+            principal: self.principal[range].to_vec(),
+        }
+    }
+}
+
 /// The derived values of every stress entry; `Invalid` unless all are finite: finite
 /// stresses near `f64::MAX` could overflow.
 pub(super) fn derived<const D: usize>(stress: &[[f64; D]]) -> Result<Derived, OutputError> {
@@ -239,7 +250,7 @@ pub fn write_vtu_piece<const N: usize, const D: usize>(
     extras: &FieldExtras<D>,
     cells: std::ops::Range<usize>,
 ) -> Result<String, OutputError> {
-    s.validate()?;
+    let derived = s.validate()?;
     let n_elements = s.mesh.elements.len();
     extras.validate(n_elements)?;
     if cells.end > n_elements || cells.start > cells.end {
@@ -286,8 +297,7 @@ pub fn write_vtu_piece<const N: usize, const D: usize>(
         strain: extras.strain.map(|e| &e[cells.clone()]),
         plastic_strain_increment: extras.plastic_strain_increment.map(|e| &e[cells.clone()]),
     };
-    let derived = piece.validate()?;
-    let xml = vtu_string(&piece, &piece_extras, &derived);
+    let xml = vtu_string(&piece, &piece_extras, &derived.slice(cells));
     super::atomic::write(path, &xml)?;
     Ok(xml)
 }
