@@ -22,6 +22,7 @@ pub mod krylov;
 mod local_lu;
 mod newton;
 mod operator;
+mod point_share;
 mod problem;
 mod reduced_rhs;
 mod report;

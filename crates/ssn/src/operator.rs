@@ -4,6 +4,7 @@ use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
 
 use crate::error::invalid;
+use crate::point_share::PointShare;
 use crate::SolveError;
 
 /// `W = S + h² B M⁻¹ Bᵀ` kept in factors: per-point compliance blocks `S_i` (already
@@ -117,6 +118,26 @@ impl<const D: usize> PointBlocks<D> {
         let (dofs, vals) = self.point(i);
         let n_i = dofs.len();
         SVector::from_fn(|r, _| (0..n_i).map(|a| vals[r * n_i + a] * u[dofs[a]]).sum())
+    }
+
+    /// Keeps only the points `owned` marks in `Bᵀ` ([`Self::add_transpose`]): a rank of a
+    /// distributed solve sums its own points' terms (`PointShare`).
+    pub(crate) fn keep_points(&mut self, owned: &[bool]) {
+        let mut ptr = vec![0usize; self.by_dof_ptr.len()];
+        let (mut points, mut values) = (Vec::new(), Vec::new());
+        for j in 0..self.by_dof_ptr.len() - 1 {
+            for e in self.by_dof_ptr[j]..self.by_dof_ptr[j + 1] {
+                let i = self.by_dof_point[e];
+                if owned[i] {
+                    points.push(i);
+                    values.extend_from_slice(&self.by_dof_values[D * e..D * e + D]);
+                }
+            }
+            ptr[j + 1] = points.len();
+        }
+        self.by_dof_ptr = ptr;
+        self.by_dof_point = points;
+        self.by_dof_values = values;
     }
 
     /// `out += Bᵀ s` for a flat `s`: each `out[j]` adds its points' terms in point order,
@@ -323,7 +344,10 @@ pub(crate) fn block<const D: usize>(v: &[f64], i: usize) -> SVector<f64, D> {
 
 /// `z = Wσ + q` (or `Wσ` without `q`) into `z` (flat vectors of length `D × points`); `scratch` holds the
 /// velocity-sized intermediate of the structured form. `parallel` spreads the structured
-/// form over threads without changing any sum.
+/// form over threads without changing any sum. With a `share` (structured only, `blocks`
+/// kept to its points) the ranks' `Bᵀσ` are summed and `z` is computed at this rank's
+/// points only.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn apply<const D: usize>(
     op: &Operator<D>,
     blocks: Option<&PointBlocks<D>>,
@@ -331,6 +355,7 @@ pub(crate) fn apply<const D: usize>(
     q: Option<&[f64]>,
     z: &mut [f64],
     scratch: &mut Vec<f64>,
+    share: Option<&PointShare>,
     parallel: bool,
 ) {
     match q {
@@ -360,12 +385,19 @@ pub(crate) fn apply<const D: usize>(
             scratch.clear();
             scratch.resize(s.lumped_mass.len(), 0.0);
             blocks.add_transpose(sigma, scratch, parallel);
+            if let Some(share) = share {
+                share.sum_velocity(scratch);
+            }
             let h2 = s.h * s.h;
             for (u, m) in scratch.iter_mut().zip(&s.lumped_mass) {
                 *u *= h2 / m;
             }
             let scratch = &*scratch;
+            let owned = share.map(PointShare::owned);
             let one = |(i, zi): (usize, &mut [f64])| {
+                if owned.is_some_and(|o| !o[i]) {
+                    return;
+                }
                 let v = s.compliance[i] * block::<D>(sigma, i) + blocks.apply_point(i, scratch);
                 for r in 0..D {
                     zi[r] += v[r];

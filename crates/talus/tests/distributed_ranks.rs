@@ -36,7 +36,7 @@ fn talus(ranks: Option<usize>, args: &[&OsStr], limit: Duration) -> Output {
         .args(args)
         .env(
             "TALUS_LOG",
-            "warn,talus_ssn::newton::distributed_factor=info",
+            "warn,talus_ssn::newton::distributed_factor=info,talus_ssn::solver=debug",
         )
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -85,6 +85,27 @@ fn by_mumps_on_two_ranks(output: Output, what: &str) -> Output {
     assert!(
         stderr.contains("MUMPS factorization ranks=2"),
         "{what}: no MUMPS factorization over 2 ranks logged: {stderr}"
+    );
+    // Each rank works on its own points: the first solver's two shares split its points.
+    let share = |rank: usize| -> (usize, usize) {
+        let line = stderr
+            .lines()
+            .find(|l| l.contains("this rank's points") && l.contains(&format!(" rank={rank} ")))
+            .unwrap_or_else(|| panic!("{what}: no points logged by rank {rank}: {stderr}"));
+        let field = |name: &str| -> usize {
+            let at = line.find(&format!(" {name}=")).expect("the field") + name.len() + 2;
+            line[at..]
+                .split(|c: char| !c.is_ascii_digit())
+                .next()
+                .and_then(|v| v.parse().ok())
+                .expect("a count")
+        };
+        (field("points"), field("of_points"))
+    };
+    let ((p0, n0), (p1, n1)) = (share(0), share(1));
+    assert!(
+        n0 == n1 && p0 + p1 == n0 && p0 > 0 && p1 > 0,
+        "{what}: ranks own {p0} of {n0} and {p1} of {n1} points"
     );
     output
 }

@@ -8,6 +8,8 @@
 pub(crate) struct OwnedAssembly {
     /// Point groups whose contributions this rank computes, ascending.
     pub(crate) groups: Vec<usize>,
+    /// Every group's rank: the points each rank owns (`PointShare`).
+    pub(crate) owners: Vec<usize>,
     /// Row and column of each entry (0-based), ascending CSC positions.
     pub(crate) rows: Vec<usize>,
     pub(crate) cols: Vec<usize>,
@@ -58,6 +60,7 @@ impl OwnedAssembly {
         let values = vec![0.0; rows.len()];
         Self {
             groups,
+            owners: owners.to_vec(),
             rows,
             cols,
             gather_ptr,

@@ -11,6 +11,7 @@ use crate::factorization::Ordering;
 use crate::krylov::{Gmres, GmresError, GmresWorkspace, Verdict, PROJECT_AFTER};
 use crate::local_lu::LocalLu;
 use crate::operator::{block, PointBlocks, Structured};
+use crate::point_share::PointShare;
 use crate::Krylov;
 
 /// The velocity-sized Newton system (`docs/derivations.md`, 'The Schur step'):
@@ -178,6 +179,21 @@ impl<const D: usize> SchurSystem<D> {
         })
     }
 
+    /// The points this rank owns when MUMPS factorizes `K` over the ranks: those of the
+    /// groups whose share of `K` it assembles.
+    pub(crate) fn point_share(&self) -> Result<Option<PointShare>, String> {
+        let Some(owned) = &self.owned else {
+            return Ok(None);
+        };
+        let (rank, size) = SchurFactor::world()?;
+        Ok(Some(PointShare::new(
+            &self.group_ptr,
+            &owned.owners,
+            rank,
+            size,
+        )))
+    }
+
     /// The counts since the last call, reset.
     pub(crate) fn take_counts(&mut self) -> SchurCounts {
         std::mem::take(&mut self.krylov.counts)
@@ -217,13 +233,20 @@ impl<const D: usize> SchurSystem<D> {
         d: &mut [f64],
         choice: LuChoice,
         krylov: Option<KrylovRequest>,
+        share: Option<&PointShare>,
         parallel: bool,
     ) -> Result<Factorized, SchurFailure> {
         let h2 = structured.h * structured.h;
         // Per point and independent: spread over threads when `parallel` (the results do
-        // not depend on it); the first singular block in point order is reported.
+        // not depend on it); the first singular block in point order is reported. A rank
+        // of a distributed solve works on its own points; the others' `A⁻¹r` stay 0.
         let symmetric = self.symmetric;
+        let owned = share.map(PointShare::owned);
         let one = |i: usize, c: &mut SMatrix<f64, D, D>, ar: &mut [f64]| -> bool {
+            if owned.is_some_and(|o| !o[i]) {
+                ar.fill(0.0);
+                return true;
+            }
             let g = lin[i].coupling * rho[i];
             let a = SMatrix::<f64, D, D>::identity() - lin[i].projection_jacobian
                 + g * structured.compliance[i];
@@ -253,11 +276,18 @@ impl<const D: usize> SchurSystem<D> {
                 .map(|(i, (c, ar))| one(i, c, ar))
                 .collect()
         };
-        if let Some(i) = regular.iter().position(|ok| !ok) {
+        let mut singular = regular.iter().position(|ok| !ok);
+        if let Some(share) = share {
+            singular = share.first(singular);
+        }
+        if let Some(i) = singular {
             return Err(SchurFailure::SingularBlock(i));
         }
         self.rhs.fill(0.0);
         blocks.add_transpose(&self.a_inv_r, &mut self.rhs, parallel);
+        if let Some(share) = share {
+            share.sum_velocity(&mut self.rhs);
+        }
         let reused = match krylov {
             Some(request)
                 if request.settings.reuse
@@ -325,6 +355,10 @@ impl<const D: usize> SchurSystem<D> {
         let u = &self.rhs;
         let (local_c, a_inv_r) = (&self.local_c, &self.a_inv_r);
         let back = |(i, di): (usize, &mut [f64])| {
+            if owned.is_some_and(|o| !o[i]) {
+                di.fill(0.0);
+                return;
+            }
             let v = block::<D>(a_inv_r, i) - local_c[i] * blocks.apply_point(i, u) * h2;
             di.copy_from_slice(v.as_slice());
         };

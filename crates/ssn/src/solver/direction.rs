@@ -21,9 +21,12 @@ impl<const D: usize> Solver<D> {
         report: &mut Report,
         needed: f64,
     ) -> Result<(), Status> {
+        let owned = self.share.as_ref().map(|s| s.owned());
         for (i, l) in self.lin.iter().enumerate() {
+            // Another rank's point: its linearization is stale here, its share of F is 0.
+            let mine = owned.is_none_or(|o| o[i]);
             for a in 0..D {
-                self.f[D * i + a] = -l.residual[a];
+                self.f[D * i + a] = if mine { -l.residual[a] } else { 0.0 };
             }
         }
         let forced = self.settings.linear_solver == LinearSolver::SchurPivoting;
@@ -143,6 +146,7 @@ impl<const D: usize> Solver<D> {
                 }
             },
             krylov,
+            self.share.as_ref(),
             self.settings.parallel,
         ) {
             Ok(used) => Some(used),
@@ -217,7 +221,7 @@ impl<const D: usize> Solver<D> {
         );
         let (wx, scratch) = (&mut state.wx, &mut self.scratch);
         let apply_jacobian = |x: &[f64], y: &mut [f64]| {
-            apply(op, blocks, x, None, wx, scratch, parallel);
+            apply(op, blocks, x, None, wx, scratch, None, parallel);
             for (i, l) in lin.iter().enumerate() {
                 let xi = block::<D>(x, i);
                 let v = xi - l.projection_jacobian * xi + l.coupling * block::<D>(wx, i) * rho[i];
@@ -295,7 +299,12 @@ impl<const D: usize> Solver<D> {
     /// `d` finite and `‖J_F d + F‖∞ ≤ 1e-3 ‖F‖∞`: faer returns finite garbage on a
     /// numerically singular matrix, and a no-pivot LU may lose accuracy to growth.
     pub(super) fn direction_is_accurate(&mut self) -> bool {
-        if !self.direction.iter().all(|v| v.is_finite()) {
+        let finite = self.direction.iter().all(|v| v.is_finite());
+        let finite = match &self.share {
+            Some(share) => share.all(finite),
+            None => finite,
+        };
+        if !finite {
             return false;
         }
         apply(
@@ -305,16 +314,24 @@ impl<const D: usize> Solver<D> {
             None,
             &mut self.check,
             &mut self.scratch,
+            self.share.as_ref(),
             self.settings.parallel,
         );
+        let owned = self.share.as_ref().map(|s| s.owned());
         let mut worst: f64 = 0.0;
         for (i, l) in self.lin.iter().enumerate() {
+            if owned.is_some_and(|o| !o[i]) {
+                continue;
+            }
             let d = block::<D>(&self.direction, i);
             let wd = block::<D>(&self.check, i);
             let jd = d - l.projection_jacobian * d + l.coupling * wd * self.rho[i];
             worst = worst.max((jd - block::<D>(&self.f, i)).amax());
         }
-        let scale = inf_norm(&self.f);
+        if let Some(share) = &self.share {
+            worst = share.max(worst);
+        }
+        let scale = self.norm(&self.f);
         // An inexact Newton step with forcing term 1e-3 keeps fast local convergence;
         // beyond it the matrix is numerically singular (or the answer is garbage).
         let accurate = worst <= LINEAR_FORCING * scale;

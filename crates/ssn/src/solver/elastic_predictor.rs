@@ -36,6 +36,8 @@ impl<const D: usize> Solver<D> {
         for (s, d) in sigma.iter_mut().zip(&self.direction) {
             *s += d;
         }
+        // A rank's direction is 0 at the points it does not own.
+        self.gather(sigma);
         Ok(())
     }
 }

@@ -6,9 +6,10 @@ use rayon::prelude::*;
 
 use talus_bipotential::NaturalMapLinearization;
 
-use super::{inf_norm, Solver};
+use super::{nan_max, Solver};
 use crate::error::invalid;
 use crate::operator::{apply, block};
+use crate::point_share::PointShare;
 use crate::stopping;
 use crate::{Report, RoundOffFloor, SolveError, Stall, Status};
 
@@ -54,11 +55,12 @@ impl<const D: usize> Solver<D> {
                 report.status = Status::NonFinite;
                 break;
             }
-            if residual <= self.settings.tolerance * inf_norm(sigma).max(1.0) {
+            if residual <= self.settings.tolerance * self.norm(sigma).max(1.0) {
                 report.status = Status::Converged;
                 break;
             }
             if stopping::stagnated(&report.residual_history) {
+                self.gather(sigma);
                 if let Some(floor) = self.floor_reached(sigma, residual) {
                     report.status = Status::RoundOffFloor;
                     report.round_off_floor = Some(floor);
@@ -95,7 +97,7 @@ impl<const D: usize> Solver<D> {
             if report.iterations == 0 {
                 self.forcing = None;
             }
-            let needed = self.settings.tolerance * inf_norm(sigma).max(1.0) / residual;
+            let needed = self.settings.tolerance * self.norm(sigma).max(1.0) / residual;
             if let Err(status) = self.newton_direction(&mut report, needed) {
                 report.status = status;
                 break;
@@ -144,6 +146,11 @@ impl<const D: usize> Solver<D> {
                 "ssn step"
             );
         }
+        // Every rank holds every point's σ and z again.
+        self.gather(sigma);
+        let mut z = std::mem::take(&mut self.z);
+        self.gather(&mut z);
+        self.z = z;
         // A failure at the floor is the floor: no step can make progress there.
         if matches!(
             report.status,
@@ -160,13 +167,13 @@ impl<const D: usize> Solver<D> {
             }
         }
         report.residual = residual;
-        report.scale = inf_norm(sigma).max(1.0);
+        report.scale = self.norm(sigma).max(1.0);
         report.seconds = start.elapsed().as_secs_f64();
         tracing::debug!(
             status = %report.status,
             iterations = report.iterations,
             residual,
-            sigma_inf = inf_norm(sigma),
+            sigma_inf = self.norm(sigma),
             backtracks = report.backtracks,
             "ssn solve"
         );
@@ -209,6 +216,7 @@ impl<const D: usize> Solver<D> {
             Some(&self.problem.q),
             z,
             &mut self.scratch,
+            self.share.as_ref(),
             self.settings.parallel,
         );
         self.linearize(sigma, trial)
@@ -238,7 +246,11 @@ impl<const D: usize> Solver<D> {
         };
         let rules = &self.problem.rules;
         let rho = &self.rho;
+        let owned = self.share.as_ref().map(PointShare::owned);
         let one = |(i, l): (usize, &mut NaturalMapLinearization<D>)| {
+            if owned.is_some_and(|o| !o[i]) {
+                return;
+            }
             *l = rules[i].natural_map_linearization(
                 &block::<D>(sigma, i),
                 &block::<D>(z, i),
@@ -253,8 +265,18 @@ impl<const D: usize> Solver<D> {
         } else {
             lin.iter_mut().enumerate().for_each(one);
         }
-        // Sequential sum: the merit must not depend on the thread count.
-        lin.iter().map(|l| l.residual.norm_squared()).sum()
+        // Sequential sum: the merit must not depend on the thread count (nor, beyond the
+        // ranks' partial sums, on the ranks).
+        match &self.share {
+            None => lin.iter().map(|l| l.residual.norm_squared()).sum(),
+            Some(share) => share.sum(
+                share
+                    .points()
+                    .iter()
+                    .map(|&i| lin[i].residual.norm_squared())
+                    .sum(),
+            ),
+        }
     }
 
     /// `‖F‖∞` at the current iterate (NaN if any entry is).
@@ -265,7 +287,11 @@ impl<const D: usize> Solver<D> {
     pub(super) fn residual_norm_with(&self, sigma: &[f64], z: &[f64]) -> f64 {
         let rules = &self.problem.rules;
         let residual_rho = &self.residual_rho;
+        let owned = self.share.as_ref().map(PointShare::owned);
         let point = |i: usize| {
+            if owned.is_some_and(|o| !o[i]) {
+                return 0.0;
+            }
             let f = rules[i].natural_map_residual(
                 &block::<D>(sigma, i),
                 &block::<D>(z, i),
@@ -280,22 +306,16 @@ impl<const D: usize> Solver<D> {
             })
         };
         // A maximum (NaN if any entry is) does not depend on the order: parallel is exact.
-        let worst = |a: f64, b: f64| {
-            if a.is_nan() || b.is_nan() {
-                f64::NAN
-            } else {
-                a.max(b)
-            }
-        };
-        if self.settings.parallel {
+        let worst = if self.settings.parallel {
             (0..rules.len())
                 .into_par_iter()
                 .with_min_len(64)
                 .map(point)
-                .reduce(|| 0.0, worst)
+                .reduce(|| 0.0, nan_max)
         } else {
-            (0..rules.len()).map(point).fold(0.0, worst)
-        }
+            (0..rules.len()).map(point).fold(0.0, nan_max)
+        };
+        self.share.as_ref().map_or(worst, |share| share.max(worst))
     }
 
     /// Armijo backtracking on `‖F‖²` along `self.direction`; moves `sigma` and returns the

@@ -12,6 +12,7 @@ use talus_bipotential::{FlowRule, NaturalMapLinearization};
 use crate::error::invalid;
 use crate::newton::{DenseSystem, SchurSystem, StressSizedSystem};
 use crate::operator::{block, PointBlocks};
+use crate::point_share::PointShare;
 use crate::{
     Forcing, LinearSolver, NewtonSolve, Operator, Precision, ReducedSystem, Rho, Settings,
     SolveError, Stall,
@@ -53,6 +54,9 @@ pub struct Solver<const D: usize> {
     forcing: Option<f64>,
     /// GMRES on the stress-sized system (`NewtonSolve::Krylov` without a Schur system).
     stress_krylov: StressKrylov,
+    /// The points this rank owns (`LinearSolver::Distributed`): within a solve only their
+    /// σ, z and linearizations are current here; a solve ends with all of them gathered.
+    share: Option<PointShare>,
 }
 
 /// The stress-sized Krylov path's state.
@@ -178,6 +182,7 @@ impl<const D: usize> Solver<D> {
             scratch: Vec::new(),
             forcing: None,
             stress_krylov: StressKrylov::default(),
+            share: None,
             problem,
         };
         let symmetric = solver.problem.is_associative();
@@ -218,7 +223,45 @@ impl<const D: usize> Solver<D> {
             }
             _ => solver.ensure_stress_sized()?,
         }
+        let share = match &solver.schur {
+            Some(schur) => schur.point_share().map_err(|e| invalid("B", e))?,
+            None => None,
+        };
+        if let Some(share) = share {
+            if let Some(blocks) = solver.blocks.as_mut() {
+                blocks.keep_points(share.owned());
+            }
+            tracing::debug!(
+                rank = share.rank(),
+                points = share.points().len(),
+                of_points = n_points,
+                "this rank's points"
+            );
+            solver.share = Some(share);
+        }
         Ok(solver)
+    }
+
+    /// `‖v‖∞` of a stress-sized vector over every rank's own points (NaN if any entry is).
+    fn norm(&self, v: &[f64]) -> f64 {
+        match &self.share {
+            None => inf_norm(v),
+            Some(share) => share.max(
+                share
+                    .points()
+                    .iter()
+                    .map(|&i| inf_norm(&v[D * i..D * i + D]))
+                    .fold(0.0, nan_max),
+            ),
+        }
+    }
+
+    /// Every point's block of `v` current on every rank (after a distributed solve's
+    /// work on owned points).
+    fn gather(&self, v: &mut [f64]) {
+        if let Some(share) = &self.share {
+            share.gather_points::<D>(v);
+        }
     }
 
     fn ensure_stress_sized(&mut self) -> Result<(), SolveError> {
@@ -286,6 +329,15 @@ fn inf_norm(v: &[f64]) -> f64 {
         0.0,
         |m: f64, x| if x.is_nan() { f64::NAN } else { m.max(x.abs()) },
     )
+}
+
+/// The larger of two values, NaN if either is.
+fn nan_max(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() {
+        f64::NAN
+    } else {
+        a.max(b)
+    }
 }
 
 impl<const D: usize> Solver<D> {

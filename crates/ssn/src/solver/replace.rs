@@ -29,7 +29,12 @@ impl<const D: usize> Solver<D> {
         let rho = choose_rho::<D>(&self.settings.rho, &diagonal, &problem.operator)?;
         let residual_rho = choose_rho::<D>(&RESIDUAL_RHO, &diagonal, &problem.operator)?;
         if let Operator::Structured(s) = &problem.operator {
-            self.blocks = Some(PointBlocks::new(&s.b, problem.n_points()));
+            let mut blocks = PointBlocks::new(&s.b, problem.n_points());
+            // The same pattern, the same groups: this rank keeps its points.
+            if let Some(share) = &self.share {
+                blocks.keep_points(share.owned());
+            }
+            self.blocks = Some(blocks);
         }
         self.rho = rho;
         self.residual_rho = residual_rho;
