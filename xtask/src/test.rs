@@ -60,6 +60,20 @@ fn distributed_tests(root: &Path) -> Result<bool, String> {
         &["test", "--release", "-p", "talus-mumps"],
     )? & stage(
         root,
+        "distributed newton",
+        "cargo",
+        &[
+            "test",
+            "--release",
+            "-p",
+            "talus-ssn",
+            "--features",
+            "mpi",
+            "--test",
+            "distributed_newton",
+        ],
+    )? & stage(
+        root,
         "distributed",
         "cargo",
         &[
