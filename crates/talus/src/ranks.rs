@@ -90,6 +90,24 @@ pub fn any(flag: bool) -> bool {
     flag
 }
 
+/// The smallest rank on which `flag` is set, if any (collective as [`any`]).
+pub fn first(flag: bool) -> Option<usize> {
+    #[cfg(feature = "mpi")]
+    if ranks().distributed() {
+        use mpi::collective::SystemOperation;
+        use mpi::traits::CommunicatorCollectives;
+        let mine = if flag { ranks().rank as u64 } else { u64::MAX };
+        let mut first = u64::MAX;
+        mpi::topology::SimpleCommunicator::world().all_reduce_into(
+            &mine,
+            &mut first,
+            SystemOperation::min(),
+        );
+        return (first != u64::MAX).then_some(first as usize);
+    }
+    flag.then_some(ranks().rank)
+}
+
 /// MPI, initialized when this process was started by an MPI launcher; finalized on drop,
 /// after every MUMPS instance is gone.
 #[cfg(feature = "mpi")]

@@ -383,3 +383,53 @@ fn a_bad_scene_stops_every_rank_with_the_error_on_rank_0() {
         start.elapsed()
     );
 }
+
+/// Two ranks that see different folders under one name (OpenMPI's `-wdir` per rank, as on
+/// nodes without a shared file system, `out` relative): the run is refused on every rank,
+/// rank 0 saying that rank 1 does not see its folder, instead of a `.pvtu` whose pieces
+/// are elsewhere.
+#[test]
+fn ranks_that_do_not_share_the_output_folder_are_refused() {
+    let (scene, dir) = scene_file("unshared", &footing_scene());
+    let (a, b) = (dir.join("a"), dir.join("b"));
+    for d in [&a, &b] {
+        let _ = std::fs::remove_dir_all(d);
+        std::fs::create_dir_all(d).unwrap();
+    }
+    let talus = env!("CARGO_BIN_EXE_talus");
+    let rank = |wdir: &Path| -> Vec<String> {
+        [
+            "-np",
+            "1",
+            "-wdir",
+            &wdir.display().to_string(),
+            talus,
+            "run",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .chain([scene.display().to_string(), "--out".into(), "out".into()])
+        .collect()
+    };
+    let mut args: Vec<String> = MPIRUN_FLAGS.iter().map(|s| s.to_string()).collect();
+    args.extend(rank(&a));
+    args.push(":".into());
+    args.extend(rank(&b));
+    let start = Instant::now();
+    let output = Command::new("mpirun")
+        .args(&args)
+        .env("TALUS_LOG", "warn")
+        .output()
+        .expect("mpirun runs");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success(), "the run went on: {stderr}");
+    assert!(
+        stderr.contains("rank 1 of 2 does not see rank 0's output folder"),
+        "rank 0 names the rank that does not see its folder: {stderr}"
+    );
+    assert!(
+        !a.join("out/history.csv").exists() || !a.join("out/vtu").exists(),
+        "no snapshot written"
+    );
+    assert!(start.elapsed() < Duration::from_secs(60));
+}

@@ -48,6 +48,37 @@ pub(crate) fn write_snapshot(
     Ok(format!("vtu/{stem}.pvtu"))
 }
 
+/// Under `mpirun`, refuses a run whose ranks do not all see rank 0's output folder (its
+/// lock file, which rank 0 holds while it runs): each rank writes its pieces of the field
+/// snapshots there. Collective: every rank calls it once, after rank 0 has taken and
+/// cleared the folder, so that it also keeps the pieces of step 0 after the clearing.
+pub(crate) fn check_shared_folder() -> Result<(), RunError> {
+    let Some(root) = shared_root() else {
+        // One process, or no shared root: still every rank's collective.
+        crate::ranks::any(false);
+        return Ok(());
+    };
+    let ranks = crate::ranks::ranks();
+    let seen = ranks.is_root() || root.join(crate::run::folder::LOCK_FILE).exists();
+    if let Some(blind) = crate::ranks::first(!seen) {
+        let who = format!("rank {blind}");
+        return Err(RunError::Io {
+            path: root.to_path_buf(),
+            source: std::io::Error::new(
+                std::io::ErrorKind::NotFound,
+                format!(
+                    "{who} of {} does not see rank 0's output folder (its {}): every rank \
+                     writes its pieces of the VTU snapshots there; run in a folder all \
+                     ranks see (a shared file system)",
+                    ranks.size,
+                    crate::run::folder::LOCK_FILE
+                ),
+            ),
+        });
+    }
+    Ok(())
+}
+
 /// Rank 0's folder, when this is one of several ranks that all write there.
 fn shared_root() -> Option<&'static Path> {
     crate::ranks::root_folder().filter(|_| crate::ranks::ranks().distributed())

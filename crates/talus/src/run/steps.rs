@@ -173,8 +173,8 @@ where
             // not match the new ones.
             folder::clear_owned(out)?;
             // Under `mpirun` no rank writes its piece of step 0's VTU into rank 0's folder
-            // before rank 0 has cleared it (every rank passes here: a collective).
-            crate::ranks::any(false);
+            // before rank 0 has cleared it, nor into a folder that is not rank 0's.
+            super::pieces::check_shared_folder()?;
             let mut history = History::create(history_path, &outputs.columns())?;
             let row = outputs.row(0, &state, None);
             history.row::<D::Stats>(0, stepper.discretization().time(&state), None, &row)?;
