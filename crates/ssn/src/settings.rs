@@ -120,8 +120,10 @@ pub enum LinearSolver {
     /// no-pivot LU that `Auto` uses for non-associative flow).
     SchurPivoting,
     /// The Schur system factorized by MUMPS over `MPI_COMM_WORLD` (cargo feature `mpi`;
-    /// `docs/distributed.md`): every rank runs the same solve and calls it together.
-    /// LU for non-associative flow, LDLᵀ for associative.
+    /// `docs/distributed.md`): every rank runs the same solve and calls it together,
+    /// each evaluating and linearizing the points of its own METIS groups only (σ and
+    /// `z` are whole on every rank after a solve). LU for non-associative flow, LDLᵀ for
+    /// associative.
     Distributed,
 }
 

@@ -75,9 +75,14 @@ fn under_mpirun(world: &impl CommunicatorCollectives) -> usize {
         solver.set_q(q).expect("q");
         let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
         reference.elastic_predictor(&mut a).expect("own predictor");
-        solver.elastic_predictor(&mut b).expect("distributed predictor");
+        solver
+            .elastic_predictor(&mut b)
+            .expect("distributed predictor");
         let d = relative_difference(&a, &b);
-        check(d <= 1e-10, format!("ψ = {dilatancy}: predictor differs by {d:e}"));
+        check(
+            d <= 1e-10,
+            format!("ψ = {dilatancy}: predictor differs by {d:e}"),
+        );
         check(
             same_on_every_rank(world, bits(&b)),
             format!("ψ = {dilatancy}: predictor's σ differs between ranks"),

@@ -1,6 +1,7 @@
 //! The MPI ranks of a `mpirun -np N talus run` (cargo feature `mpi`, `docs/distributed.md`).
-//! Every rank runs the same scene on the same model; the Newton matrix's assembly and
-//! factorization are split between them (METIS, MUMPS). Rank 0 writes the outputs, every
+//! Every rank runs the same scene on the same model; the Newton solve's work on the
+//! points, the Newton matrix's assembly and its factorization are split between them
+//! (METIS, MUMPS). Rank 0 writes the outputs, every
 //! rank its piece of each VTU.
 //!
 //! Without the feature, or outside `mpirun`, there is one rank.

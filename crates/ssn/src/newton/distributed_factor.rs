@@ -1,6 +1,6 @@
 //! `K` factorized by MUMPS over `MPI_COMM_WORLD` (`docs/distributed.md`): every rank
-//! runs the same Newton iteration and hands MUMPS the entries of `K` its own point groups
-//! give (`OwnedAssembly`, distributed assembled input); MUMPS splits its fronts between the
+//! runs the same Newton iteration on its own points (`PointShare`) and hands MUMPS the
+//! entries of `K` its own point groups give (`OwnedAssembly`, distributed assembled input); MUMPS splits its fronts between the
 //! ranks. The solution comes back on every rank, bit for bit the host's.
 use talus_mumps::{Mumps, Statistics, Symmetry};
 
