@@ -402,3 +402,30 @@ pub fn world() -> Option<(usize, usize)> {
 /// `--allow-run-as-root` (CI containers run as root) and more ranks than cores without
 /// `--oversubscribe`.
 pub const MPIRUN_FLAGS: &[&str] = &["--allow-run-as-root", "--oversubscribe"];
+
+/// For a test program that checks itself on several ranks: `Some(code)` when this process
+/// was not started by `mpirun` (then it has run itself under `mpirun -np n` for each of
+/// `ranks`, and `code` says whether all succeeded), `None` under `mpirun` (run the checks).
+pub fn relaunch_under_mpirun(name: &str, ranks: &[usize]) -> Option<std::process::ExitCode> {
+    if std::env::var_os("OMPI_COMM_WORLD_SIZE").is_some() || std::env::var_os("PMI_SIZE").is_some()
+    {
+        return None;
+    }
+    let exe = std::env::current_exe().expect("the test's own path");
+    let mut ok = true;
+    for n in ranks {
+        let status = std::process::Command::new("mpirun")
+            .args(MPIRUN_FLAGS)
+            .args(["-np", &n.to_string()])
+            .arg(&exe)
+            .status()
+            .expect("mpirun runs (Debian's openmpi-bin)");
+        eprintln!("{name} on {n} rank(s): {status}");
+        ok &= status.success();
+    }
+    Some(if ok {
+        std::process::ExitCode::SUCCESS
+    } else {
+        std::process::ExitCode::FAILURE
+    })
+}

@@ -6,7 +6,7 @@
 //! `2 − s − 2 cos(kπ/(n+1))`, k = 1..n (Golub & Van Loan, 4th ed., §4.8): the number of
 //! negative ones is the LDLᵀ's negative pivots (Sylvester's law of inertia) and fixes the
 //! determinant's sign.
-use std::process::{Command, ExitCode};
+use std::process::ExitCode;
 
 use talus_mumps::{Mumps, Symmetry};
 
@@ -235,31 +235,14 @@ fn under_mpirun(rank: usize, size: usize) -> usize {
 }
 
 fn main() -> ExitCode {
-    if std::env::var_os("OMPI_COMM_WORLD_SIZE").is_some() || std::env::var_os("PMI_SIZE").is_some()
-    {
-        let universe = mpi::initialize().expect("MPI initializes once");
-        use mpi::traits::Communicator;
-        let world = universe.world();
-        let failures = under_mpirun(world.rank() as usize, world.size() as usize);
-        return if failures == 0 {
-            ExitCode::SUCCESS
-        } else {
-            ExitCode::FAILURE
-        };
+    if let Some(code) = talus_mumps::relaunch_under_mpirun("distributed_solve", &[1, 2]) {
+        return code;
     }
-    let exe = std::env::current_exe().expect("the test's own path");
-    let mut ok = true;
-    for ranks in ["1", "2"] {
-        let status = Command::new("mpirun")
-            .args(talus_mumps::MPIRUN_FLAGS)
-            .args(["-np", ranks])
-            .arg(&exe)
-            .status()
-            .expect("mpirun runs (Debian's openmpi-bin)");
-        eprintln!("distributed_solve on {ranks} rank(s): {status}");
-        ok &= status.success();
-    }
-    if ok {
+    let universe = mpi::initialize().expect("MPI initializes once");
+    use mpi::traits::Communicator;
+    let world = universe.world();
+    let failures = under_mpirun(world.rank() as usize, world.size() as usize);
+    if failures == 0 {
         ExitCode::SUCCESS
     } else {
         ExitCode::FAILURE

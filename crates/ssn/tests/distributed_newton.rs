@@ -10,7 +10,7 @@
 //! solvers), the same iteration count within one, and every rank holding the same bits of σ and z
 //! after the solve (the final all-gather, and the rank-order reductions that keep the
 //! ranks' decisions alike). The elastic predictor likewise.
-use std::process::{Command, ExitCode};
+use std::process::ExitCode;
 
 use mpi::traits::CommunicatorCollectives;
 
@@ -138,29 +138,11 @@ fn under_mpirun(world: &impl CommunicatorCollectives) -> usize {
 }
 
 fn main() -> ExitCode {
-    if std::env::var_os("OMPI_COMM_WORLD_SIZE").is_some() || std::env::var_os("PMI_SIZE").is_some()
-    {
-        let universe = mpi::initialize().expect("MPI initializes once");
-        let failures = under_mpirun(&universe.world());
-        return if failures == 0 {
-            ExitCode::SUCCESS
-        } else {
-            ExitCode::FAILURE
-        };
+    if let Some(code) = talus_mumps::relaunch_under_mpirun("distributed_newton", &[1, 2, 3]) {
+        return code;
     }
-    let exe = std::env::current_exe().expect("the test's own path");
-    let mut ok = true;
-    for ranks in ["1", "2", "3"] {
-        let status = Command::new("mpirun")
-            .args(talus_mumps::MPIRUN_FLAGS)
-            .args(["-np", ranks])
-            .arg(&exe)
-            .status()
-            .expect("mpirun runs (Debian's openmpi-bin)");
-        eprintln!("distributed_newton on {ranks} rank(s): {status}");
-        ok &= status.success();
-    }
-    if ok {
+    let universe = mpi::initialize().expect("MPI initializes once");
+    if under_mpirun(&universe.world()) == 0 {
         ExitCode::SUCCESS
     } else {
         ExitCode::FAILURE
