@@ -433,3 +433,41 @@ fn ranks_that_do_not_share_the_output_folder_are_refused() {
     );
     assert!(start.elapsed() < Duration::from_secs(60));
 }
+
+/// `talus -v` under `mpirun`: rank 0 logs at debug, the other ranks errors only. No rank
+/// may reach a reduction the others skip because of its log filter (a collective inside a
+/// log line would leave the ranks waiting for each other).
+#[test]
+fn a_verbose_run_on_two_ranks_finishes() {
+    let text = replaced(&footing_scene(), "steps = 80", "steps = 20");
+    let (scene, dir) = scene_file("verbose", &text);
+    let out = dir.join("out");
+    let _ = std::fs::remove_dir_all(&out);
+    let talus = env!("CARGO_BIN_EXE_talus");
+    let mut child = Command::new("mpirun")
+        .args(MPIRUN_FLAGS)
+        .args(["-np", "2", talus, "-v", "run"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(&out)
+        .env_remove("TALUS_LOG")
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("mpirun starts");
+    let start = Instant::now();
+    while child.try_wait().expect("waitable").is_none() {
+        if start.elapsed() > Duration::from_secs(120) {
+            let _ = child.kill();
+            panic!("a verbose two-rank run still running after 120 s");
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    let output = child.wait_with_output().expect("the run's output");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert_eq!(history_column(&out, "time").len(), 21);
+}

@@ -36,8 +36,9 @@ impl<const D: usize> Solver<D> {
         for (s, d) in sigma.iter_mut().zip(&self.direction) {
             *s += d;
         }
-        // A rank's direction is 0 at the points it does not own.
+        // A rank's direction is 0 at the points it does not own; `z()` whole too.
         self.gather(sigma);
+        self.gather_z();
         Ok(())
     }
 }

@@ -120,13 +120,19 @@ impl<const D: usize> Solver<D> {
             report.merit_history.push(merit.sqrt());
             residual = self.residual_norm(sigma);
             if tracing::enabled!(tracing::Level::TRACE) {
+                // This rank's points (all of them with one process).
+                let owned = self.share.as_ref().map(PointShare::owned);
+                let mine = |i: usize| owned.is_none_or(|o| o[i]);
                 let count = |r: talus_bipotential::Region| {
-                    self.lin.iter().filter(|l| l.region == r).count()
+                    (0..self.lin.len())
+                        .filter(|&i| mine(i) && self.lin[i].region == r)
+                        .count()
                 };
                 let changed = regions_before
                     .iter()
                     .zip(&self.lin)
-                    .filter(|(r, l)| **r != l.region)
+                    .enumerate()
+                    .filter(|(i, (r, l))| mine(*i) && **r != l.region)
                     .count();
                 tracing::trace!(
                     changed,
@@ -148,9 +154,7 @@ impl<const D: usize> Solver<D> {
         }
         // Every rank holds every point's σ and z again.
         self.gather(sigma);
-        let mut z = std::mem::take(&mut self.z);
-        self.gather(&mut z);
-        self.z = z;
+        self.gather_z();
         // A failure at the floor is the floor: no step can make progress there.
         if matches!(
             report.status,
@@ -167,13 +171,16 @@ impl<const D: usize> Solver<D> {
             }
         }
         report.residual = residual;
-        report.scale = self.norm(sigma).max(1.0);
+        // Outside the log macro: a collective with a share, which every rank must call
+        // whatever its log filter.
+        let sigma_inf = self.norm(sigma);
+        report.scale = sigma_inf.max(1.0);
         report.seconds = start.elapsed().as_secs_f64();
         tracing::debug!(
             status = %report.status,
             iterations = report.iterations,
             residual,
-            sigma_inf = self.norm(sigma),
+            sigma_inf,
             backtracks = report.backtracks,
             "ssn solve"
         );

@@ -186,6 +186,15 @@ impl<const D: usize> Solver<D> {
             problem,
         };
         let symmetric = solver.problem.is_associative();
+        if settings.linear_solver == LinearSolver::Distributed
+            && !matches!(solver.problem.operator, Operator::Structured(_))
+        {
+            return Err(invalid(
+                "settings.linear_solver",
+                "Distributed (MUMPS) factorizes the Schur system of a structured operator \
+                 (S + h² B M⁻¹ Bᵀ), not a dense or sparse W",
+            ));
+        }
         match (&solver.problem.operator, settings.linear_solver) {
             (Operator::Dense(_), _) if n <= DENSE_LIMIT => solver.dense = Some(DenseSystem::new(n)),
             (
@@ -256,6 +265,13 @@ impl<const D: usize> Solver<D> {
         }
     }
 
+    /// `z` whole on every rank (as `z()` promises).
+    fn gather_z(&mut self) {
+        if let Some(share) = &self.share {
+            share.gather_points::<D>(&mut self.z);
+        }
+    }
+
     /// Every point's block of `v` current on every rank (after a distributed solve's
     /// work on owned points).
     fn gather(&self, v: &mut [f64]) {
@@ -320,7 +336,10 @@ impl<const D: usize> Solver<D> {
             ));
         }
         self.evaluate(sigma, false);
-        Ok(self.residual_norm(sigma))
+        let residual = self.residual_norm(sigma);
+        // `z()` whole on every rank, as after a solve.
+        self.gather_z();
+        Ok(residual)
     }
 }
 
