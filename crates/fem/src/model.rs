@@ -60,6 +60,10 @@ where
     pub velocity_ramps: Vec<(Ramp, Vec<usize>)>,
     /// Prescribed dofs of the boundary whose reaction is reported, with their component.
     pub reaction_dofs: Vec<(usize, usize)>,
+    /// The direction the reported reaction and displacement are measured along: a
+    /// component and its sign (`(1, −1)`, downward, by default; the app takes the reported
+    /// boundary's motion when it moves along one axis).
+    pub reaction_direction: (usize, f64),
     /// Per prescribed dof, the boundary condition whose velocity it follows (a scene's
     /// `[[boundary]]` index, the last that fixes it), which also owns its reaction.
     pub dof_owner: Vec<usize>,
@@ -138,6 +142,7 @@ where
             prescribed_velocity: vec![0.0; n_prescribed],
             velocity_ramps: Vec::new(),
             reaction_dofs: Vec::new(),
+            reaction_direction: (1, -1.0),
             dof_owner: vec![0; n_prescribed],
         }
     }

@@ -24,8 +24,8 @@ use crate::state::State;
 /// What a FEM sub-step measured.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FemStats {
-    /// Reaction on the reported boundary: the force it applies to the body, vertical,
-    /// positive downward, N per metre of thickness (axisymmetric: N on the whole
+    /// Reaction on the reported boundary: the force it applies to the body along the
+    /// model's `reaction_direction` (downward positive by default), N per metre of thickness (axisymmetric: N on the whole
     /// circumference, `2π` times the per-radian force; 3D: N).
     pub reaction_force: f64,
     /// Force each prescribed dof's condition applies to the body (N/m, N per radian, or N
@@ -35,7 +35,8 @@ pub struct FemStats {
 
 /// The reported boundary's reaction of a FEM step's report.
 pub trait ReactionForce {
-    /// The reported boundary's reaction at the end of the step (N/m, downward positive).
+    /// The reported boundary's reaction at the end of the step (N/m, along the model's
+    /// `reaction_direction`: downward positive by default).
     fn reaction_force(&self) -> f64;
 }
 
@@ -112,19 +113,21 @@ where
     }
 
     /// The reaction of the reported boundary in a state at rest (`M a = 0`): `Bᵀσ − f` on
-    /// its vertical prescribed dofs, positive downward (N/m; N in 3D), `f` at the state's
+    /// its prescribed dofs along `reaction_direction` (N/m; N in 3D), `f` at the state's
     /// time.
     pub fn reaction(&self, state: &State<D>) -> f64 {
         self.reported_reaction(&prescribed_forces_at_rest(self, state))
     }
 
-    /// The reported boundary's vertical push on the body, downward positive, from the force
-    /// of every prescribed dof; axisymmetric: on the whole circumference (`2π` times).
+    /// The reported boundary's push on the body along `reaction_direction` (downward
+    /// positive by default), from the force of every prescribed dof; axisymmetric: on the
+    /// whole circumference (`2π` times).
     fn reported_reaction(&self, prescribed_forces: &[f64]) -> f64 {
+        let (axis, sign) = self.reaction_direction;
         self.reaction_dofs
             .iter()
-            .filter(|(_, comp)| *comp == 1)
-            .fold(0.0, |r, &(j, _)| r - prescribed_forces[j])
+            .filter(|(_, comp)| *comp == axis)
+            .fold(0.0, |r, &(j, _)| r + sign * prescribed_forces[j])
             * self.assembly.geometry().whole_body_factor()
     }
 }

@@ -3,6 +3,7 @@
 //! `talus verify` (and so by `cargo xtask verify`); the integration tests assert the same
 //! cases pass.
 mod axisymmetric_elastic;
+mod cavity_expansion;
 mod convergence_order;
 mod elastic;
 mod layered_footing;
@@ -19,6 +20,9 @@ use std::time::Instant;
 pub use axisymmetric_elastic::{
     circular_punch, lame, lame_axisymmetric, lame_errors, lame_scene, punch_stiffness,
     sneddon_stiffness,
+};
+pub use cavity_expansion::{
+    cavity_expansion_case, cavity_pressure, thick_cylinder_collapse, CAVITY_EXPANSION,
 };
 pub use convergence_order::newton_convergence_order;
 pub use elastic::{elastic_patch_test, elastic_step_identity};
@@ -116,6 +120,7 @@ pub fn all_cases(quick: bool, figures: Option<&std::path::Path>) -> Vec<CaseResu
     out.extend(timed(triaxial_compression));
     out.extend(timed(lame_axisymmetric));
     out.extend(timed(circular_punch));
+    out.extend(timed(cavity_expansion_case));
     out.extend(prandtl::all_prandtl_cases(quick, figures));
     // Rows stamp their own runs' seconds; `quick` keeps c2/c1 = 0.5 and 1 on the coarse mesh.
     out.extend(layered_footing_cases(quick));

@@ -314,6 +314,7 @@ where
     model.prescribed_velocity = motion.velocity;
     model.velocity_ramps = motion.velocity_ramps;
     model.reaction_dofs = motion.reaction_dofs;
+    model.reaction_direction = motion.reaction_direction;
     model.dof_owner = motion.owner;
     Ok(model)
 }

@@ -14,6 +14,9 @@ pub(super) struct PrescribedMotion {
     pub owner: Vec<usize>,
     /// The reported boundary's dofs and their component.
     pub reaction_dofs: Vec<(usize, usize)>,
+    /// The component and sign its reaction and displacement are reported along
+    /// ([`reaction_direction`]).
+    pub reaction_direction: (usize, f64),
     /// The dofs that follow each ramp.
     pub velocity_ramps: Vec<(Ramp, Vec<usize>)>,
 }
@@ -65,10 +68,44 @@ pub(super) fn prescribed_motion<V: SceneVector>(
             ));
         }
     }
+    // The reported boundary's velocity on the components it fixes (the last of that name).
+    let reported: Option<Vec<f64>> = (spec.boundary.iter().rev())
+        .find(|b| b.name.is_some() && b.name == spec.output.reaction)
+        .map(|b| {
+            (0..V::DIM)
+                .map(|c| {
+                    if b.fix.fixes(c) {
+                        b.velocity.as_ref()[c]
+                    } else {
+                        0.0
+                    }
+                })
+                .collect()
+        });
     Ok(PrescribedMotion {
         velocity,
         owner,
         reaction_dofs,
+        reaction_direction: reaction_direction(reported.as_deref()),
         velocity_ramps,
     })
+}
+
+/// The direction a reported boundary's reaction and displacement are measured along, from
+/// its prescribed velocity on the components it fixes: the one axis it moves along, in the
+/// sense of its motion (a footing pushed down: downward positive; a cavity wall pushed out
+/// along x: outward positive); downward (`(1, −1)`) when it does not move, or moves along
+/// more than one axis, as a footing's reaction is read.
+pub(super) fn reaction_direction(velocity: Option<&[f64]>) -> (usize, f64) {
+    let moving: Vec<(usize, f64)> = velocity
+        .unwrap_or_default()
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| **v != 0.0)
+        .map(|(c, v)| (c, v.signum()))
+        .collect();
+    match moving[..] {
+        [one] => one,
+        _ => (1, -1.0),
+    }
 }

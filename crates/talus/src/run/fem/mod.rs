@@ -268,15 +268,20 @@ struct Carried {
     histories: Vec<(usize, Vec<f64>)>,
 }
 
-/// The reported boundary's settlement (m, downward positive): the mean of `−u_y` over
+/// The reported boundary's settlement (m, along `(axis, sign)`, the model's
+/// `reaction_direction`: downward positive by default): the mean of `sign · u_axis` over
 /// `nodes` (0 without nodes), in 2D and 3D.
-fn settlement<P: AsRef<[f64]>>(nodes: &[usize], displacement: &[P]) -> f64 {
+fn settlement<P: AsRef<[f64]>>(
+    nodes: &[usize],
+    displacement: &[P],
+    (axis, sign): (usize, f64),
+) -> f64 {
     let displacement = if nodes.is_empty() {
         0.0
     } else {
-        -nodes
+        sign * nodes
             .iter()
-            .map(|&n| displacement[n].as_ref()[1])
+            .map(|&n| displacement[n].as_ref()[axis])
             .sum::<f64>()
             / nodes.len() as f64
     };
@@ -325,7 +330,11 @@ where
     }
 
     fn row(&mut self, step: usize, state: &State<D>, report: Option<&StepRecord>) -> String {
-        let displacement = settlement(&self.reaction_nodes, &state.displacement);
+        let displacement = settlement(
+            &self.reaction_nodes,
+            &state.displacement,
+            self.model.reaction_direction,
+        );
         if let Some(r) = report {
             self.histories.extend(
                 r.residual_histories

@@ -240,7 +240,7 @@ where
     let reported: Vec<usize> = model
         .reaction_dofs
         .iter()
-        .filter(|(_, comp)| *comp == 1)
+        .filter(|(_, comp)| *comp == model.reaction_direction.0)
         .map(|&(j, _)| j)
         .collect();
     if reported.is_empty() || reaction == 0.0 || !reaction.is_finite() {
