@@ -86,8 +86,9 @@ impl MonitorValues {
 }
 
 /// The reported boundary (`output.reaction`): its force and settlement as in the
-/// `reaction_force` / `footing_displacement` columns (FEM; MPM: `−reaction_force_y` and
-/// `−v_y t`), both downward positive.
+/// `reaction_force` / `footing_displacement` columns (FEM: along the boundary's motion when
+/// it moves along one axis, downward otherwise, `docs/scenes.md` 'Outputs'; MPM:
+/// `−reaction_force_y` and `−v_y t`, downward positive).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ReportedReaction {
     pub boundary: String,
@@ -98,7 +99,7 @@ pub struct ReportedReaction {
 /// The plateau of the reported reaction (`output::plateau`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Limit {
-    /// Mean force over the plateau (N/m, downward positive).
+    /// Mean force over the plateau (N/m, in the reported reaction's direction).
     pub force: f64,
     /// Settlement where the plateau starts (m), and its step.
     pub settlement: f64,

@@ -68,10 +68,11 @@ pub(super) fn prescribed_motion<V: SceneVector>(
             ));
         }
     }
-    // The reported boundary's velocity on the components it fixes (the last of that name).
-    let reported: Option<Vec<f64>> = (spec.boundary.iter().rev())
-        .find(|b| b.name.is_some() && b.name == spec.output.reaction)
-        .map(|b| {
+    // The reported boundary's velocity on the components it fixes (the last of that name
+    // that acts here: a stage's conditions).
+    let reported: Option<Vec<f64>> = (spec.boundary.iter().zip(nodes).rev())
+        .find(|(b, nodes)| !nodes.is_empty() && b.name.is_some() && b.name == spec.output.reaction)
+        .map(|(b, _)| {
             (0..V::DIM)
                 .map(|c| {
                     if b.fix.fixes(c) {
@@ -107,5 +108,24 @@ pub(super) fn reaction_direction(velocity: Option<&[f64]>) -> (usize, f64) {
     match moving[..] {
         [one] => one,
         _ => (1, -1.0),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::reaction_direction;
+
+    /// Along the one axis the boundary moves on, in its sense; downward at rest, with no
+    /// reported boundary, or moving along two axes.
+    #[test]
+    fn the_reported_direction_follows_a_motion_along_one_axis() {
+        assert_eq!(reaction_direction(Some(&[0.0, -1e-3])), (1, -1.0));
+        assert_eq!(reaction_direction(Some(&[1e-3, 0.0])), (0, 1.0));
+        assert_eq!(reaction_direction(Some(&[-2.0, 0.0])), (0, -1.0));
+        assert_eq!(reaction_direction(Some(&[0.0, 0.0, 5e-4])), (2, 1.0));
+        assert_eq!(reaction_direction(Some(&[0.0, 1e-3])), (1, 1.0));
+        assert_eq!(reaction_direction(Some(&[0.0, 0.0])), (1, -1.0));
+        assert_eq!(reaction_direction(Some(&[1e-4, -1e-3])), (1, -1.0));
+        assert_eq!(reaction_direction(None), (1, -1.0));
     }
 }

@@ -30,7 +30,8 @@ where
     talus_fem::Mandel<D>: talus_fem::Dimension,
 {
     pub records: Vec<StepRecord>,
-    /// Footing displacement (m, downward positive) after each step.
+    /// The reported boundary's displacement (m, along `Model::reaction_direction`:
+    /// downward positive for a footing) after each step.
     pub displacements: Vec<f64>,
     pub seconds: f64,
     pub final_state: State<D>,

@@ -214,15 +214,16 @@ impl FemResults {
 /// step, `|R_M| / |R|`; `None` without a reported reaction (or when it is 0).
 ///
 /// Eq. 15 on every dof, summed with weights `w` that are 1 on the reported boundary's
-/// vertical dofs and 0 on every other prescribed dof, splits `R` exactly (the free dofs
+/// dofs along its reported axis (`Model::reaction_direction`: vertical for a footing) and
+/// 0 on every other prescribed dof, splits `R` exactly (the free dofs
 /// are in balance, so `Σ_j w_j (M a + Bᵀσ − f)_j` is the reported boundary's force):
 /// `R = −(w·M a + (B w)·σ − w·f)`, and its inertial part is `R_M = −w·M a`. The weights:
-/// - the reported boundary drives the body (it moves vertically at one speed `v_D`, every
-///   other prescribed dof is at rest, as a footing): `w = v / v_D`, the mechanism it
+/// - the reported boundary drives the body (it moves along its axis at one speed `v_D`,
+///   every other prescribed dof is at rest, as a footing): `w = v / v_D`, the mechanism it
 ///   drives, so that `R_M v_D` is the rate of change of the kinetic energy;
-/// - else, when the reported boundary holds every prescribed vertical dof (a base, a line
-///   of symmetry): `w` a rigid vertical translation, so that `R_M` is the body's whole
-///   vertical `Σ M a`;
+/// - else, when the reported boundary holds every prescribed dof along its axis (a base,
+///   a line of symmetry): `w` a rigid translation along the axis, so that `R_M` is the
+///   body's whole `Σ M a` along it;
 /// - else the reported dofs' own `M a` (`w` 1 there, 0 elsewhere): a lower bound.
 ///
 /// `M a` is `f − Bᵀσ` on the free dofs (eq. 15 at the step's end) and the step's boundary
@@ -237,10 +238,11 @@ where
 {
     let stats = record.stats.as_ref()?;
     let reaction = stats.reaction_force;
+    let axis = model.reaction_direction.0;
     let reported: Vec<usize> = model
         .reaction_dofs
         .iter()
-        .filter(|(_, comp)| *comp == model.reaction_direction.0)
+        .filter(|(_, comp)| *comp == axis)
         .map(|&(j, _)| j)
         .collect();
     if reported.is_empty() || reaction == 0.0 || !reaction.is_finite() {
@@ -269,18 +271,18 @@ where
             .iter()
             .all(|&j| (v[j] - v_d).abs() <= 1e-12 * v_d.abs());
     let others_still = (0..v.len()).all(|j| v[j] == 0.0 || reported.contains(&j));
-    let vertical_held_by_reported = (dofs.prescribed_dofs().iter().enumerate())
-        .all(|(j, &(_, comp))| comp != 1 || reported.contains(&j));
+    let axis_held_by_reported = (dofs.prescribed_dofs().iter().enumerate())
+        .all(|(j, &(_, comp))| comp != axis || reported.contains(&j));
     let inertia = if one_speed && others_still {
         let free: f64 = (ma_free().iter().zip(&state.velocity_free))
             .map(|(m, v)| m * v)
             .sum();
         let prescribed: f64 = ma_prescribed.iter().zip(v).map(|(m, v)| m * v).sum();
         (free + prescribed) / v_d
-    } else if vertical_held_by_reported {
+    } else if axis_held_by_reported {
         let ma = ma_free();
         let free: f64 = (0..dofs.n_nodes())
-            .filter_map(|n| dofs.free(n, 1))
+            .filter_map(|n| dofs.free(n, axis))
             .map(|j| ma[j])
             .sum();
         free + reported.iter().map(|&j| ma_prescribed[j]).sum::<f64>()
