@@ -2,34 +2,16 @@
 //! cylinder and Sneddon's rigid circular punch, both run as scenes through the stepper.
 use nalgebra::{DMatrix, DVector};
 
-use super::{CaseResult, Check};
-use crate::model::fem::FromScene;
-use crate::model::fem::ReactionForce;
-use crate::model::fem::{Model, State};
-use crate::run::fem::solver_settings;
+use super::{run_to_end, CaseResult, Check};
+use crate::model::fem::{FromScene, Model, State};
 use crate::scene::Scene;
-use talus_engine::{StepSettings, Stepper};
 
 const E: f64 = 2.0e8;
 const NU: f64 = 0.3;
 
 /// Runs `text` (a scene) to its end; the model and the final state.
 fn run(text: &str) -> Option<(Model, State, f64)> {
-    let scene = Scene::parse(text, None).ok()?;
-    let model = Model::from_scene(&scene).ok()?;
-    let mut state = model.initial_state(&scene).ok()?;
-    let mut stepper = Stepper::new(
-        &model,
-        StepSettings::with_solver(solver_settings(&scene), scene.spec.solver.max_step_halvings),
-    );
-    let mut reaction = f64::NAN;
-    for _ in 0..scene.spec.time.steps {
-        reaction = stepper
-            .advance(&mut state, scene.spec.time.step)
-            .ok()?
-            .reaction_force();
-    }
-    Some((model, state, reaction))
+    run_to_end(&Scene::parse(text, None).ok()?)
 }
 
 const ELASTIC: &str = "young_modulus = 2.0e8\npoisson_ratio = 0.3\nfriction_angle = 30.0\n\

@@ -2,11 +2,8 @@
 //! (`scenes/cavity_expansion.toml`): once the whole wall has yielded, the cavity pressure is
 //! the Mohr-Coulomb thick cylinder's collapse pressure (`docs/axisymmetry.md`, 'Cavity
 //! expansion'), which the cone `k_d = √2 cos φ`, ψ = 0, reproduces in plane strain.
-use super::{CaseResult, Check};
-use crate::model::fem::{FromScene, Model, ReactionForce};
-use crate::run::fem::solver_settings;
+use super::{run_to_end, CaseResult, Check};
 use crate::scene::Scene;
-use talus_engine::{StepSettings, Stepper};
 
 pub const CAVITY_EXPANSION: &str = include_str!("../../../../../scenes/cavity_expansion.toml");
 
@@ -37,19 +34,7 @@ pub fn thick_cylinder_collapse(a: f64, b: f64, p0: f64, c: f64, phi_deg: f64) ->
 /// The cavity pressure (Pa) at the end of the scene's run, from the wall's reaction on the
 /// whole circumference; `None` if the run fails.
 pub fn cavity_pressure(scene: &Scene) -> Option<f64> {
-    let model = Model::from_scene(scene).ok()?;
-    let mut state = model.initial_state(scene).ok()?;
-    let mut stepper = Stepper::new(
-        &model,
-        StepSettings::with_solver(solver_settings(scene), scene.spec.solver.max_step_halvings),
-    );
-    let mut push = f64::NAN;
-    for _ in 0..scene.spec.time.steps {
-        push = stepper
-            .advance(&mut state, scene.spec.time.step)
-            .ok()?
-            .reaction_force();
-    }
+    let (_, _, push) = run_to_end(scene)?;
     Some(push / (2.0 * std::f64::consts::PI * A * HEIGHT))
 }
 

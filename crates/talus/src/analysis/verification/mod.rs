@@ -17,6 +17,11 @@ mod water;
 
 use std::time::Instant;
 
+use crate::model::fem::{FromScene, Model, ReactionForce, State};
+use crate::run::fem::solver_settings;
+use crate::scene::Scene;
+use talus_engine::{StepSettings, Stepper};
+
 pub use axisymmetric_elastic::{
     circular_punch, lame, lame_axisymmetric, lame_errors, lame_scene, punch_stiffness,
     sneddon_stiffness,
@@ -94,6 +99,25 @@ impl CaseResult {
     pub fn passed(&self) -> bool {
         self.error() <= self.tolerance
     }
+}
+
+/// Runs `scene` to its end with its solver settings: the model, the final state and the
+/// last step's reported reaction (`reaction_force`); `None` if a step fails.
+pub(crate) fn run_to_end(scene: &Scene) -> Option<(Model, State, f64)> {
+    let model = Model::from_scene(scene).ok()?;
+    let mut state = model.initial_state(scene).ok()?;
+    let mut stepper = Stepper::new(
+        &model,
+        StepSettings::with_solver(solver_settings(scene), scene.spec.solver.max_step_halvings),
+    );
+    let mut reaction = f64::NAN;
+    for _ in 0..scene.spec.time.steps {
+        reaction = stepper
+            .advance(&mut state, scene.spec.time.step)
+            .ok()?
+            .reaction_force();
+    }
+    Some((model, state, reaction))
 }
 
 /// Times `f` and stamps the seconds on every result it returns.
