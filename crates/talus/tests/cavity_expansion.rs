@@ -5,7 +5,7 @@
 mod common;
 
 use talus::analysis::verification::{
-    cavity_expansion_case, cavity_pressure, thick_cylinder_collapse, CAVITY_EXPANSION,
+    cavity_expansion_case, cavity_pressure, CAVITY, CAVITY_EXPANSION,
 };
 use talus::scene::Scene;
 
@@ -32,9 +32,9 @@ fn cavity_pressure_reaches_the_mohr_coulomb_thick_cylinder_collapse() {
 /// `k_d = √2`, Tresca in plane strain) collapses there too.
 #[test]
 fn a_frictionless_cavity_collapses_at_hills_pressure() {
-    let hill = 1.0e5 + 2.0 * 2.0e4 * 2.0f64.ln();
+    let hill = CAVITY.p0 + 2.0 * CAVITY.cohesion * (CAVITY.b / CAVITY.a).ln();
     // O(φ): 1.8e-7 at φ = 1e-5° (smaller φ meets c cot φ's rounding).
-    let limit = thick_cylinder_collapse(1.0, 2.0, 1.0e5, 2.0e4, 1e-5);
+    let limit = CAVITY.collapse_pressure(1e-5);
     assert!((limit / hill - 1.0).abs() < 1e-6, "{limit} against {hill}");
     let text = replaced(
         CAVITY_EXPANSION,
@@ -51,7 +51,7 @@ fn a_frictionless_cavity_collapses_at_hills_pressure() {
     // Measured 8.6e-9.
     assert!((p / hill - 1.0).abs() < 1e-6, "{p} against {hill}");
     // The frictional collapse is another pressure: the check tells them apart.
-    let frictional = thick_cylinder_collapse(1.0, 2.0, 1.0e5, 2.0e4, 30.0);
+    let frictional = CAVITY.collapse_pressure(30.0);
     assert!((frictional / hill - 1.0).abs() > 0.1);
 }
 
@@ -67,7 +67,7 @@ fn a_boundary_driven_along_x_reports_its_reaction_along_its_motion() {
     let fx = history_column(&out, "cavity_fx");
     assert_eq!(reaction, fx);
     // Step 0: p0 on the wall, 2π a H p0.
-    let at_rest = 2.0 * std::f64::consts::PI * 0.05 * 1.0e5;
+    let at_rest = CAVITY.wall_push(CAVITY.p0);
     assert!(
         (reaction[0] / at_rest - 1.0).abs() < 1e-9,
         "{}",
@@ -85,8 +85,7 @@ fn a_boundary_driven_along_x_reports_its_reaction_along_its_motion() {
         .and_then(|t| t.split(' ').next())
         .and_then(|v| v.parse().ok())
         .unwrap_or_else(|| panic!("no limit load in: {stdout}"));
-    let collapse =
-        2.0 * std::f64::consts::PI * 0.05 * thick_cylinder_collapse(1.0, 2.0, 1.0e5, 2.0e4, 30.0);
+    let collapse = CAVITY.wall_push(CAVITY.collapse_pressure(CAVITY.phi));
     assert!(
         (limit / collapse - 1.0).abs() < 0.01,
         "{limit} against {collapse}"

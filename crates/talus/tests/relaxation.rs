@@ -18,17 +18,9 @@ use common::{
 const TRIAXIAL: &str = include_str!("../../../scenes/triaxial.toml");
 const COLUMN: &str = include_str!("../../../scenes/column_a1.toml");
 const CAVITY: &str = include_str!("../../../scenes/cavity_expansion.toml");
-/// `text` with `relaxation_time = {tau}` after its first `cone_fit` line (a plane-strain
-/// fit, or the cavity's explicit cone).
+/// `text` with `relaxation_time = {tau}` after its first `cone_fit` line.
 fn with_tau(text: &str, tau: &str) -> String {
-    let key = format!("relaxation_time = {tau}");
-    match text.find("cone_fit = {") {
-        Some(at) if !text.contains("cone_fit = \"plane_strain\"") => {
-            let end = at + text[at..].find('\n').expect("a line end");
-            format!("{}\n{key}{}", &text[..end], &text[end..])
-        }
-        _ => with_material_key(text, &key),
-    }
+    with_material_key(text, &format!("relaxation_time = {tau}"))
 }
 
 /// The footing on a coarse mesh (16 × 7 P2 cells), `steps` steps.

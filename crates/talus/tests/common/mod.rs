@@ -66,11 +66,22 @@ pub fn replaced(text: &str, from: &str, to: &str) -> String {
     text.replacen(from, to, 1)
 }
 
-/// `text` with the line `key` added after its first `cone_fit = "plane_strain"` line: a
-/// key of that material (`relaxation_time`, `flow`, …).
+/// `text` with the line `key` added after its first line starting `cone_fit =` (a
+/// plane-strain fit, an explicit cone, …): a key of that material (`relaxation_time`,
+/// `flow`, …).
 pub fn with_material_key(text: &str, key: &str) -> String {
-    const FIT: &str = "cone_fit = \"plane_strain\"\n";
-    replaced(text, FIT, &format!("{FIT}{key}\n"))
+    let start = text
+        .lines()
+        .scan(0, |at, line| {
+            let here = *at;
+            *at += line.len() + 1;
+            Some((here, line))
+        })
+        .find(|(_, line)| line.starts_with("cone_fit ="))
+        .map(|(at, _)| at)
+        .expect("test setup: a `cone_fit =` line in the scene");
+    let end = text[start..].find('\n').map_or(text.len(), |n| start + n);
+    format!("{}\n{key}{}", &text[..end], &text[end..])
 }
 
 /// The FEM scene `text`, parsed (a parse error panics with its message).

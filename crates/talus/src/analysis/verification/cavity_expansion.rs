@@ -7,14 +7,40 @@ use crate::scene::Scene;
 
 pub const CAVITY_EXPANSION: &str = include_str!("../../../../../scenes/cavity_expansion.toml");
 
-/// The scene's cavity radius `a`, outer radius `b`, strip height (m), initial and outer
-/// pressure `p0`, cohesion (Pa) and friction angle (degrees).
-const A: f64 = 1.0;
-const B: f64 = 2.0;
-const HEIGHT: f64 = 0.05;
-const P0: f64 = 1.0e5;
-const COHESION: f64 = 2.0e4;
-const PHI: f64 = 30.0;
+/// The shipped scene's dimensions and soil (the case checks that its text still says so).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cavity {
+    /// Cavity and outer radius, strip height (m).
+    pub a: f64,
+    pub b: f64,
+    pub height: f64,
+    /// Initial and outer pressure, cohesion (Pa); friction angle (degrees).
+    pub p0: f64,
+    pub cohesion: f64,
+    pub phi: f64,
+}
+
+/// `scenes/cavity_expansion.toml`'s.
+pub const CAVITY: Cavity = Cavity {
+    a: 1.0,
+    b: 2.0,
+    height: 0.05,
+    p0: 1.0e5,
+    cohesion: 2.0e4,
+    phi: 30.0,
+};
+
+impl Cavity {
+    /// The wall's push (N on the whole circumference) at cavity pressure `p` (Pa).
+    pub fn wall_push(&self, p: f64) -> f64 {
+        2.0 * std::f64::consts::PI * self.a * self.height * p
+    }
+
+    /// The collapse pressure (Pa) at friction angle `phi` (degrees).
+    pub fn collapse_pressure(&self, phi: f64) -> f64 {
+        thick_cylinder_collapse(self.a, self.b, self.p0, self.cohesion, phi)
+    }
+}
 
 /// The collapse pressure (Pa, compression positive) of a Mohr-Coulomb thick cylinder
 /// `a ≤ r ≤ b` in plane strain, outer pressure `p0`, every point yielding with `σ_r` the
@@ -35,7 +61,7 @@ pub fn thick_cylinder_collapse(a: f64, b: f64, p0: f64, c: f64, phi_deg: f64) ->
 /// whole circumference; `None` if the run fails.
 pub fn cavity_pressure(scene: &Scene) -> Option<f64> {
     let (_, _, push) = run_to_end(scene)?;
-    Some(push / (2.0 * std::f64::consts::PI * A * HEIGHT))
+    Some(push / CAVITY.wall_push(1.0))
 }
 
 /// The shipped scene's cavity pressure at `u(a)` = 24 mm against the collapse pressure, to
@@ -63,7 +89,7 @@ pub fn cavity_expansion_case() -> Vec<CaseResult> {
     vec![CaseResult {
         case: "cavity_expansion".into(),
         quantity: "cavity pressure p_a (Pa) at u(a) = 24 mm, ψ = 0".into(),
-        reference: thick_cylinder_collapse(A, B, P0, COHESION, PHI),
+        reference: CAVITY.collapse_pressure(CAVITY.phi),
         computed: cavity_pressure(&scene).unwrap_or(f64::NAN),
         tolerance: 1e-5,
         check: Check::Relative,

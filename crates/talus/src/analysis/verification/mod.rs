@@ -27,7 +27,8 @@ pub use axisymmetric_elastic::{
     sneddon_stiffness,
 };
 pub use cavity_expansion::{
-    cavity_expansion_case, cavity_pressure, thick_cylinder_collapse, CAVITY_EXPANSION,
+    cavity_expansion_case, cavity_pressure, thick_cylinder_collapse, Cavity, CAVITY,
+    CAVITY_EXPANSION,
 };
 pub use convergence_order::newton_convergence_order;
 pub use elastic::{elastic_patch_test, elastic_step_identity};
