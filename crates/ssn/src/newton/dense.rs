@@ -1,21 +1,34 @@
-use faer::linalg::solvers::{PartialPivLu, Solve};
-use faer::{Mat, MatMut};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::lu::partial_pivoting::{factor, solve};
+use faer::perm::PermRef;
+use faer::{Conj, Mat, MatMut, Par};
 use talus_bipotential::NaturalMapLinearization;
 
-/// `J_F` assembled dense and factored by partial-pivoting LU: for small problems.
+/// `J_F` assembled dense and factored by partial-pivoting LU in place: for small problems.
+///
+/// On one thread whatever rayon's pool: below `DENSE_LIMIT` (600) faer's threads cost more
+/// than they give (the Siconos footing's 300 unknowns: 8 ms on one thread, 21 ms on two),
+/// and a pivot order that does not depend on the thread count keeps the bits.
 pub(crate) struct DenseSystem {
+    /// `J_F`, then its factors `L` (unit, strictly lower) and `U` in place: after a solve,
+    /// the preconditioner of `NewtonSolve::Krylov`.
     jacobian: Mat<f64>,
-    rhs: Mat<f64>,
-    /// The last factorization: a preconditioner for `NewtonSolve::Krylov`.
-    lu: Option<PartialPivLu<f64>>,
+    row_perm: Vec<usize>,
+    row_perm_inverse: Vec<usize>,
+    factored: bool,
+    scratch: MemBuffer,
 }
 
 impl DenseSystem {
     pub(crate) fn new(n: usize) -> Self {
+        let req = factor::lu_in_place_scratch::<usize, f64>(n, n, Par::Seq, Default::default())
+            .or(solve::solve_in_place_scratch::<usize, f64>(n, 1, Par::Seq));
         Self {
             jacobian: Mat::zeros(n, n),
-            rhs: Mat::zeros(n, 1),
-            lu: None,
+            row_perm: vec![0; n],
+            row_perm_inverse: vec![0; n],
+            factored: false,
+            scratch: MemBuffer::new(req),
         }
     }
 
@@ -45,28 +58,66 @@ impl DenseSystem {
                 }
             }
         }
-        for (k, v) in r.iter().enumerate() {
-            self.rhs[(k, 0)] = *v;
-        }
-        let lu = self.jacobian.partial_piv_lu();
-        lu.solve_in_place(self.rhs.as_mut());
-        for (k, out) in d.iter_mut().enumerate() {
-            *out = self.rhs[(k, 0)];
-        }
-        self.lu = Some(lu);
+        factor::lu_in_place(
+            self.jacobian.as_mut(),
+            &mut self.row_perm,
+            &mut self.row_perm_inverse,
+            Par::Seq,
+            MemStack::new(&mut self.scratch),
+            Default::default(),
+        );
+        self.factored = true;
+        d.copy_from_slice(r);
+        let stack = MemStack::new(&mut self.scratch);
+        substitute(
+            &self.jacobian,
+            &self.row_perm,
+            &self.row_perm_inverse,
+            d,
+            stack,
+        );
     }
 
     /// `x ← J_old⁻¹ x` with the last factorization; false before one.
     pub(crate) fn precondition(&self, x: &mut [f64]) -> bool {
-        let Some(lu) = &self.lu else {
+        if !self.factored {
             return false;
-        };
-        let n = x.len();
-        lu.solve_in_place(MatMut::from_column_major_slice_mut(x, n, 1));
+        }
+        // GMRES holds this system shared: the row permutation's n-vector scratch is its own.
+        let req = solve::solve_in_place_scratch::<usize, f64>(x.len(), 1, Par::Seq);
+        let mut buffer = MemBuffer::new(req);
+        let stack = MemStack::new(&mut buffer);
+        substitute(
+            &self.jacobian,
+            &self.row_perm,
+            &self.row_perm_inverse,
+            x,
+            stack,
+        );
         true
     }
 
     pub(crate) fn has_factorization(&self) -> bool {
-        self.lu.is_some()
+        self.factored
     }
+}
+
+/// `x ← U⁻¹ L⁻¹ P x` with the factors stored in place in `lu`.
+fn substitute(
+    lu: &Mat<f64>,
+    perm: &[usize],
+    inverse: &[usize],
+    x: &mut [f64],
+    stack: &mut MemStack,
+) {
+    let n = x.len();
+    solve::solve_in_place_with_conj(
+        lu.as_ref(),
+        lu.as_ref(),
+        PermRef::new_checked(perm, inverse, n),
+        Conj::No,
+        MatMut::from_column_major_slice_mut(x, n, 1),
+        Par::Seq,
+        stack,
+    );
 }
