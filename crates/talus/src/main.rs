@@ -18,7 +18,7 @@ mod cli;
 
 use cli::exit::{self, Exit};
 use cli::ranks::{error, output_folder, reports};
-use cli::{interrupt, reduced};
+use cli::{interrupt, pool, reduced};
 
 #[derive(Parser)]
 #[command(
@@ -112,31 +112,35 @@ fn main() -> ExitCode {
     if let Err(e) = interrupt::install() {
         tracing::warn!("no SIGINT/SIGTERM handler ({e}): an interrupted run leaves no summary");
     }
-    let result = match cli.command {
-        // One process' tool: under `mpirun`, rank 0 alone solves and prints.
-        Command::Reduced(_) if !reports() => Ok(ExitCode::SUCCESS),
-        Command::Reduced(args) => reduced::run(&args).or_else(|e| {
-            error(&e);
-            Ok(e.exit().into())
-        }),
-        Command::Run {
-            scene,
-            out,
-            allow_large,
-            checkpoint_every,
-        } => run(
-            scene,
-            out,
-            allow_large,
-            checkpoint_every.unwrap_or(0) as usize,
-        ),
-        Command::Resume { out } => resume(out),
-        Command::Verify {
-            json,
-            quick,
-            figures,
-        } => verify(json, quick, figures),
-    };
+    // Errors as text: a boxed error need not be Send.
+    let result = pool::on_pool(|| {
+        let r: Result<ExitCode, Box<dyn std::error::Error>> = match cli.command {
+            // One process' tool: under `mpirun`, rank 0 alone solves and prints.
+            Command::Reduced(_) if !reports() => Ok(ExitCode::SUCCESS),
+            Command::Reduced(args) => reduced::run(&args).or_else(|e| {
+                error(&e);
+                Ok(e.exit().into())
+            }),
+            Command::Run {
+                scene,
+                out,
+                allow_large,
+                checkpoint_every,
+            } => run(
+                scene,
+                out,
+                allow_large,
+                checkpoint_every.unwrap_or(0) as usize,
+            ),
+            Command::Resume { out } => resume(out),
+            Command::Verify {
+                json,
+                quick,
+                figures,
+            } => verify(json, quick, figures),
+        };
+        r.map_err(|e| e.to_string())
+    });
     let code = match result {
         Ok(code) => code,
         Err(e) => {
