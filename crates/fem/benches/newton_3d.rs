@@ -91,7 +91,12 @@ const PHI: f64 = 27.0;
 /// atan(tan 27° / 2): the paper's non-associative soil.
 const THETA_PAPER: f64 = 14.2906;
 
+/// On a worker of rayon's pool, as `talus run` solves (`talus_ssn::on_pool`).
 fn main() {
+    talus_ssn::on_pool(bench);
+}
+
+fn bench() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     if args.first().map(String::as_str) == Some("--child") {
         let cells = args.get(2).and_then(|s| parse_cells(s));

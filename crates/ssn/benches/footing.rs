@@ -23,7 +23,12 @@ const VONMISES: &str = "plasticity_2d_vonmises_footing_100.dat";
 mod clarabel_qp;
 use clarabel_qp::{clarabel_settings, qp};
 
+/// On a worker of rayon's pool, as `talus run` solves (`talus_ssn::on_pool`).
 fn main() {
+    talus_ssn::on_pool(bench);
+}
+
+fn bench() {
     divan::main();
 }
 

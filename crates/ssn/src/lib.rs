@@ -6,6 +6,9 @@
 //! structured form takes each Newton step through a velocity-sized Schur complement
 //! (sparse Cholesky when associative, LU otherwise; symbolic analysis done once).
 //!
+//! Call it from a worker of rayon's pool ([`on_pool`]): its per-point loops fork from there
+//! at a fraction of the cost.
+//!
 //! ```no_run
 //! # use talus_ssn::{ReducedSystem, Settings, Solver};
 //! # fn demo(problem: ReducedSystem<3>) -> Result<(), talus_ssn::SolveError> {
@@ -23,6 +26,7 @@ mod local_lu;
 mod newton;
 mod operator;
 mod point_share;
+mod pool;
 mod problem;
 mod reduced_rhs;
 mod report;
@@ -35,6 +39,7 @@ mod stopping;
 pub use error::SolveError;
 pub use factorization::Ordering;
 pub use operator::{Operator, Structured};
+pub use pool::on_pool;
 pub use problem::ReducedSystem;
 pub use reduced_rhs::{reduced_rhs, FreeVelocities, PrescribedVelocities};
 pub use report::{Report, RoundOffFloor, Status};

@@ -33,7 +33,12 @@ const PLATEAU: [usize; 2] = [101, 103];
 const FULL_RUN: usize = 300;
 const FULL_RUN_ELEMENTS: usize = 10_000;
 
+/// On a worker of rayon's pool, as `talus run` solves (`talus_ssn::on_pool`).
 fn main() {
+    talus_ssn::on_pool(bench);
+}
+
+fn bench() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     if args.first().map(String::as_str) == Some("--child") {
         let parse = |k: usize| args.get(k).and_then(|s| s.parse().ok());

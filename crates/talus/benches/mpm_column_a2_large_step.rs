@@ -25,7 +25,12 @@ const HEIGHT: f64 = 0.2;
 const DX: f64 = 0.01;
 const H: f64 = 1.0 / 60.0;
 
+/// On a worker of rayon's pool, as `talus run` solves (`talus_ssn::on_pool`).
 fn main() {
+    talus_ssn::on_pool(bench);
+}
+
+fn bench() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let value = |name: &str| {
         args.iter()

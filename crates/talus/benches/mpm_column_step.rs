@@ -53,7 +53,12 @@ const WARM_UP: usize = 3;
 /// Name, cells across the column, timed steps.
 const SIZES: [(&str, usize, usize); 2] = [("10k", 35, 5), ("100k", 112, 2)];
 
+/// On a worker of rayon's pool, as `talus run` solves (`talus_ssn::on_pool`).
 fn main() {
+    talus_ssn::on_pool(bench);
+}
+
+fn bench() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     if args.first().map(String::as_str) == Some("--child") {
         let n = args[1].parse().expect("cells across the column");

@@ -43,7 +43,12 @@ use talus_ssn::{SolveError, Solver};
 /// Steps taken before timing: early plastic loading on every mesh.
 const STEPS: usize = 4;
 
+/// On a worker of rayon's pool, as `talus run` solves (`talus_ssn::on_pool`).
 fn main() {
+    talus_ssn::on_pool(bench);
+}
+
+fn bench() {
     let sizes = std::env::var("TALUS_STEP_BENCH_SIZES")
         .unwrap_or_else(|_| "32x14,104x48,320x156".to_string());
     // `cargo bench` passes `--bench`; nothing else is understood.

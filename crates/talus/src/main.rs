@@ -18,7 +18,7 @@ mod cli;
 
 use cli::exit::{self, Exit};
 use cli::ranks::{error, output_folder, reports};
-use cli::{interrupt, pool, reduced};
+use cli::{interrupt, reduced};
 
 #[derive(Parser)]
 #[command(
@@ -112,8 +112,9 @@ fn main() -> ExitCode {
     if let Err(e) = interrupt::install() {
         tracing::warn!("no SIGINT/SIGTERM handler ({e}): an interrupted run leaves no summary");
     }
-    // Errors as text: a boxed error need not be Send.
-    let result = pool::on_pool(|| {
+    // On a worker of rayon's pool (docs/performance.md); errors as text, since a boxed
+    // error need not be Send.
+    let result = talus_ssn::on_pool(|| {
         let r: Result<ExitCode, Box<dyn std::error::Error>> = match cli.command {
             // One process' tool: under `mpirun`, rank 0 alone solves and prints.
             Command::Reduced(_) if !reports() => Ok(ExitCode::SUCCESS),
