@@ -9,7 +9,12 @@ mod footing_like;
 use footing_like::{krylov, solve, FootingLike};
 use talus_ssn::{Settings, Solver};
 
+/// On a worker of rayon's pool, as `talus run` solves (`talus_ssn::on_pool`).
 fn main() {
+    talus_ssn::on_pool(bench);
+}
+
+fn bench() {
     let cells = std::env::var("TALUS_2D_KRYLOV_CELLS").unwrap_or_else(|_| "160x120".into());
     let (nx, ny) = cells
         .split_once('x')

@@ -7,7 +7,8 @@
 //! from the main thread, 2.87–2.94 s from a worker on 2 threads, the same bits.
 
 /// The main thread's stack (Linux' default 8 MiB), not a spawned thread's 2 MiB: a
-/// computation moved onto the pool keeps the recursion depth it had on the main thread.
+/// computation moved onto the pool keeps the recursion depth it had on the main thread
+/// (`RUST_MIN_STACK` and `ulimit -s` no longer set it; nothing here recurses deeply).
 const STACK_BYTES: usize = 8 << 20;
 
 /// Runs `computation` on a worker of rayon's global pool, this thread waiting for it, or
@@ -37,7 +38,10 @@ mod tests {
 
     #[test]
     fn the_computation_runs_on_a_worker_and_returns_its_value() {
-        assert!(rayon::current_thread_index().is_none(), "tests run outside the pool");
+        assert!(
+            rayon::current_thread_index().is_none(),
+            "tests run outside the pool"
+        );
         let (worker, nested) = on_pool(|| {
             let here = std::thread::current().id();
             // From a worker: in place, on the same thread.

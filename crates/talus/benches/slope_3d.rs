@@ -30,7 +30,12 @@ fn scenes() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
 }
 
+/// On a worker of rayon's pool, as `talus run` solves (`talus_ssn::on_pool`).
 fn main() {
+    talus_ssn::on_pool(bench);
+}
+
+fn bench() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     if args.first().map(String::as_str) == Some("--child") {
         match (args.get(1), args.get(2)) {

@@ -7,8 +7,9 @@ use talus_bipotential::NaturalMapLinearization;
 /// `J_F` assembled dense and factored by partial-pivoting LU in place: for small problems.
 ///
 /// On one thread whatever rayon's pool: below `DENSE_LIMIT` (600) faer's threads cost more
-/// than they give (the Siconos footing's 300 unknowns: 8 ms on one thread, 21 ms on two),
-/// and a pivot order that does not depend on the thread count keeps the bits.
+/// than they give. The Siconos footing's 300 unknowns took 8.2 ms before faer's rayon feature
+/// was on, then 21–27 ms on two threads (12 ms on one) with faer's global parallelism, and
+/// 7.3 ms here (`cargo bench -p talus-ssn --bench footing`, 2026-11-28).
 pub(crate) struct DenseSystem {
     /// `J_F`, then its factors `L` (unit, strictly lower) and `U` in place: after a solve,
     /// the preconditioner of `NewtonSolve::Krylov`.
