@@ -155,7 +155,8 @@ pub fn solve_reduced<'py>(
         max_iterations,
         ..Settings::reduced()
     };
-    let solved = py.detach(move || -> Result<(Vec<f64>, Report), SolveError> {
+    // On a worker of rayon's pool, as a run steps (`Watch::detach_on_pool`).
+    let solve = move || -> Result<(Vec<f64>, Report), SolveError> {
         let system = reduced_system_from_siconos::<3>(&problem)?;
         let mut solver = Solver::new(system, settings)?;
         let mut sigma = vec![0.0; problem.n()];
@@ -165,7 +166,8 @@ pub fn solve_reduced<'py>(
             Err(e) => return Err(e),
         };
         Ok((sigma, report))
-    });
+    };
+    let solved = py.detach(move || talus_ssn::on_pool(solve));
     let (sigma, report) = solved.map_err(|e| bad(e.to_string()))?;
     let sigma_inf = sigma.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let converged = report.is_converged();

@@ -183,7 +183,7 @@ pub fn run<'py>(
         checkpoint_every,
         ..RunOptions::new(dir.clone())
     };
-    let stepped = py.detach(move || step(&file, &options, None));
+    let stepped = watch.detach_on_pool(py, move || step(&file, &options, None));
     finish(py, stepped, &dir, keep, &watch)
 }
 
@@ -209,7 +209,7 @@ pub fn resume<'py>(
         observer: Some(watch.observer()),
         ..RunOptions::new(out.clone())
     };
-    let stepped = py.detach(move || step(&file, &options, Some(checkpoint)));
+    let stepped = watch.detach_on_pool(py, move || step(&file, &options, Some(checkpoint)));
     finish(py, stepped, &out, true, &watch)
 }
 

@@ -35,12 +35,12 @@ pub fn factor_of_safety<'py>(
     };
     // One search for 2D and 3D (`analysis::stability` is generic over the Mandel size).
     let ran = match file {
-        SceneFile::Fem(fem) => {
-            py.detach(move || talus::analysis::stability::run(&fem, &options).map(|_| ()))
-        }
-        SceneFile::Fem3(fem) => {
-            py.detach(move || talus::analysis::stability::run(&fem, &options).map(|_| ()))
-        }
+        SceneFile::Fem(fem) => watch.detach_on_pool(py, move || {
+            talus::analysis::stability::run(&fem, &options).map(|_| ())
+        }),
+        SceneFile::Fem3(fem) => watch.detach_on_pool(py, move || {
+            talus::analysis::stability::run(&fem, &options).map(|_| ())
+        }),
         _ => {
             let why = "a factor of safety needs a finite-element scene ([mesh])".to_string();
             return Err(raise(py, "RunError", (why, PyDict::new(py))));

@@ -3,12 +3,16 @@
 //! step in progress and writes its files; what stopped it is raised afterwards.
 use std::ops::ControlFlow;
 use std::sync::{Arc, Mutex};
+use std::time::Duration;
 
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict};
 use talus::run::{Observer, StepProgress};
 
 use crate::errors::raise;
+
+/// How often the calling thread checks Python's signals while a worker steps.
+const SIGNAL_POLL: Duration = Duration::from_millis(20);
 
 /// Between steps, with the GIL taken back: Ctrl-C (Python's pending signals) and the
 /// callback. What stopped the run is kept to be raised once the run wrote its files.
@@ -51,7 +55,36 @@ impl Watch {
         }
     }
 
+    /// `work`, the GIL released, on a worker of rayon's pool (`talus_ssn::on_pool`: the
+    /// Newton iteration's parallel regions fork from there at a fraction of the cost). This
+    /// thread checks Python's signals meanwhile, since CPython runs their handlers on the
+    /// main thread only: a Ctrl-C is kept and stops the run after the step in progress.
+    pub(crate) fn detach_on_pool<R: Send>(
+        &self,
+        py: Python<'_>,
+        work: impl FnOnce() -> R + Send,
+    ) -> R {
+        py.detach(|| {
+            talus_ssn::on_pool_polling(work, SIGNAL_POLL, || {
+                if let Err(e) = Python::attach(|py| py.check_signals()) {
+                    self.keep(Stop::Raised(e));
+                }
+            })
+        })
+    }
+
+    /// The first reason to stop is the one raised.
+    fn keep(&self, stop: Stop) {
+        if let Ok(mut slot) = self.stopped.lock() {
+            slot.get_or_insert(stop);
+        }
+    }
+
     fn observe(&self, p: &StepProgress) -> ControlFlow<()> {
+        // A signal the calling thread kept while this step ran.
+        if self.stopped.lock().is_ok_and(|s| s.is_some()) {
+            return ControlFlow::Break(());
+        }
         let stop = Python::attach(|py| {
             if let Err(e) = py.check_signals() {
                 return Some(Stop::Raised(e));
@@ -77,9 +110,7 @@ impl Watch {
         match stop {
             None => ControlFlow::Continue(()),
             Some(stop) => {
-                if let Ok(mut slot) = self.stopped.lock() {
-                    *slot = Some(stop);
-                }
+                self.keep(stop);
                 ControlFlow::Break(())
             }
         }

@@ -39,7 +39,7 @@ mod stopping;
 pub use error::SolveError;
 pub use factorization::Ordering;
 pub use operator::{Operator, Structured};
-pub use pool::on_pool;
+pub use pool::{on_pool, on_pool_polling};
 pub use problem::ReducedSystem;
 pub use reduced_rhs::{reduced_rhs, FreeVelocities, PrescribedVelocities};
 pub use report::{Report, RoundOffFloor, Status};
