@@ -69,31 +69,24 @@ impl DenseSystem {
         );
         self.factored = true;
         d.copy_from_slice(r);
-        let stack = MemStack::new(&mut self.scratch);
-        substitute(
-            &self.jacobian,
-            &self.row_perm,
-            &self.row_perm_inverse,
-            d,
-            stack,
-        );
+        self.precondition(d);
     }
 
     /// `x ← J_old⁻¹ x` with the last factorization; false before one.
-    pub(crate) fn precondition(&self, x: &mut [f64]) -> bool {
+    pub(crate) fn precondition(&mut self, x: &mut [f64]) -> bool {
         if !self.factored {
             return false;
         }
-        // GMRES holds this system shared: the row permutation's n-vector scratch is its own.
-        let req = solve::solve_in_place_scratch::<usize, f64>(x.len(), 1, Par::Seq);
-        let mut buffer = MemBuffer::new(req);
-        let stack = MemStack::new(&mut buffer);
-        substitute(
-            &self.jacobian,
-            &self.row_perm,
-            &self.row_perm_inverse,
-            x,
-            stack,
+        let n = x.len();
+        let lu = self.jacobian.as_ref();
+        solve::solve_in_place_with_conj(
+            lu,
+            lu,
+            PermRef::new_checked(&self.row_perm, &self.row_perm_inverse, n),
+            Conj::No,
+            MatMut::from_column_major_slice_mut(x, n, 1),
+            Par::Seq,
+            MemStack::new(&mut self.scratch),
         );
         true
     }
@@ -101,24 +94,4 @@ impl DenseSystem {
     pub(crate) fn has_factorization(&self) -> bool {
         self.factored
     }
-}
-
-/// `x ← U⁻¹ L⁻¹ P x` with the factors stored in place in `lu`.
-fn substitute(
-    lu: &Mat<f64>,
-    perm: &[usize],
-    inverse: &[usize],
-    x: &mut [f64],
-    stack: &mut MemStack,
-) {
-    let n = x.len();
-    solve::solve_in_place_with_conj(
-        lu.as_ref(),
-        lu.as_ref(),
-        PermRef::new_checked(perm, inverse, n),
-        Conj::No,
-        MatMut::from_column_major_slice_mut(x, n, 1),
-        Par::Seq,
-        stack,
-    );
 }

@@ -228,10 +228,12 @@ impl<const D: usize> Solver<D> {
                 y[D * i..D * i + D].copy_from_slice(v.as_slice());
             }
         };
-        let (dense_system, sparse_system) = (self.dense.as_ref(), self.stress_sized.as_ref());
+        let (mut dense_system, sparse_system) = (self.dense.as_mut(), self.stress_sized.as_ref());
         let precondition = |x: &mut [f64]| {
             let done = if dense {
-                dense_system.is_some_and(|s| s.precondition(x))
+                dense_system
+                    .as_deref_mut()
+                    .is_some_and(|s| s.precondition(x))
             } else {
                 sparse_system.is_some_and(|s| s.precondition(x))
             };
