@@ -32,7 +32,7 @@ fn talus(ranks: Option<usize>, args: &[&OsStr], limit: Duration) -> Output {
         None => Command::new(talus),
     };
     // MUMPS' statistics at `info`: the runs on several ranks show that MUMPS factorized.
-    let mut child = command
+    let child = command
         .args(args)
         .env(
             "TALUS_LOG",

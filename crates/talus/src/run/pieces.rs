@@ -50,14 +50,18 @@ pub(crate) fn write_snapshot(
 
 /// Under `mpirun`, refuses a run whose ranks do not all see rank 0's output folder (its
 /// lock file, which rank 0 holds while it runs): each rank writes its pieces of the field
-/// snapshots there. Collective: every rank calls it once, after rank 0 has taken and
-/// cleared the folder, so that it also keeps the pieces of step 0 after the clearing.
+/// snapshots there. Collective: every rank calls it once, rank 0 after it has taken and
+/// cleared the folder, so that no rank looks before the lock exists nor writes its piece
+/// of step 0 before the clearing.
 pub(crate) fn check_shared_folder() -> Result<(), RunError> {
     let Some(root) = shared_root() else {
         // One process, or no shared root: still every rank's collective.
         crate::ranks::any(false);
         return Ok(());
     };
+    // Rank 0 locks and clears its folder before it comes here; until every rank has come
+    // (this collective), rank 1 may look before the lock exists.
+    crate::ranks::any(false);
     let ranks = crate::ranks::ranks();
     let seen = ranks.is_root() || root.join(crate::run::folder::LOCK_FILE).exists();
     if let Some(blind) = crate::ranks::first(!seen) {
