@@ -27,6 +27,10 @@ pub enum Operator<const D: usize> {
     Structured(Structured<D>),
 }
 
+/// The most velocity columns a point's product gathers on the stack (a 3D P2
+/// tetrahedron's point touches 30); larger points gather as they go.
+const LOCAL_DOFS: usize = 32;
+
 /// Per-point dense pieces of a structured `B`: the velocity columns a point touches and
 /// its D × n_i block, so that `Bu`, `Bᵀσ` and `Bᵀ C B` run point by point.
 #[derive(Debug, Clone)]
@@ -35,13 +39,16 @@ pub(crate) struct PointBlocks<const D: usize> {
     pub dofs: Vec<usize>,
     /// Row-major `D × n_i` per point, concatenated.
     pub values: Vec<f64>,
-    /// For each velocity dof, the (point, position in the point's `dofs`) pairs that touch
-    /// it, in point order: `Bᵀσ` is summed per dof in that fixed order, by any thread.
+    /// For each velocity dof, the points that touch it, in point order: `Bᵀσ` is summed
+    /// per dof in that fixed order, by any thread.
     by_dof_ptr: Vec<usize>,
-    /// The point of each entry, and its D values of `B` (a transposed copy of `values`,
-    /// contiguous so that the gather streams through it).
-    by_dof_point: Vec<usize>,
-    by_dof_values: Vec<f64>,
+    /// Each (dof, point) entry's nonzero values of `B` in row order (a transposed copy of
+    /// `values` without its zeros, which are half of it: plane strain's zz row, a normal
+    /// row's other-direction columns), contiguous so that the gather streams through it,
+    /// with their indices `D i + r` into a stress vector.
+    by_dof_terms: Vec<usize>,
+    term_index: Vec<usize>,
+    term_value: Vec<f64>,
 }
 
 impl<const D: usize> PointBlocks<D> {
@@ -83,28 +90,41 @@ impl<const D: usize> PointBlocks<D> {
             by_dof_ptr[j + 1] += by_dof_ptr[j];
         }
         let mut next = by_dof_ptr.clone();
-        let mut by_dof_point = vec![0; dofs.len()];
-        let mut by_dof_values = vec![0.0; D * dofs.len()];
+        let mut entry_of = vec![(0usize, 0usize); dofs.len()];
         for i in 0..n_points {
-            let (start, end) = (dof_ptr[i], dof_ptr[i + 1]);
-            let n_i = end - start;
-            for (a, &j) in dofs[start..end].iter().enumerate() {
-                let e = next[j];
-                by_dof_point[e] = i;
-                for r in 0..D {
-                    by_dof_values[D * e + r] = values[D * start + r * n_i + a];
-                }
+            for (a, &j) in dofs[dof_ptr[i]..dof_ptr[i + 1]].iter().enumerate() {
+                entry_of[next[j]] = (i, a);
                 next[j] += 1;
             }
         }
-        Self {
+        let mut blocks = Self {
             dof_ptr,
             dofs,
             values,
             by_dof_ptr,
-            by_dof_point,
-            by_dof_values,
+            by_dof_terms: vec![0],
+            term_index: Vec::new(),
+            term_value: Vec::new(),
+        };
+        for (i, a) in entry_of {
+            blocks.push_terms(i, a);
         }
+        blocks
+    }
+
+    /// Appends the entry of point `i`'s column `a` (its nonzero values) to the by-dof
+    /// terms.
+    fn push_terms(&mut self, i: usize, a: usize) {
+        let (start, end) = (self.dof_ptr[i], self.dof_ptr[i + 1]);
+        let n_i = end - start;
+        for r in 0..D {
+            let v = self.values[D * start + r * n_i + a];
+            if v != 0.0 {
+                self.term_index.push(D * i + r);
+                self.term_value.push(v);
+            }
+        }
+        self.by_dof_terms.push(self.term_value.len());
     }
 
     pub(crate) fn point(&self, i: usize) -> (&[usize], &[f64]) {
@@ -117,27 +137,49 @@ impl<const D: usize> PointBlocks<D> {
     pub(crate) fn apply_point(&self, i: usize, u: &[f64]) -> SVector<f64, D> {
         let (dofs, vals) = self.point(i);
         let n_i = dofs.len();
-        SVector::from_fn(|r, _| (0..n_i).map(|a| vals[r * n_i + a] * u[dofs[a]]).sum())
+        // The point's entries of `u` gathered once, not once per stress row; each row's
+        // sum keeps its order (the same bits).
+        let mut local = [0.0; LOCAL_DOFS];
+        if n_i > LOCAL_DOFS {
+            return SVector::from_fn(|r, _| (0..n_i).map(|a| vals[r * n_i + a] * u[dofs[a]]).sum());
+        }
+        for (x, &j) in local.iter_mut().zip(dofs) {
+            *x = u[j];
+        }
+        let local = &local[..n_i];
+        SVector::from_fn(|r, _| {
+            vals[r * n_i..(r + 1) * n_i]
+                .iter()
+                .zip(local)
+                .map(|(v, x)| v * x)
+                .sum()
+        })
     }
 
     /// Keeps only the points `owned` marks in `Bᵀ` ([`Self::add_transpose`]): a rank of a
     /// distributed solve sums its own points' terms (`PointShare`).
     pub(crate) fn keep_points(&mut self, owned: &[bool]) {
         let mut ptr = vec![0usize; self.by_dof_ptr.len()];
-        let (mut points, mut values) = (Vec::new(), Vec::new());
+        let (mut terms, mut index, mut value) = (vec![0usize], Vec::new(), Vec::new());
         for j in 0..self.by_dof_ptr.len() - 1 {
             for e in self.by_dof_ptr[j]..self.by_dof_ptr[j + 1] {
-                let i = self.by_dof_point[e];
-                if owned[i] {
-                    points.push(i);
-                    values.extend_from_slice(&self.by_dof_values[D * e..D * e + D]);
+                let t = self.by_dof_terms[e]..self.by_dof_terms[e + 1];
+                // An entry's first term names its point (an entry of zeros adds nothing).
+                if self.term_index[t.clone()]
+                    .first()
+                    .is_some_and(|&k| owned[k / D])
+                {
+                    index.extend_from_slice(&self.term_index[t.clone()]);
+                    value.extend_from_slice(&self.term_value[t]);
+                    terms.push(value.len());
                 }
             }
-            ptr[j + 1] = points.len();
+            ptr[j + 1] = terms.len() - 1;
         }
         self.by_dof_ptr = ptr;
-        self.by_dof_point = points;
-        self.by_dof_values = values;
+        self.by_dof_terms = terms;
+        self.term_index = index;
+        self.term_value = value;
     }
 
     /// `out += Bᵀ s` for a flat `s`: each `out[j]` adds its points' terms in point order,
@@ -146,9 +188,14 @@ impl<const D: usize> PointBlocks<D> {
         let one = |(j, o): (usize, &mut f64)| {
             let mut acc = *o;
             for e in self.by_dof_ptr[j]..self.by_dof_ptr[j + 1] {
-                let i = self.by_dof_point[e];
-                let vals = &self.by_dof_values[D * e..D * e + D];
-                acc += (0..D).map(|r| vals[r] * s[D * i + r]).sum::<f64>();
+                let t = self.by_dof_terms[e]..self.by_dof_terms[e + 1];
+                // A point's terms summed first, then added: B's zeros left out change
+                // no bit but a zero's sign.
+                acc += self.term_index[t.clone()]
+                    .iter()
+                    .zip(&self.term_value[t])
+                    .map(|(&k, v)| v * s[k])
+                    .sum::<f64>();
             }
             *o = acc;
         };
@@ -411,6 +458,83 @@ pub(crate) fn apply<const D: usize>(
             } else {
                 z.chunks_mut(D).enumerate().for_each(one);
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A `B` of 3 points × D = 4 rows over 7 columns with the zeros of a plane-strain
+    /// triangle (zz row empty, normal rows on alternate columns) and one stored zero.
+    fn plane_strain_like() -> SparseColMat<usize, f64> {
+        let mut t = Vec::new();
+        for p in 0..3 {
+            for c in p..p + 5 {
+                let v = 1.0 + (7 * p + 3 * c) as f64 / 10.0;
+                t.push(Triplet::new(4 * p + c % 2, c, v));
+                t.push(Triplet::new(4 * p + 2, c, -v / 2.0));
+            }
+        }
+        t.push(Triplet::new(3, 0, 0.0));
+        SparseColMat::try_new_from_triplets(12, 7, &t).unwrap()
+    }
+
+    /// `Bᵀ s` and `(B u)_i` from `B`'s stored entries, the points `owned` only.
+    fn by_entries(b: &SparseColMat<usize, f64>, s: &[f64], owned: &[bool]) -> Vec<f64> {
+        let (cp, ri, v) = (b.symbolic().col_ptr(), b.symbolic().row_idx(), b.val());
+        (0..b.ncols())
+            .map(|j| {
+                (cp[j]..cp[j + 1])
+                    .filter(|&k| owned[ri[k] / 4])
+                    .map(|k| v[k] * s[ri[k]])
+                    .sum()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn products_with_b_leave_its_zeros_out_and_keep_its_values() {
+        let b = plane_strain_like();
+        let s: Vec<f64> = (0..12).map(|k| (k as f64 - 5.5) * 0.37).collect();
+        let u: Vec<f64> = (0..7).map(|j| 1.0 / (j as f64 + 1.5)).collect();
+        let mut blocks = PointBlocks::<4>::new(&b, 3);
+        // Half of B's dense blocks are zeros: the by-dof terms hold only the rest.
+        assert_eq!(blocks.term_value.len(), 30);
+        for parallel in [false, true] {
+            let mut out = vec![0.0; 7];
+            blocks.add_transpose(&s, &mut out, parallel);
+            let expected = by_entries(&b, &s, &[true; 3]);
+            for (x, e) in out.iter().zip(&expected) {
+                assert!(
+                    (x - e).abs() <= 1e-14 * e.abs().max(1.0),
+                    "{out:?} {expected:?}"
+                );
+            }
+        }
+        let dense = b.to_dense();
+        for i in 0..3 {
+            let bu = blocks.apply_point(i, &u);
+            for r in 0..4 {
+                let e: f64 = (0..7).map(|j| dense[(4 * i + r, j)] * u[j]).sum();
+                assert!(
+                    (bu[r] - e).abs() <= 1e-14,
+                    "point {i} row {r}: {} {e}",
+                    bu[r]
+                );
+            }
+        }
+        let owned = [true, false, true];
+        blocks.keep_points(&owned);
+        let mut out = vec![0.0; 7];
+        blocks.add_transpose(&s, &mut out, false);
+        let expected = by_entries(&b, &s, &owned);
+        for (x, e) in out.iter().zip(&expected) {
+            assert!(
+                (x - e).abs() <= 1e-14 * e.abs().max(1.0),
+                "{out:?} {expected:?}"
+            );
         }
     }
 }

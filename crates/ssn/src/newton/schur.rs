@@ -669,6 +669,11 @@ fn add_point_block<const D: usize>(
     for (a, out_row) in block.chunks_exact_mut(m).enumerate() {
         for k in 0..D {
             let s = h2 * bv[k * m + a];
+            // B is half zeros (plane strain's zz row, a normal row's other-direction
+            // columns): a zero adds nothing but signed zeros.
+            if s == 0.0 {
+                continue;
+            }
             for (x, &y) in out_row.iter_mut().zip(&cb[k * m..(k + 1) * m]) {
                 *x += s * y;
             }
