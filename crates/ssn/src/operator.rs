@@ -39,16 +39,13 @@ pub(crate) struct PointBlocks<const D: usize> {
     pub dofs: Vec<usize>,
     /// Row-major `D × n_i` per point, concatenated.
     pub values: Vec<f64>,
-    /// For each velocity dof, the points that touch it, in point order: `Bᵀσ` is summed
-    /// per dof in that fixed order, by any thread.
+    /// For each velocity dof, the (point, position in the point's `dofs`) pairs that touch
+    /// it, in point order: `Bᵀσ` is summed per dof in that fixed order, by any thread.
     by_dof_ptr: Vec<usize>,
-    /// Each (dof, point) entry's nonzero values of `B` in row order (a transposed copy of
-    /// `values` without its zeros, which are half of it: plane strain's zz row, a normal
-    /// row's other-direction columns), contiguous so that the gather streams through it,
-    /// with their indices `D i + r` into a stress vector.
-    by_dof_terms: Vec<usize>,
-    term_index: Vec<usize>,
-    term_value: Vec<f64>,
+    /// The point of each entry, and its D values of `B` (a transposed copy of `values`,
+    /// contiguous so that the gather streams through it).
+    by_dof_point: Vec<usize>,
+    by_dof_values: Vec<f64>,
 }
 
 impl<const D: usize> PointBlocks<D> {
@@ -90,41 +87,28 @@ impl<const D: usize> PointBlocks<D> {
             by_dof_ptr[j + 1] += by_dof_ptr[j];
         }
         let mut next = by_dof_ptr.clone();
-        let mut entry_of = vec![(0usize, 0usize); dofs.len()];
+        let mut by_dof_point = vec![0; dofs.len()];
+        let mut by_dof_values = vec![0.0; D * dofs.len()];
         for i in 0..n_points {
-            for (a, &j) in dofs[dof_ptr[i]..dof_ptr[i + 1]].iter().enumerate() {
-                entry_of[next[j]] = (i, a);
+            let (start, end) = (dof_ptr[i], dof_ptr[i + 1]);
+            let n_i = end - start;
+            for (a, &j) in dofs[start..end].iter().enumerate() {
+                let e = next[j];
+                by_dof_point[e] = i;
+                for r in 0..D {
+                    by_dof_values[D * e + r] = values[D * start + r * n_i + a];
+                }
                 next[j] += 1;
             }
         }
-        let mut blocks = Self {
+        Self {
             dof_ptr,
             dofs,
             values,
             by_dof_ptr,
-            by_dof_terms: vec![0],
-            term_index: Vec::new(),
-            term_value: Vec::new(),
-        };
-        for (i, a) in entry_of {
-            blocks.push_terms(i, a);
+            by_dof_point,
+            by_dof_values,
         }
-        blocks
-    }
-
-    /// Appends the entry of point `i`'s column `a` (its nonzero values) to the by-dof
-    /// terms.
-    fn push_terms(&mut self, i: usize, a: usize) {
-        let (start, end) = (self.dof_ptr[i], self.dof_ptr[i + 1]);
-        let n_i = end - start;
-        for r in 0..D {
-            let v = self.values[D * start + r * n_i + a];
-            if v != 0.0 {
-                self.term_index.push(D * i + r);
-                self.term_value.push(v);
-            }
-        }
-        self.by_dof_terms.push(self.term_value.len());
     }
 
     pub(crate) fn point(&self, i: usize) -> (&[usize], &[f64]) {
@@ -160,26 +144,20 @@ impl<const D: usize> PointBlocks<D> {
     /// distributed solve sums its own points' terms (`PointShare`).
     pub(crate) fn keep_points(&mut self, owned: &[bool]) {
         let mut ptr = vec![0usize; self.by_dof_ptr.len()];
-        let (mut terms, mut index, mut value) = (vec![0usize], Vec::new(), Vec::new());
+        let (mut points, mut values) = (Vec::new(), Vec::new());
         for j in 0..self.by_dof_ptr.len() - 1 {
             for e in self.by_dof_ptr[j]..self.by_dof_ptr[j + 1] {
-                let t = self.by_dof_terms[e]..self.by_dof_terms[e + 1];
-                // An entry's first term names its point (an entry of zeros adds nothing).
-                if self.term_index[t.clone()]
-                    .first()
-                    .is_some_and(|&k| owned[k / D])
-                {
-                    index.extend_from_slice(&self.term_index[t.clone()]);
-                    value.extend_from_slice(&self.term_value[t]);
-                    terms.push(value.len());
+                let i = self.by_dof_point[e];
+                if owned[i] {
+                    points.push(i);
+                    values.extend_from_slice(&self.by_dof_values[D * e..D * e + D]);
                 }
             }
-            ptr[j + 1] = terms.len() - 1;
+            ptr[j + 1] = points.len();
         }
         self.by_dof_ptr = ptr;
-        self.by_dof_terms = terms;
-        self.term_index = index;
-        self.term_value = value;
+        self.by_dof_point = points;
+        self.by_dof_values = values;
     }
 
     /// `out += Bᵀ s` for a flat `s`: each `out[j]` adds its points' terms in point order,
@@ -188,14 +166,9 @@ impl<const D: usize> PointBlocks<D> {
         let one = |(j, o): (usize, &mut f64)| {
             let mut acc = *o;
             for e in self.by_dof_ptr[j]..self.by_dof_ptr[j + 1] {
-                let t = self.by_dof_terms[e]..self.by_dof_terms[e + 1];
-                // A point's terms summed first, then added: B's zeros left out change
-                // no bit but a zero's sign.
-                acc += self.term_index[t.clone()]
-                    .iter()
-                    .zip(&self.term_value[t])
-                    .map(|(&k, v)| v * s[k])
-                    .sum::<f64>();
+                let i = self.by_dof_point[e];
+                let vals = &self.by_dof_values[D * e..D * e + D];
+                acc += (0..D).map(|r| vals[r] * s[D * i + r]).sum::<f64>();
             }
             *o = acc;
         };
@@ -495,13 +468,11 @@ mod tests {
     }
 
     #[test]
-    fn products_with_b_leave_its_zeros_out_and_keep_its_values() {
+    fn products_with_b_match_its_stored_entries() {
         let b = plane_strain_like();
         let s: Vec<f64> = (0..12).map(|k| (k as f64 - 5.5) * 0.37).collect();
         let u: Vec<f64> = (0..7).map(|j| 1.0 / (j as f64 + 1.5)).collect();
         let mut blocks = PointBlocks::<4>::new(&b, 3);
-        // Half of B's dense blocks are zeros: the by-dof terms hold only the rest.
-        assert_eq!(blocks.term_value.len(), 30);
         for parallel in [false, true] {
             let mut out = vec![0.0; 7];
             blocks.add_transpose(&s, &mut out, parallel);
