@@ -9,8 +9,11 @@ use std::ops::Range;
 /// most this fraction of the work: enough tasks to keep two to four threads busy
 /// (`docs/performance.md`, 'The LU on two threads': 1/16 was no faster, 1/32 slower).
 const SPLIT: f64 = 1.0 / 8.0;
-/// Below this many estimated flops the factorization stays on one thread.
-const PARALLEL_WORK: f64 = 1e7;
+/// Below this many estimated flops the factorization stays on one thread. From a worker
+/// of the pool (`talus_ssn::on_pool`) a task costs microseconds: the paper footing's
+/// 7.7e6 (3 550 unknowns) gains on two threads (`docs/performance.md`, 'The LU on two
+/// threads'); 1e7 was chosen when the solves forked from the main thread.
+const PARALLEL_WORK: f64 = 2e6;
 
 /// Which supernodes a parallel factorization takes as tasks, and which after them.
 #[derive(Debug, Clone, Default, PartialEq)]
