@@ -28,7 +28,8 @@ pub enum Operator<const D: usize> {
 }
 
 /// The most velocity columns a point's product gathers on the stack (a 3D P2
-/// tetrahedron's point touches 30); larger points gather as they go.
+/// tetrahedron's point touches 30); larger points (a 3D MPM particle's 81) gather as they
+/// go.
 const LOCAL_DOFS: usize = 32;
 
 /// Per-point dense pieces of a structured `B`: the velocity columns a point touches and
@@ -123,10 +124,10 @@ impl<const D: usize> PointBlocks<D> {
         let n_i = dofs.len();
         // The point's entries of `u` gathered once, not once per stress row; each row's
         // sum keeps its order (the same bits).
-        let mut local = [0.0; LOCAL_DOFS];
         if n_i > LOCAL_DOFS {
             return SVector::from_fn(|r, _| (0..n_i).map(|a| vals[r * n_i + a] * u[dofs[a]]).sum());
         }
+        let mut local = [0.0; LOCAL_DOFS];
         for (x, &j) in local.iter_mut().zip(dofs) {
             *x = u[j];
         }
@@ -467,6 +468,49 @@ mod tests {
             .collect()
     }
 
+    /// `(B u)_i` is, bit for bit, the sum over the point's columns in order with `u`
+    /// gathered per row (the product before the gather was hoisted).
+    fn assert_same_bits_as_gathering_per_row(blocks: &PointBlocks<4>, i: usize, u: &[f64]) {
+        let (dofs, vals) = blocks.point(i);
+        let n_i = dofs.len();
+        let bu = blocks.apply_point(i, u);
+        for r in 0..4 {
+            let e: f64 = (0..n_i).map(|a| vals[r * n_i + a] * u[dofs[a]]).sum();
+            assert_eq!(bu[r].to_bits(), e.to_bits(), "point {i} row {r}");
+        }
+    }
+
+    #[test]
+    fn a_point_wider_than_the_stack_gather_keeps_the_same_product() {
+        // One point over 40 columns (more than LOCAL_DOFS), one over 12.
+        let mut t = Vec::new();
+        for c in 0..40 {
+            for r in 0..4 {
+                t.push(Triplet::new(r, c, ((3 * c + r) % 7) as f64 - 2.5));
+            }
+        }
+        for c in 0..12 {
+            t.push(Triplet::new(4 + c % 3, c, 0.1 * c as f64 + 1.0));
+        }
+        let b = SparseColMat::try_new_from_triplets(8, 40, &t).unwrap();
+        let blocks = PointBlocks::<4>::new(&b, 2);
+        assert!(blocks.point(0).0.len() > LOCAL_DOFS);
+        let u: Vec<f64> = (0..40).map(|j| (j as f64 * 0.7).sin()).collect();
+        let dense = b.to_dense();
+        for i in 0..2 {
+            assert_same_bits_as_gathering_per_row(&blocks, i, &u);
+            let bu = blocks.apply_point(i, &u);
+            for r in 0..4 {
+                let e: f64 = (0..40).map(|j| dense[(4 * i + r, j)] * u[j]).sum();
+                assert!(
+                    (bu[r] - e).abs() <= 1e-13,
+                    "point {i} row {r}: {} {e}",
+                    bu[r]
+                );
+            }
+        }
+    }
+
     #[test]
     fn products_with_b_match_its_stored_entries() {
         let b = plane_strain_like();
@@ -487,6 +531,7 @@ mod tests {
         let dense = b.to_dense();
         for i in 0..3 {
             let bu = blocks.apply_point(i, &u);
+            assert_same_bits_as_gathering_per_row(&blocks, i, &u);
             for r in 0..4 {
                 let e: f64 = (0..7).map(|j| dense[(4 * i + r, j)] * u[j]).sum();
                 assert!(

@@ -11,8 +11,9 @@ use std::ops::Range;
 const SPLIT: f64 = 1.0 / 8.0;
 /// Below this many estimated flops the factorization stays on one thread. From a worker
 /// of the pool (`talus_ssn::on_pool`) a task costs microseconds: the paper footing's
-/// 7.7e6 (3 550 unknowns) gains on two threads (`docs/performance.md`, 'The LU on two
-/// threads'); 1e7 was chosen when the solves forked from the main thread.
+/// 7.7e6 (3 550 unknowns) gains on two threads (`docs/performance.md`, 'The paper
+/// footing's iteration on two threads'); 1e7 was chosen when the solves forked from the
+/// main thread, as they still do under an MPI launcher.
 const PARALLEL_WORK: f64 = 2e6;
 
 /// Which supernodes a parallel factorization takes as tasks, and which after them.

@@ -656,15 +656,10 @@ fn add_point_block<const D: usize>(
         return; // a point whose dofs are all prescribed adds nothing to K
     }
     let (bv, cb, block) = (&bv[..D * m], &mut cb[..D * m], &mut block[..m * m]);
-    // A zero row of B (plane strain's zz) neither adds to C B nor needs its row of C B.
-    let zero: [bool; D] = std::array::from_fn(|k| bv[k * m..(k + 1) * m].iter().all(|&b| b == 0.0));
     for k in 0..D {
         let row = &mut cb[k * m..(k + 1) * m];
         row.fill(0.0);
-        if zero[k] {
-            continue;
-        }
-        for l in (0..D).filter(|&l| !zero[l]) {
+        for l in 0..D {
             let ckl = c[(k, l)];
             for (x, &b) in row.iter_mut().zip(&bv[l * m..(l + 1) * m]) {
                 *x += ckl * b;

@@ -54,14 +54,12 @@ pub(crate) fn write_snapshot(
 /// cleared the folder, so that no rank looks before the lock exists nor writes its piece
 /// of step 0 before the clearing.
 pub(crate) fn check_shared_folder() -> Result<(), RunError> {
+    // Every rank's collective: rank 0 locks and clears its folder before it comes here,
+    // so no other rank looks for the lock before it exists.
+    crate::ranks::any(false);
     let Some(root) = shared_root() else {
-        // One process, or no shared root: still every rank's collective.
-        crate::ranks::any(false);
         return Ok(());
     };
-    // Rank 0 locks and clears its folder before it comes here; until every rank has come
-    // (this collective), rank 1 may look before the lock exists.
-    crate::ranks::any(false);
     let ranks = crate::ranks::ranks();
     let seen = ranks.is_root() || root.join(crate::run::folder::LOCK_FILE).exists();
     if let Some(blind) = crate::ranks::first(!seen) {
