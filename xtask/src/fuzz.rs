@@ -9,11 +9,12 @@ use std::time::Instant;
 /// Cases per property relative to `cargo test` (`TALUS_FUZZ_SCALE`).
 const SCALE: u32 = 20;
 
-/// (package, test target) of each reader's fuzz test.
-const TESTS: [(&str, &str); 3] = [
-    ("talus-ssn", "fuzz_siconos_reader"),
-    ("talus-fem", "fuzz_msh_reader"),
-    ("talus", "fuzz_scene_reader"),
+/// (package, test target, filter) of each reader's fuzz test: `talus`' integration tests
+/// are modules of one binary (`crates/talus/tests/suite.rs`).
+const TESTS: [(&str, &str, &str); 3] = [
+    ("talus-ssn", "fuzz_siconos_reader", ""),
+    ("talus-fem", "fuzz_msh_reader", ""),
+    ("talus", "suite", "fuzz_scene_reader::"),
 ];
 
 /// `Ok(false)` when a property failed (a panic, an inconsistent result, an abort).
@@ -39,11 +40,14 @@ pub(crate) fn run(root: &Path, args: &[String]) -> Result<bool, String> {
     }
     let start = Instant::now();
     let (mut total, mut panics, mut inconsistent, mut failed) = (0u64, 0usize, 0usize, 0usize);
-    for (package, test) in TESTS {
-        eprintln!("xtask fuzz: {package} --test {test}");
+    for (package, test, filter) in TESTS {
+        eprintln!("xtask fuzz: {package} --test {test} {filter}");
         let mut cmd = Command::new("cargo");
-        cmd.args(["test", "--release", "-p", package, "--test", test])
-            .args(["--", "--nocapture", "--test-threads", "1"])
+        cmd.args(["test", "--release", "-p", package, "--test", test]);
+        if !filter.is_empty() {
+            cmd.arg(filter);
+        }
+        cmd.args(["--", "--nocapture", "--test-threads", "1"])
             .current_dir(root)
             .env("RUST_BACKTRACE", "0");
         match cases {

@@ -85,8 +85,9 @@ fn siconos_rows(root: &Path, talus: &str) -> Result<Vec<Row>, String> {
     Ok(rows)
 }
 
-/// talus-ssn's comparison with Clarabel, built and run with the workspace's features.
-const CLARABEL_TEST: &str = "clarabel_agreement";
+/// talus-ssn's comparison with Clarabel, built and run with the workspace's features: a
+/// module of the crates' one test binary each (`tests/suite.rs`), chosen by its path.
+const CLARABEL_TEST: &str = "clarabel_agreement::";
 
 fn clarabel_row(root: &Path) -> Result<Row, String> {
     let start = Instant::now();
@@ -102,6 +103,7 @@ fn clarabel_row(root: &Path) -> Result<Row, String> {
             "--exclude",
             "talus-mumps",
             "--test",
+            "suite",
             CLARABEL_TEST,
             "--",
             "--nocapture",
@@ -229,7 +231,7 @@ pub fn run(root: &Path, quick: bool) -> Result<bool, String> {
             "--bin",
             "talus",
             "--test",
-            CLARABEL_TEST,
+            "suite",
         ],
     )?;
     if !build.status.success() {

@@ -1,7 +1,7 @@
 //! The Drucker-Prager flow rule in natural-map form (eqs. 7–10, 20), checked against the
 //! closed forms of `docs/conventions.md` ('Drucker-Prager cone', 'Flow rule') and against
 //! finite differences.
-mod common;
+use crate::common;
 
 use approx::assert_relative_eq;
 use common::{check_sigma_block, return_map};

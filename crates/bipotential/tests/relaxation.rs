@@ -2,7 +2,7 @@
 //! relaxation', eqs. DL1–DL6): the Jacobian blocks against central differences in every
 //! region, the one-point step against the blend of eq. DL3, and the tangent's monotonicity
 //! modulus of eq. DL6.
-mod common;
+use crate::common;
 
 use common::{check_sigma_block, return_map};
 use talus_bipotential::mandel::{deviator, hydrostatic_axis, identity};

@@ -3,7 +3,7 @@
 //! strain patch test with the hoop strain `u_r / r`, and the equilibrium of a uniform
 //! stress with the r-weighted boundary pressure (the B rows and the edge loads carry the
 //! same `r`).
-mod common;
+use crate::common;
 
 use common::{affine_field, distorted_rectangle, AREA};
 use talus_fem::{Assembly, Constraint, DofMap, ElementOrder, FemError, Geometry, Mesh, MeshError};

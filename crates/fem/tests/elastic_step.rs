@@ -4,7 +4,7 @@
 //! enter through `B_p`), then `v = v_n + h M⁻¹ (f − B_fᵀ σ)` must solve
 //! `(M + h² B_fᵀ S⁻¹ B_f) v = M v_n + h (f − B_fᵀ σ_n) − h² B_fᵀ S⁻¹ B_p v_p`.
 //! This checks that the operators of this crate fit together as the solver uses them.
-mod common;
+use crate::common;
 
 use common::{dense, distorted_rectangle};
 use nalgebra::{DMatrix, DVector};

@@ -11,7 +11,7 @@
 //!   its weight and `F` alone; and releasing `F` through the engine (a load ramped from 1
 //!   to 0, negligible masses) gives the kept body's direct elastic solve `K_K Δu = −F`.
 //! - `restrict_state` against fields that are functions of position.
-mod common;
+use crate::common;
 
 use common::dense;
 use nalgebra::{DMatrix, DVector, SMatrix};

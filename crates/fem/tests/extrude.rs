@@ -10,7 +10,7 @@
 //!   theorem), and the extruded face sets `base`, `back`, `front` point along −y, −z, +z;
 //! - the P2 patch test: a linear displacement gives its constant strain at every Gauss
 //!   point, and prescribed on the boundary, the static elastic solve gives it back inside.
-mod solid3d;
+use crate::solid3d;
 
 use std::collections::HashMap;
 use std::path::Path;

@@ -29,7 +29,7 @@
 //! and arm, `|t| A`, `γ h² w/2`, `ρ V`), sums of at most a few thousand products; the
 //! largest deviations measured are 7e-16 of the scale (resultants and moments), 2.5e-16
 //! (hydrostatic resultant and line of action) and 6e-16 (masses).
-mod solid3d;
+use crate::solid3d;
 
 use solid3d::{
     cross, distorted_block, dot, jitter, nodal, sub, tetrahedron_volume, vertex_flags, BOX_VOLUME,

@@ -15,7 +15,7 @@ mod mutations;
 use mutations::{apply, cases, fuzz, mutated, Outcome};
 
 // The small files of `gmsh_reader.rs` (see the drawing there).
-mod common;
+use crate::common;
 use common::gmsh_block::{block, to_msh};
 use common::gmsh_square::{binary_square, p1_file, p2_file, P1_TRIANGLES};
 

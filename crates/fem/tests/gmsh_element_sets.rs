@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 
 use talus_fem::{ElementOrder, Mesh, MeshError};
 
-mod common;
+use crate::common;
 use common::gmsh_square::{binary_square, p1_file, p2_file, P1_TRIANGLES};
 #[path = "common/gmsh_layers.rs"]
 mod gmsh_layers;

@@ -12,7 +12,7 @@
 //! ```
 use talus_fem::{Assembly, DofMap, ElementOrder, Mesh, MeshError};
 
-mod common;
+use crate::common;
 use common::gmsh_square::{binary_square, p1_file, p2_file, P1_TRIANGLES};
 
 #[test]

@@ -2,7 +2,7 @@
 //! from `σₙ + (h/2) σ̇`, not from the elastic predictor, which at the mechanism's onset is
 //! much further from the solution (`docs/solver.md`, "Non-associative Newton at the
 //! mechanism's onset").
-mod common;
+use crate::common;
 
 use common::footing::{paper_footing, H};
 use talus_engine::{Predictor, StepSettings, Stepper};

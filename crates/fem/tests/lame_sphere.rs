@@ -51,7 +51,7 @@
 //! the lumped mass must total `ρ Σ V_p` to 1e-12. A wrong pressure (sign, size or normal),
 //! strain row, Gauss volume or compliance block leaves an `O(1)` error that no refinement
 //! removes, which both kinds of bound catch.
-mod solid3d;
+use crate::solid3d;
 
 use std::collections::HashMap;
 use std::time::Instant;

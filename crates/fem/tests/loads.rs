@@ -1,6 +1,6 @@
 //! Consistent nodal loads: totals equal the applied resultant, and the per-node split
 //! matches the textbook weights.
-mod common;
+use crate::common;
 
 use common::{distorted_rectangle, AREA};
 use talus_fem::{

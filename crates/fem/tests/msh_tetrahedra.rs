@@ -7,7 +7,7 @@ use std::fmt::Write;
 use talus_fem::element::ElementOrder;
 use talus_fem::{MeshError, TetrahedralMesh};
 
-mod common;
+use crate::common;
 use common::gmsh_block::{block, node_tag, to_msh};
 
 #[test]

@@ -3,7 +3,7 @@
 //! 2024, Fig. 3; `scenes/footing.toml`): one Newton step from the same state, early in the
 //! loading and on the force plateau, for the paper's non-associative soil and an
 //! associative one, gives the same iterate and the same residual.
-mod common;
+use crate::common;
 
 use common::footing::{footing, paper_footing, soil, H};
 use talus_engine::{StepSettings, Stepper};

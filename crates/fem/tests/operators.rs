@@ -1,6 +1,6 @@
 //! Gauss volumes, lumped masses, the strain operator `B` and the compliance blocks against
 //! closed forms.
-mod common;
+use crate::common;
 
 use common::{affine_field, distorted_rectangle, mandel_sym, AREA};
 use nalgebra::SMatrix;

@@ -4,7 +4,7 @@
 //! strain `sym G` at every Gauss point. It checks `B`, the Gauss volumes (`K = Σ V_p B_pᵀ C
 //! B_p` is formed as `Bᵀ blockdiag(C / V_p) B` from the volume-weighted `B`) and the
 //! isoparametric map together.
-mod common;
+use crate::common;
 
 use common::{affine_field, dense, distorted_rectangle, mandel_sym};
 use nalgebra::{DMatrix, DVector, SMatrix};

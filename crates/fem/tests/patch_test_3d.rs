@@ -20,7 +20,7 @@
 //! `patch_test_3d_detects_a_field_beyond_the_order` guards the checks: the block really is
 //! distorted, and a field one degree beyond each order's is not reproduced (spread of
 //! `ε_xx` 4.6 for `x²` on P1, 25 for `x³` on P2).
-mod solid3d;
+use crate::solid3d;
 
 use nalgebra::{SMatrix, SVector};
 use solid3d::{distorted_block, mul, nodal, solve_spd, split, stiffness, vertex_flags, XS};

@@ -16,7 +16,7 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 use talus_fem::element::jacobian_determinant;
 use talus_fem::{Assembly, BoundaryEdge, DofMap, ElementOrder, Mesh, MeshError};
 
-mod common;
+use crate::common;
 use common::gmsh_square::{p1_file, P1_TRIANGLES};
 #[path = "common/gmsh_layers.rs"]
 mod gmsh_layers;

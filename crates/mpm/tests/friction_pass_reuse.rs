@@ -1,7 +1,7 @@
 //! The friction passes of a step share one dof numbering and one Schur analysis (a stuck
 //! tangential velocity is a zeroed column of `B`): the steps are the same, bit for bit, as
 //! with a new solver built for every pass, and a stuck node does not move.
-mod sand_column;
+use crate::sand_column;
 
 use talus_engine::StepSettings;
 use talus_mpm::GroupForces;

@@ -8,7 +8,7 @@
 //!   at round-off, ≤ 1e-9 of the same block's as cohesionless sand, which slumps), while a
 //!   sand column beside it flows.
 //! - A particle whose index names no material is an error naming the particle and index.
-mod sand_column;
+use crate::sand_column;
 
 use sand_column::sand;
 use talus_bipotential::{Elastic, Material};

@@ -6,7 +6,7 @@
 //!
 //! The small sand column of `sand_column/`, whose first steps from rest need more Newton
 //! iterations at the full step than `max_iterations` allows, and fewer at a fraction of it.
-mod sand_column;
+use crate::sand_column;
 
 use talus_engine::{Growth, StepSettings};
 use talus_mpm::MpmStepper;

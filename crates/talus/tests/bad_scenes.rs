@@ -5,8 +5,7 @@ use talus::run::RunOptions;
 use talus::run::HISTORY_COLUMNS;
 use talus::scene::{builtin_footing, Scene};
 
-mod common;
-
+use crate::common;
 use common::line_of;
 
 fn footing_with(from: &str, to: &str) -> String {

@@ -8,8 +8,7 @@
 //! of Elasticity*, the state of uniaxial strain; Jaky's K₀ of an elastic body). `u_y` is
 //! quadratic in y, which P2 tetrahedra hold exactly: the Gauss-point stresses are the
 //! closed form up to round-off and the quasi-static inertia (`r = 1e-7` of the stiffness).
-mod common;
-
+use crate::common;
 use common::{array, replaced, talus_run};
 use talus::model::fem::model_3d;
 use talus::output::Summary;

@@ -2,8 +2,7 @@
 //! `docs/axisymmetry.md`, 'Cavity expansion'): its collapse pressure against the
 //! Mohr-Coulomb thick cylinder's and, for φ = 0, Hill's Tresca cylinder; the reaction of a
 //! boundary driven along x is reported along its motion.
-mod common;
-
+use crate::common;
 use talus::analysis::verification::{
     cavity_expansion_case, cavity_pressure, CAVITY, CAVITY_EXPANSION,
 };

@@ -21,8 +21,7 @@
 //! weightless φ = 0 limit load scales with `k_d`: so the outer cone's `N_c` lies in
 //! `[6.05, 6.05 · 2/√3 = 6.99]`. The test checks that of the mesh-converged axisymmetric
 //! load, extrapolated (order 1, as measured: docs/3d.md) from two graded rectangles.
-mod common;
-
+use crate::common;
 use std::f64::consts::PI;
 use std::path::Path;
 

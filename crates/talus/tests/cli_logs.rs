@@ -3,8 +3,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-mod common;
-
+use crate::common;
 fn footing_run(name: &str, log: &str) -> Output {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
         .join("cli_logs")

@@ -12,12 +12,11 @@
 //! and 1.1545 (6.9% short, 2685 particles), as `talus run` at that spacing. About 5 and
 //! 13 minutes of CPU (together 1050 s, 946 s wall on two threads), beyond the CI's budget:
 //! ignored, run with
-//! `cargo test --release -p talus --test column_collapse_lube2004_3d -- --ignored`.
+//! `cargo test --release -p talus --test suite column_collapse_lube2004_3d:: -- --ignored`.
 //! At dx = R₀/5 the a = 0.5 test fails (0.5219, 15.8% short).
 //! The front is the largest distance of a particle centre from the axis, as `history.csv`'s
 //! `front`.
-mod common;
-
+use crate::common;
 use talus::model::mpm::MpmModel;
 
 /// Cells per R₀ of the shipped scenes and of the run.
@@ -68,7 +67,7 @@ fn check(a: f64, runout: f64) {
 /// Lube et al.'s first regime (a < 0.74: the top stays undisturbed, a truncated cone).
 /// About 5 minutes of CPU.
 #[test]
-#[ignore = "about 5 min of CPU: cargo test --release -p talus --test column_collapse_lube2004_3d -- --ignored"]
+#[ignore = "about 5 min of CPU: cargo test --release -p talus --test suite column_collapse_lube2004_3d:: -- --ignored"]
 fn column_3d_a0_5_follows_the_linear_law() {
     check(0.5, final_runout("column_3d.toml"));
 }
@@ -76,7 +75,7 @@ fn column_3d_a0_5_follows_the_linear_law() {
 /// The second regime (0.74 < a < 1.7: the whole top moves, a cone). About 13 minutes of
 /// CPU.
 #[test]
-#[ignore = "about 13 min of CPU: cargo test --release -p talus --test column_collapse_lube2004_3d -- --ignored"]
+#[ignore = "about 13 min of CPU: cargo test --release -p talus --test suite column_collapse_lube2004_3d:: -- --ignored"]
 fn column_3d_a1_follows_the_linear_law() {
     check(1.0, final_runout("column_3d_a1.toml"));
 }

@@ -8,8 +8,7 @@
 //! a = 2 lies between the two regimes, where the paper gives no law: it must fall within
 //! 20% of the band between them, `[0.8 · 1.2a, 1.2 · 1.9a^(2/3)]`.
 //! The front is the largest particle x (particle centres), as in `history.csv`.
-mod common;
-
+use crate::common;
 use std::path::Path;
 
 use talus::model::mpm::MpmModel;

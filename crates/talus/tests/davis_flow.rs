@@ -4,8 +4,7 @@
 //! Topics*; Sloan 2013, Géotechnique 63(7), 531–572); `docs/scenes.md`, 'Regions and materials', and
 //! `docs/stability.md`, 'Dilatancy'. One transform serves it and `[stability] dilatancy =
 //! "davis"`.
-mod common;
-
+use crate::common;
 use talus::analysis::stability;
 use talus::model::fem::{FromScene, Model};
 use talus::model::mpm::MpmModel;

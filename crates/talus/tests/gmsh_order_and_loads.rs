@@ -2,7 +2,7 @@
 //! warns, in the log and in `summary.json`); `[[pressure]]` with a `gradient` gives a
 //! hydrostatic load; `[[point_load]]` a force at the node nearest a point. Checked by
 //! equilibrium: at rest, the supports carry exactly the load (½ γ_w H² for water on a wall).
-mod common;
+use crate::common;
 #[allow(dead_code)]
 #[path = "../../fem/tests/common/gmsh_square.rs"]
 mod gmsh_square;

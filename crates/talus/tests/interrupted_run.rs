@@ -6,8 +6,7 @@ use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-mod common;
-
+use crate::common;
 fn interrupt_footing(signal: &str) {
     let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
         .join("interrupted_run")

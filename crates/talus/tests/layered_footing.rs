@@ -161,7 +161,7 @@ fn layered_footing_cases_pass_on_the_coarse_mesh() {
 
 /// The full set `talus verify` runs without `--quick` (c2/c1 = 0.25, 0.5, 0.75, 1, and 0.5
 /// and 1 on the mesh refined once); about 20 s in release on 2 cores, so left to
-/// `cargo test --release -p talus --test layered_footing -- --ignored`.
+/// `cargo test --release -p talus --test suite layered_footing:: -- --ignored`.
 #[test]
 #[ignore]
 fn layered_footing_full_cases_pass() {

@@ -3,8 +3,7 @@
 //! carried in rigid translation by a prescribed velocity it follows the prescribed motion
 //! `u = v t` exactly (and the box's force is the impulse `m Δv / h` of the first step).
 //! Bad monitors are refused naming the field.
-mod common;
-
+use crate::common;
 use std::path::PathBuf;
 
 use talus::model::fem::{FromScene, Model};

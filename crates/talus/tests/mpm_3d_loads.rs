@@ -16,8 +16,7 @@
 //!   `x_{n+1} = x_n + h v_{n+1}` gives `v_n = n h g` and `u_n = n (n + 1) h² g / 2`;
 //! - 2D: `traction = [0, −p]` is `pressure = p` to the bit;
 //! - bad inputs are refused naming the field, with its line.
-mod common;
-
+use crate::common;
 use std::path::{Path, PathBuf};
 
 use common::{array, history_column, replaced};

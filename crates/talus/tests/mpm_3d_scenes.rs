@@ -15,8 +15,7 @@
 //!   `σ_yy = −ρ g (H − y)`, `σ_xx = σ_zz = K₀ σ_yy` (Coombs et al. 2020, CMAME 369; the
 //!   library's `elastic_column_gravity_3d.rs`), read from the run's last particle VTU;
 //! - bad 3D inputs are refused naming the field.
-mod common;
-
+use crate::common;
 use std::path::{Path, PathBuf};
 
 use common::{array, history_column, replaced};

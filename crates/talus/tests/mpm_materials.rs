@@ -4,8 +4,7 @@
 //! at round-off, in the particles and in the VTU); each particle weighs its material's
 //! density; a checkpoint keeps the particles' materials; bad inputs are errors naming the
 //! field.
-mod common;
-
+use crate::common;
 use std::ops::ControlFlow;
 use std::path::PathBuf;
 use std::sync::Arc;

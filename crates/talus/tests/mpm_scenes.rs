@@ -9,8 +9,7 @@ use talus::run::RunOptions;
 use talus::run::HISTORY_COLUMNS;
 use talus::scene::{MpmScene, SceneError, SceneFile};
 
-mod common;
-
+use crate::common;
 use common::line_of;
 
 const SCENES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes");

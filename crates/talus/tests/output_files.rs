@@ -1,7 +1,6 @@
 //! Output writers: VTU/PVD read back by a small parser, PNGs checked down to the pixels
 //! (decoded by the minimal inflate in `common`; `image` is not a dependency of this crate).
-mod common;
-
+use crate::common;
 use std::f64::consts::SQRT_2;
 use std::path::{Path, PathBuf};
 

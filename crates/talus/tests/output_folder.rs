@@ -13,8 +13,7 @@ use talus::run::fem::run_scene;
 use talus::run::{folder, RunError, RunOptions, StepProgress};
 use talus::scene::Scene;
 
-mod common;
-
+use crate::common;
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("output_folder")
 }

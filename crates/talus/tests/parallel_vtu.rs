@@ -9,8 +9,7 @@
 //!   and lists the pieces' files.
 //! - 10 particles in 4 pieces: each particle once, in order, with its values.
 //! - A range outside the elements or particles is refused naming the field.
-mod common;
-
+use crate::common;
 use std::path::{Path, PathBuf};
 
 use common::{array, attr, field_of, target_tmp_dir};

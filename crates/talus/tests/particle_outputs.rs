@@ -1,7 +1,6 @@
 //! Particle outputs (MPM): the VTU read back by the small parser of `common`, the PNG map
 //! checked down to the pixels, bad inputs rejected with the field named.
-mod common;
-
+use crate::common;
 use std::f64::consts::SQRT_2;
 use std::path::PathBuf;
 

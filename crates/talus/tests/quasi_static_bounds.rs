@@ -12,8 +12,7 @@ use talus::run::fem::run_scene;
 use talus::run::{RunError, RunOptions};
 use talus::scene::Scene;
 
-mod common;
-
+use crate::common;
 const FOOTING: &str = include_str!("../../../scenes/footing.toml");
 
 /// The paper footing made quasi-static (`[analysis]` before `[time]`), `extra` added to

@@ -2,8 +2,7 @@
 //! `[[material]]` lists, each Gauss point with its material; an elastic material that never
 //! flows; the K₀ procedure through layers of different unit weights; and every bad input
 //! named by its field and value.
-mod common;
-
+use crate::common;
 use talus::model::fem::{FromScene, Model, ReactionForce};
 use talus::run::fem::run_scene;
 use talus::run::RunOptions;

@@ -4,8 +4,7 @@
 //! absent, the rules are the rate-independent ones bit for bit; the one-element triaxial
 //! follows the backward-Euler Duvaut–Lions overstress (eq. DL8); a shrinking τ converges to
 //! the rate-independent footing at first order.
-mod common;
-
+use crate::common;
 use talus::model::fem::{FromScene, Model, ReactionForce};
 use talus::model::mpm::MpmModel;
 use talus::scene::MpmScene;
@@ -273,7 +272,7 @@ fn tau_table(name: &str, text: &str, h: f64) {
 
 /// The τ table of issue 24 on the paper footing (`scenes/footing.toml`, 300 steps)
 /// (`docs/derivations.md`, eq. DL9's table). A measurement (about 4 min, τ = h being
-/// slow): `cargo test --release -p talus --test relaxation -- --ignored --nocapture`.
+/// slow): `cargo test --release -p talus --test suite relaxation:: -- --ignored --nocapture`.
 #[test]
 #[ignore]
 fn tau_table_on_the_paper_footing() {

@@ -2,8 +2,7 @@
 //! (`[analysis] geometry = "3d"`) reads `[mesh.box]`, `fix` strings with z, 3-component
 //! vectors and boxes, and loads on `faces`; a 2D scene refuses each of them, naming the
 //! field, and a 3D scene refuses loads on `edges`.
-mod common;
-
+use crate::common;
 use common::{fem, fem_error, replaced, FOOTING};
 use talus::scene::{dimension, Fix, MeshSpec, SceneDocument, SceneSpec, Selection};
 

@@ -6,8 +6,7 @@ use talus::model::fem::{FromScene, Model};
 use talus::model::mpm::MpmModel;
 use talus::scene::{MpmScene, Scene, SceneError};
 
-mod common;
-
+use crate::common;
 use common::replaced as with;
 
 fn fem(from: &str, to: &str) -> (String, SceneError) {

@@ -8,8 +8,7 @@
 //!
 //! The 3D search is the 2D one (one implementation over the Mandel size): its files are
 //! the same (history.csv, summary.json) and its mechanism a VTU of tetrahedra.
-mod common;
-
+use crate::common;
 use std::path::{Path, PathBuf};
 
 use talus::analysis::stability;

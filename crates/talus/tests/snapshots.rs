@@ -5,7 +5,7 @@
 //! the tolerance) are not snapshotted.
 //!
 //! Regenerate after an intended change with
-//!   INSTA_UPDATE=always cargo test --release -p talus --test snapshots
+//!   INSTA_UPDATE=always cargo test --release -p talus --test suite snapshots::
 //! and review the diff of `tests/snapshots/`.
 use serde::Serialize;
 use talus::model::fem::ReactionForce;
@@ -14,8 +14,7 @@ use talus::run::fem::run_scene;
 use talus::run::RunOptions;
 use talus::scene::Scene;
 
-mod common;
-
+use crate::common;
 const FOOTING: &str = include_str!("../../../scenes/footing.toml");
 
 /// `text` with each `(from, to)` replaced once; `from` must be present.

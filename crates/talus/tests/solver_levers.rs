@@ -4,8 +4,7 @@
 //! bit; set, a Krylov solve (GMRES on a reused factorization, checked to the Newton
 //! tolerance like every direction) must find the factor of safety the direct solve finds;
 //! bad values are refused naming the field and value.
-mod common;
-
+use crate::common;
 use talus::analysis::stability::{self, StabilityRun};
 use talus::run::RunOptions;
 use talus::scene::{Scene, SolverSpec};

@@ -6,8 +6,7 @@
 //! brackets. Limit analysis gives one collapse factor whatever the load path for
 //! associative perfect plasticity (the uniqueness of the limit load, Chen 1975, ch. 2;
 //! Drucker, Prager & Greenberg 1952), so a bracket from another path must agree.
-mod common;
-
+use crate::common;
 use talus::analysis::stability::{self, Analysis, StabilityRun, Trial, Verdict};
 use talus::model::fem::State;
 use talus::run::RunOptions;

@@ -9,8 +9,7 @@
 //!   reaction grows by the new region's weight `ρ g A`.
 //! - One history, one VTU series, summary.json per stage, resume across stages.
 //! - Bad inputs name their field and value.
-mod common;
-
+use crate::common;
 use nalgebra::{DMatrix, DVector};
 use talus::model::fem::stages::Stages;
 use talus::model::fem::FromScene;

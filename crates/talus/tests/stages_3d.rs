@@ -11,8 +11,7 @@
 //! - A region built on a body at rest carries its weight at the stage's end: the base
 //!   reaction grows by `ρ g V` (N).
 //! - Bad stages name their field, as in 2D.
-mod common;
-
+use crate::common;
 use talus::model::fem::stages::{final_model, Stages};
 use talus::run::fem::run_scene_3d;
 use talus::run::RunOptions;

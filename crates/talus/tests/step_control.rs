@@ -6,8 +6,7 @@
 //! (4 halvings, each step from the full h) stopped there, "did not converge". With the
 //! default settings the run goes on at the sub-step sizes that have a solution. The same
 //! scene with associative flow has no fold and takes one sub-step per step, as before.
-mod common;
-
+use crate::common;
 /// `(sub-steps, accepted, failed)` Newton iterations per step of `talus run` on the folding
 /// footing with `dilatancy_angle` as given, after `steps` steps.
 fn run(name: &str, dilatancy: &str, steps: usize) -> Vec<(usize, usize, usize)> {

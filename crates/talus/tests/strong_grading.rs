@@ -1,7 +1,7 @@
 //! A `[mesh.rectangle]` whose cells span more than 1e3 in size along an axis draws a
 //! warning naming the key, the span and a ratio that would make it 100
 //! (`docs/performance.md`, 'Grading kept while refining'); the shipped footing does not.
-mod common;
+use crate::common;
 use common::{replaced, talus_run, FOOTING};
 
 /// `talus run`'s stderr at `warn` for the footing with `cells` and one step.

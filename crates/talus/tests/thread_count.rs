@@ -4,8 +4,7 @@
 //! different threads (`talus_ssn::factorization`), run by `talus run` on 1 and on 2 threads
 //! (`RAYON_NUM_THREADS`). history.csv (its `seconds` columns aside) and the last VTU must
 //! agree to the byte.
-mod common;
-
+use crate::common;
 use std::path::{Path, PathBuf};
 
 fn run(threads: usize, scene: &Path, out: PathBuf) -> PathBuf {

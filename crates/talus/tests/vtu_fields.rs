@@ -9,8 +9,7 @@
 //!   written strains and stresses, equal in norm to the increment of the solver's
 //!   cumulative `plastic_strain`, and zero in an elastic step;
 //! - MPM `displacement` equal to the particles' position change, and their `material`.
-mod common;
-
+use crate::common;
 use std::f64::consts::SQRT_2;
 use std::path::{Path, PathBuf};
 

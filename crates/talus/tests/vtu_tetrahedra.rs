@@ -10,8 +10,7 @@
 //! - the principal stresses of a rotated diagonal tensor are its diagonal, von Mises of a
 //!   pure shear is `√3 τ`;
 //! - mismatched dimensions and wrong element node counts are refused naming the field.
-mod common;
-
+use crate::common;
 use std::f64::consts::SQRT_2;
 use std::path::PathBuf;
 

@@ -3,8 +3,7 @@
 //! push on the free boundary. Checked against Terzaghi's geostatic closed form, against
 //! equilibrium at rest, and against the dry slope of buoyant unit weight (Archimedes:
 //! hydrostatic water is in equilibrium on its own).
-mod common;
-
+use crate::common;
 use talus::analysis::stability;
 use talus::model::fem::{FromScene, Model};
 use talus::run::RunOptions;

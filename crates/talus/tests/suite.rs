@@ -1,0 +1,76 @@
+//! The integration tests of `talus`, one module per file of `tests/`, built as one test
+//! binary: one binary per file linked the whole crate 69 times (README, 'Development').
+//! Run one file's tests with `cargo test --release -p talus --test suite <file>::`. A new
+//! file of `tests/` is added here (`autotests = false` in Cargo.toml).
+//! `distributed_ranks.rs` stays its own binary: it is built only with the feature `mpi`.
+mod common;
+
+mod axisymmetric_elastic;
+mod axisymmetric_scenes;
+mod axisymmetric_triaxial;
+mod bad_scenes;
+mod block_3d;
+mod cavity_expansion;
+mod checkpoint_resume;
+mod circular_footing_3d;
+mod cli_exit_codes;
+mod cli_logs;
+mod cli_reduced;
+mod collapse;
+mod column_collapse_lube2004_3d;
+mod column_collapse_lube2005;
+mod davis_flow;
+mod elastic_step;
+mod engine_halving;
+mod footing_scene_matches_fem_api;
+mod fuzz_scene_reader;
+mod gmsh_order_and_loads;
+mod interrupted_run;
+mod lame_cylinder;
+mod layered_footing;
+mod load_programmes;
+mod material_point_cases;
+mod monitors;
+mod mpm_3d_loads;
+mod mpm_3d_scenes;
+mod mpm_column_newton;
+mod mpm_footing_matches_fem;
+mod mpm_load_programmes;
+mod mpm_materials;
+mod mpm_scenes;
+mod output_files;
+mod output_folder;
+mod paper_footing;
+mod parallel_vtu;
+mod particle_outputs;
+mod pictures;
+mod prandtl_strip_footing;
+mod quasi_static_bounds;
+mod quasi_static_footing;
+mod reactions;
+mod regions_and_materials;
+mod relaxation;
+mod scene_dimension;
+mod scene_limits;
+mod silent_inputs;
+mod size_estimate;
+mod slope_3d_scene;
+mod slope_extruded_3d;
+mod snapshots;
+mod solver_levers;
+mod square_footing_clay_3d;
+mod stability;
+mod stability_continuation;
+mod stability_silent;
+mod stage_limits;
+mod stages;
+mod stages_3d;
+mod step_control;
+mod strong_grading;
+mod summary_json;
+mod thread_count;
+mod uniform_initial_stress;
+mod vtu_fields;
+mod vtu_tetrahedra;
+mod water_table;
+mod write_failure;
