@@ -123,13 +123,18 @@ fn path(p: &Path) -> Result<&str, String> {
 /// Runs one stage with its output shown; `Ok(false)` if it fails.
 fn stage(root: &Path, name: &str, program: &str, args: &[&str]) -> Result<bool, String> {
     eprintln!("xtask test: {name}: {program} {}", args.join(" "));
+    let start = std::time::Instant::now();
     let status = Command::new(program)
         .args(args)
         .current_dir(root)
         .status()
         .map_err(|e| format!("{name}: cannot run {program}: {e}"))?;
-    if !status.success() {
-        eprintln!("xtask test: {name} failed ({status})");
+    // Each stage's wall time, builds included: CI's budget is spent stage by stage.
+    let seconds = start.elapsed().as_secs();
+    if status.success() {
+        eprintln!("xtask test: {name} took {seconds} s");
+    } else {
+        eprintln!("xtask test: {name} failed ({status}) after {seconds} s");
     }
     Ok(status.success())
 }
