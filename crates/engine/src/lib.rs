@@ -9,6 +9,7 @@
 //! No scene, file or terminal is read here: settings come in as this crate's types.
 mod collapse;
 mod discretization;
+mod parabola;
 mod ramp;
 mod report;
 mod run;
@@ -21,6 +22,7 @@ pub use collapse::{
     COLLAPSE_RISING_STEPS,
 };
 pub use discretization::{Discretization, Loading, Problem};
+pub use parabola::Parabola;
 pub use ramp::{Ramp, RampError};
 pub use report::{Predictor, StepError, StepReport};
 pub use run::{Collapsed, Failed, Run};

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use talus_ssn::{Report, SolveError, Solver};
 
+use crate::parabola::Parabola;
 use crate::{
     Discretization, Predictor, PredictorRule, Problem, StepControl, StepError, StepReport,
     StepSettings,
@@ -22,6 +23,8 @@ pub struct Stepper<M: Discretization<D>, const D: usize = 4> {
     /// solve starts from σₙ + h σ̇, which under steady loading is second-order close to the
     /// answer.
     stress_rate: Option<Vec<f64>>,
+    /// The rate before it, and whether the next sub-step extrapolates along the parabola.
+    parabola: Parabola,
     /// The sub-step size the next step starts at, and what the control learned.
     control: StepControl,
     /// Whether a sub-step accepted at the round-off floor was logged at `warn` already: a
@@ -38,6 +41,10 @@ const FIXED_SOLVERS: usize = 3;
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StepperMemory {
     pub stress_rate: Option<Vec<f64>>,
+    /// Absent from checkpoints written before the parabolic predictor (their next
+    /// steps extrapolate along the line until two rates are measured again).
+    #[serde(default)]
+    pub parabola: Parabola,
     /// Absent from checkpoints written before the step control (their steps restart at
     /// the full h).
     #[serde(default)]
@@ -64,6 +71,7 @@ impl<M: Discretization<D>, const D: usize> Stepper<M, D> {
             settings,
             fixed: Vec::new(),
             stress_rate: None,
+            parabola: Parabola::default(),
             control: StepControl::default(),
             floor_warned: false,
         }
@@ -92,6 +100,8 @@ impl<M: Discretization<D>, const D: usize> Stepper<M, D> {
     /// saved state with the same predictor).
     pub fn set_stress_rate(&mut self, rate: Option<Vec<f64>>) {
         self.stress_rate = rate;
+        // Its sub-step size is not known: the line until two rates are measured again.
+        self.parabola = Parabola::default();
     }
 
     /// Halvings the next step starts with ([`StepControl`]): 0 = full h.
@@ -104,6 +114,7 @@ impl<M: Discretization<D>, const D: usize> Stepper<M, D> {
     pub fn memory(&self) -> StepperMemory {
         StepperMemory {
             stress_rate: self.stress_rate.clone(),
+            parabola: self.parabola.clone(),
             control: self.control.clone(),
         }
     }
@@ -116,6 +127,7 @@ impl<M: Discretization<D>, const D: usize> Stepper<M, D> {
     /// 'Checkpoints and resume').
     pub fn restore_memory(&mut self, memory: StepperMemory) {
         self.stress_rate = memory.stress_rate;
+        self.parabola = memory.parabola;
         self.control = memory.control;
     }
 
@@ -264,8 +276,10 @@ impl<M: Discretization<D>, const D: usize> Stepper<M, D> {
         let disc = &self.discretization;
 
         // Starting point (`docs/solver.md`, "Time stepping"): σₙ + h σ̇ when the last
-        // sub-step's loading was smooth (steady flow is then predicted to second order);
-        // out of rest or after a jump in the loading rate, the elastic predictor.
+        // sub-step's loading was smooth (steady flow is then predicted to second order),
+        // along the parabola through the last three stresses when that was clearly closer
+        // on the last sub-step; out of rest or after a jump in the loading rate, the
+        // elastic predictor.
         let sigma_n = disc.stress(state).to_vec();
         let mut sigma = sigma_n.clone();
         // `ElasticIfAssociative` is decided on this sub-step's own flow rules.
@@ -282,9 +296,8 @@ impl<M: Discretization<D>, const D: usize> Stepper<M, D> {
         };
         let predictor = match (&rate, rule) {
             (Some(rate), _) => {
-                for (s, r) in sigma.iter_mut().zip(rate) {
-                    *s += h * r;
-                }
+                let parabola = self.parabola.extrapolate(&mut sigma, rate, h);
+                tracing::trace!(parabola, "extrapolated");
                 Predictor::Extrapolated
             }
             (None, PredictorRule::Previous) => Predictor::Previous,
@@ -392,6 +405,7 @@ impl<M: Discretization<D>, const D: usize> Stepper<M, D> {
                     .map(|(a, b)| (a - b) / h)
                     .collect()
             });
+        self.parabola.record(rate, self.stress_rate.as_deref(), h);
 
         report.substeps += 1;
         report.smallest_h = report.smallest_h.min(h);
