@@ -94,7 +94,10 @@ mod tests {
     fn a_parabola_in_time_is_predicted_exactly_and_the_straight_line_is_not() {
         let h = 0.1;
         let m = after_three(h, [rate(1, h), rate(2, h), rate(3, h)]);
-        assert!(m.next, "on a parabola the line's error is c h², the parabola's 0");
+        assert!(
+            m.next,
+            "on a parabola the line's error is c h², the parabola's 0"
+        );
         let exact = sigma(4.0 * h);
         let mut along = sigma(3.0 * h);
         assert!(m.extrapolate(&mut along, &rate(3, h), h));
