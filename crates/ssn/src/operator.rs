@@ -496,18 +496,25 @@ mod tests {
         let blocks = PointBlocks::<4>::new(&b, 2);
         assert!(blocks.point(0).0.len() > LOCAL_DOFS);
         let u: Vec<f64> = (0..40).map(|j| (j as f64 * 0.7).sin()).collect();
-        let dense = b.to_dense();
         for i in 0..2 {
             assert_same_bits_as_gathering_per_row(&blocks, i, &u);
-            let bu = blocks.apply_point(i, &u);
-            for r in 0..4 {
-                let e: f64 = (0..40).map(|j| dense[(4 * i + r, j)] * u[j]).sum();
-                assert!(
-                    (bu[r] - e).abs() <= 1e-13,
-                    "point {i} row {r}: {} {e}",
-                    bu[r]
-                );
-            }
+            assert_point_matches_dense(&blocks, &b, i, &u, 1e-13);
+        }
+    }
+
+    /// `B u` of point `i` against the dense rows of `b`, to `tol` absolute.
+    fn assert_point_matches_dense(
+        blocks: &PointBlocks<4>,
+        b: &SparseColMat<usize, f64>,
+        i: usize,
+        u: &[f64],
+        tol: f64,
+    ) {
+        let dense = b.to_dense();
+        let bu = blocks.apply_point(i, u);
+        for r in 0..4 {
+            let e: f64 = (0..u.len()).map(|j| dense[(4 * i + r, j)] * u[j]).sum();
+            assert!((bu[r] - e).abs() <= tol, "point {i} row {r}: {} {e}", bu[r]);
         }
     }
 
@@ -528,18 +535,9 @@ mod tests {
                 );
             }
         }
-        let dense = b.to_dense();
         for i in 0..3 {
-            let bu = blocks.apply_point(i, &u);
             assert_same_bits_as_gathering_per_row(&blocks, i, &u);
-            for r in 0..4 {
-                let e: f64 = (0..7).map(|j| dense[(4 * i + r, j)] * u[j]).sum();
-                assert!(
-                    (bu[r] - e).abs() <= 1e-14,
-                    "point {i} row {r}: {} {e}",
-                    bu[r]
-                );
-            }
+            assert_point_matches_dense(&blocks, &b, i, &u, 1e-14);
         }
         let owned = [true, false, true];
         blocks.keep_points(&owned);
