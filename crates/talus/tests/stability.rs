@@ -142,6 +142,34 @@ fn bad_stability_input_names_the_field_and_value() {
         ),
         (
             with(
+                "tolerance = 0.005",
+                "tolerance = 0.005\nnewton_tolerance = -1e-10",
+            ),
+            ["stability.newton_tolerance", "-0.0000000001 must"],
+        ),
+        (
+            with(
+                "tolerance = 0.005",
+                "tolerance = 0.005\nnewton_tolerance = 0.0",
+            ),
+            ["stability.newton_tolerance", "0 must"],
+        ),
+        (
+            with(
+                "tolerance = 0.005",
+                "tolerance = 0.005\nnewton_tolerance = nan",
+            ),
+            ["stability.newton_tolerance", "NaN must"],
+        ),
+        (
+            with(
+                "tolerance = 0.005",
+                "tolerance = 0.005\nnewton_tolerance = inf",
+            ),
+            ["stability.newton_tolerance", "inf must"],
+        ),
+        (
+            with(
                 "method = \"strength_reduction\"",
                 "method = \"gravity_increase\"",
             ),

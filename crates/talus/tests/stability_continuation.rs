@@ -165,3 +165,51 @@ fn the_bracket_ends_keep_their_verdicts_from_the_equilibrium() {
     assert_eq!(at_lo.verdict, Verdict::Stable);
     assert!(at_hi.fails(), "{:?}", at_hi.verdict);
 }
+
+/// The trials' Newton tolerance (`[stability] newton_tolerance`, default 1e-10 or a looser
+/// `[solver] tolerance`) trades Newton iterations, not the bracket: the search at the
+/// default and at the loading's 1e-12 bracket the same collapse factor (each within the
+/// other's bracket widened by both widths), the default with fewer iterations.
+#[test]
+fn the_trials_newton_tolerance_trades_iterations_not_the_bracket() {
+    let scene = cut("gravity_increase");
+    let analysis = Analysis::new(&scene).unwrap().unwrap();
+    assert_eq!(analysis.settings.newton_tolerance, 1e-10);
+    let with = |from: &str, to: &str| {
+        let text = include_str!("../../../scenes/vertical_cut.toml")
+            .replacen("cells = [32, 16]", "cells = [16, 8]", 1)
+            .replacen("plots = true", "plots = false", 1);
+        assert!(text.contains(from), "{from}");
+        Scene::parse(&text.replacen(from, to, 1), None).unwrap()
+    };
+    // A looser [solver] tolerance is kept (scenes/slope_3d.toml's 1e-8).
+    let loose = with("[stability]", "[solver]\ntolerance = 1e-8\n\n[stability]");
+    let loose = Analysis::new(&loose).unwrap().unwrap();
+    assert_eq!(loose.settings.newton_tolerance, 1e-8);
+    let tight = with("[stability]", "[stability]\nnewton_tolerance = 1e-12");
+    let iterations = |run: &StabilityRun| {
+        run.trials
+            .iter()
+            .map(|t| t.newton_iterations)
+            .sum::<usize>()
+    };
+    let out = |name: &str| RunOptions::new(common::target_tmp_dir("stability_continuation", name));
+    let default = stability::run(&scene, &out("tolerance_default")).unwrap();
+    let strict = stability::run(&tight, &out("tolerance_strict")).unwrap();
+    let ((ld, hd), (ls, hs)) = (bracket(&default), bracket(&strict));
+    let (fd, fs) = (
+        default.factor_of_safety.value.expect("a factor"),
+        strict.factor_of_safety.value.expect("a factor"),
+    );
+    println!(
+        "trials at 1e-10: {fd} in [{ld}, {hd}], {} Newton iterations; at 1e-12: {fs} in \
+         [{ls}, {hs}], {}",
+        iterations(&default),
+        iterations(&strict)
+    );
+    assert!(
+        (fd - fs).abs() <= (hd - ld) + (hs - ls),
+        "{fd} [{ld}, {hd}] vs {fs} [{ls}, {hs}]"
+    );
+    assert!(iterations(&default) < iterations(&strict));
+}

@@ -68,4 +68,8 @@ pub struct StabilitySpec {
     /// Steps of `time.step` each trial runs at most; default 12.
     #[serde(default)]
     pub trial_steps: Option<usize>,
+    /// The Newton tolerance of the trials' steps (the loading keeps `[solver] tolerance`);
+    /// default 1e-10, or `[solver] tolerance` when that is looser.
+    #[serde(default)]
+    pub newton_tolerance: Option<f64>,
 }

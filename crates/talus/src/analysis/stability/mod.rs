@@ -258,8 +258,9 @@ where
     /// `start.1` (`None`: `equilibrium` itself); the trial, and its end state when it is
     /// stable (the next trials' start). Its [`Trial::moved`] is measured from `equilibrium`.
     ///
-    /// A continued search's steps follow the motion ([`TrialPredictor::FollowMotion`]);
-    /// the blind one keeps the scene's predictor. Measured in `docs/stability.md`,
+    /// A continued search's steps follow the motion ([`TrialPredictor::FollowMotion`]) and
+    /// stop Newton at [`StabilitySettings::newton_tolerance`]; the blind one keeps the
+    /// scene's predictor and `[solver] tolerance`. Measured in `docs/stability.md`,
     /// 'Search'.
     pub fn trial_from(
         &mut self,
@@ -268,14 +269,16 @@ where
         equilibrium: &State<D>,
     ) -> Result<(Trial<D>, Option<State<D>>), String> {
         self.set_factor(f)?;
+        let mut settings = self.step_settings;
         let predictor = if self.settings.continuation {
+            settings.solver.tolerance = self.settings.newton_tolerance;
             TrialPredictor::FollowMotion
         } else {
             TrialPredictor::Scene
         };
         Ok(trial::run_trial_from(
             &self.model,
-            self.step_settings,
+            settings,
             predictor,
             start,
             equilibrium,
