@@ -103,7 +103,7 @@ impl Watch {
             match called {
                 Err(e) => Some(Stop::Raised(e)),
                 // Only an explicit False stops: a callback returning None goes on.
-                Ok(r) if r.bind(py).is(&PyBool::new(py, false)) => Some(Stop::Asked),
+                Ok(r) if r.bind(py).is(PyBool::new(py, false)) => Some(Stop::Asked),
                 Ok(_) => None,
             }
         });

@@ -568,7 +568,9 @@ fn faces_are_oriented_outward_and_interior_faces_refused() {
         };
         let f = (0..4).find(|&f| counts(f) == 2).expect("an interior face");
         let interior = mesh.boundary_face(0, f);
-        let err = asm.pressure(&mesh, &[interior.clone()], P).unwrap_err();
+        let err = asm
+            .pressure(&mesh, std::slice::from_ref(&interior), P)
+            .unwrap_err();
         assert_eq!(field(&err), "faces", "{err}");
         assert!(err.to_string().contains("not on the boundary"), "{err}");
         let err = asm

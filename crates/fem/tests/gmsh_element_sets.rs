@@ -7,9 +7,8 @@ use std::collections::BTreeMap;
 use talus_fem::{ElementOrder, Mesh, MeshError};
 
 use crate::common;
+use crate::gmsh_layers;
 use common::gmsh_square::{binary_square, p1_file, p2_file, P1_TRIANGLES};
-#[path = "common/gmsh_layers.rs"]
-mod gmsh_layers;
 
 /// Centroids of the triangles of `set`, sorted, rounded to 1e-12 m.
 fn centroids(mesh: &Mesh, set: &[usize]) -> Vec<[i64; 2]> {

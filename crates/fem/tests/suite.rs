@@ -3,6 +3,8 @@
 //! file's tests with `cargo test --release -p talus-fem --test suite <file>::`; a new file
 //! of `tests/` is added here (`autotests = false` in Cargo.toml).
 mod common;
+#[path = "common/gmsh_layers.rs"]
+mod gmsh_layers;
 mod solid3d;
 
 mod axisymmetric;

@@ -17,9 +17,8 @@ use talus_fem::element::jacobian_determinant;
 use talus_fem::{Assembly, BoundaryEdge, DofMap, ElementOrder, Mesh, MeshError};
 
 use crate::common;
+use crate::gmsh_layers;
 use common::gmsh_square::{p1_file, P1_TRIANGLES};
-#[path = "common/gmsh_layers.rs"]
-mod gmsh_layers;
 
 const XS: [f64; 5] = [0.0, 0.3, 1.1, 2.0, 2.4];
 const YS: [f64; 4] = [-1.0, -0.25, 0.5, 0.9];

@@ -1,8 +1,7 @@
 //! GMRES (`talus_ssn::krylov`) and the Krylov-reuse Newton solve (`NewtonSolve::Krylov`,
 //! `docs/krylov.md`): the same solutions as the direct path, fewer factorizations, and a
 //! refactorization when the reused factorization is a bad preconditioner.
-#[path = "common/footing_like.rs"]
-mod footing_like;
+use crate::footing_like;
 
 use footing_like::{krylov, solve, FootingLike};
 use talus_ssn::{Krylov, NewtonSolve, Settings, Solver};

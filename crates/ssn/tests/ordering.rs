@@ -1,8 +1,6 @@
 //! The fill-reducing ordering setting (`Settings::ordering`, `factorization::Ordering`):
 //! AMD by default; with the feature `metis`, nested dissection gives the same solutions
 //! (to 1e-12 relative) and less fill on a 3D mesh.
-#[path = "common/footing_like.rs"]
-mod footing_like;
 
 use talus_ssn::{Ordering, Settings};
 
@@ -16,7 +14,7 @@ fn amd_is_the_default() {
 
 #[cfg(feature = "metis")]
 mod nested_dissection {
-    use super::footing_like::FootingLike;
+    use crate::footing_like::FootingLike;
     use talus_ssn::factorization::{
         nested_dissection, SupernodalCholesky, SymbolicSymmetricPatternLu,
     };

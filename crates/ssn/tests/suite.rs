@@ -4,7 +4,11 @@
 //! of `tests/` is added here (`autotests = false` in Cargo.toml).
 
 mod clarabel_agreement;
+#[path = "common/footing_like.rs"]
+mod footing_like;
 mod fuzz_siconos_reader;
+#[path = "common/grid_matrix.rs"]
+mod grid_matrix;
 mod krylov_gmres;
 mod krylov_newton;
 mod krylov_siconos;

@@ -11,8 +11,7 @@ use talus_ssn::factorization::{
 use talus_ssn::faer::sparse::{SparseColMat, Triplet};
 use talus_ssn::faer::Mat;
 
-#[path = "common/grid_matrix.rs"]
-mod grid_matrix;
+use crate::grid_matrix;
 use grid_matrix::grid_matrix;
 
 /// `(A + Aᵀ)/2` of the grid matrix whose diagonal is twice its row's off-diagonal sum

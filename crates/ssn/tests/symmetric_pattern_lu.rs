@@ -9,8 +9,7 @@ use talus_ssn::faer::linalg::solvers::Solve;
 use talus_ssn::faer::sparse::{SparseColMat, Triplet};
 use talus_ssn::faer::Mat;
 
-#[path = "common/grid_matrix.rs"]
-mod grid_matrix;
+use crate::grid_matrix;
 use grid_matrix::grid_matrix;
 
 fn residual(a: &SparseColMat<usize, f64>, x: &[f64], b: &[f64]) -> f64 {

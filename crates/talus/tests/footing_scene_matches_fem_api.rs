@@ -2,7 +2,6 @@
 //! built with talus-fem's API alone (`crates/fem/tests/common/footing.rs`, which the
 //! FEM stepping tests of talus-fem use) are one model: the same loads, prescribed
 //! velocities and K₀ state bit for bit, hence the same steps.
-#[allow(dead_code)]
 #[path = "../../fem/tests/common/footing.rs"]
 mod footing;
 

@@ -99,7 +99,7 @@ fn a_k0_stress_that_overflows_or_exceeds_e_is_refused_at_its_field() {
     );
     let scene = Scene::parse(&text, None).expect("parses");
     let model = Model::from_scene(&scene).expect("the model builds");
-    let err = model.initial_state(&scene).err().expect("refused");
+    let err = model.initial_state(&scene).expect_err("refused");
     assert_names(
         &err,
         "initial_stress.k0",

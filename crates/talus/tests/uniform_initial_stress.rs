@@ -353,7 +353,7 @@ fn a_balanced_uniform_stress_in_3d_does_not_move() {
         Err(e) => e,
         Ok(SceneFile::Fem3(scene)) => {
             let model = model_3d(&scene).unwrap();
-            initial_state(&scene, &model).err().expect("refused")
+            initial_state(&scene, &model).expect_err("refused")
         }
         Ok(_) => panic!("a 3D scene"),
     };

@@ -215,7 +215,7 @@ fn run(config: &Config, out: &Path) -> Outcome {
     let records = &summary.records;
     let force = records.last().expect("at least one step").reaction_force();
     let two_thirds = 2 * config.steps;
-    let drift = if two_thirds % 3 == 0 {
+    let drift = if two_thirds.is_multiple_of(3) {
         (force - records[two_thirds / 3 - 1].reaction_force()) / force
     } else {
         f64::NAN

@@ -321,7 +321,9 @@ impl<'a, const N: usize> Vtus<'a, N> {
         Mandel<D>: Dimension<Point = [f64; N]>,
     {
         self.keep(step, state);
-        if self.write_fields && (step == 0 || (every > 0 && step % every == 0) || step == last) {
+        if self.write_fields
+            && (step == 0 || (every > 0 && step.is_multiple_of(every)) || step == last)
+        {
             self.write(model, step, state)?;
         }
         Ok(())

@@ -22,7 +22,7 @@ pub struct FieldWriter<'a> {
 
 /// Step 0, every `every` steps, and the last.
 fn due(step: usize, every: usize, last: usize) -> bool {
-    step == 0 || step == last || (every > 0 && step % every == 0)
+    step == 0 || step == last || (every > 0 && step.is_multiple_of(every))
 }
 
 impl FieldWriter<'_> {
