@@ -129,8 +129,10 @@ fn the_continued_search_brackets_what_the_blind_search_brackets() {
             assert_eq!(t.start, expected, "{method}: trial {k} at F = {}", t.factor);
             assert!(t.start.is_none_or(|s| s < t.factor), "{method}: trial {k}");
         }
-        // The blind search restarts every trial from the equilibrium.
+        // The blind search restarts every trial from the equilibrium, at the loading's
+        // Newton tolerance.
         assert!(old.trials.iter().all(|t| t.start.is_none()));
+        assert_eq!(old.factor_of_safety.newton_tolerance, Some(1e-12));
     }
 }
 
@@ -212,4 +214,7 @@ fn the_trials_newton_tolerance_trades_iterations_not_the_bracket() {
         "{fd} [{ld}, {hd}] vs {fs} [{ls}, {hs}]"
     );
     assert!(iterations(&default) < iterations(&strict));
+    // summary.json says which tolerance the trials used.
+    assert_eq!(default.factor_of_safety.newton_tolerance, Some(1e-10));
+    assert_eq!(strict.factor_of_safety.newton_tolerance, Some(1e-12));
 }

@@ -146,6 +146,10 @@ pub struct FactorOfSafety {
     pub criterion: String,
     /// Trials run.
     pub trials: usize,
+    /// The trials' Newton tolerance (`[stability] newton_tolerance`); absent from the
+    /// summaries of versions before it.
+    #[serde(default)]
+    pub newton_tolerance: Option<f64>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -182,6 +182,16 @@ where
         Ok(())
     }
 
+    /// The Newton tolerance of [`Analysis::trial_from`]'s steps: the continued search's
+    /// [`StabilitySettings::newton_tolerance`], the blind search's `[solver] tolerance`.
+    pub fn trial_tolerance(&self) -> f64 {
+        if self.settings.continuation {
+            self.settings.newton_tolerance
+        } else {
+            self.step_settings.solver.tolerance
+        }
+    }
+
     /// A `[stability]` error of this scene (a trial's material that cannot be built).
     pub(crate) fn error(&self, message: String) -> SceneError {
         SceneError {
@@ -270,8 +280,8 @@ where
     ) -> Result<(Trial<D>, Option<State<D>>), String> {
         self.set_factor(f)?;
         let mut settings = self.step_settings;
+        settings.solver.tolerance = self.trial_tolerance();
         let predictor = if self.settings.continuation {
-            settings.solver.tolerance = self.settings.newton_tolerance;
             TrialPredictor::FollowMotion
         } else {
             TrialPredictor::Scene

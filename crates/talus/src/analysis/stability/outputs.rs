@@ -368,6 +368,7 @@ where
             .then(|| analysis.settings.dilatancy.name().to_string()),
         criterion: analysis.criterion.describe(),
         trials: trials.len(),
+        newton_tolerance: Some(analysis.trial_tolerance()),
     };
     Ok(StabilityRun {
         factor_of_safety,
