@@ -12,8 +12,9 @@ use talus::model::fem::State;
 use talus::run::RunOptions;
 use talus::scene::Scene;
 
-/// `scenes/vertical_cut.toml` (Tresca, associative) on 16 × 8 cells, by `method`.
-fn cut(method: &str) -> Scene {
+/// `scenes/vertical_cut.toml` (Tresca, associative) on 16 × 8 cells, by `method`, with
+/// `from` replaced by `to` (nothing when `from` is empty).
+fn cut_with(method: &str, from: &str, to: &str) -> Scene {
     let text = include_str!("../../../scenes/vertical_cut.toml");
     assert!(text.contains("cells = [32, 16]"), "test setup");
     let text = text
@@ -24,7 +25,36 @@ fn cut(method: &str) -> Scene {
             &format!("method = \"{method}\""),
             1,
         );
+    assert!(text.contains(from), "test setup: {from}");
+    let text = if from.is_empty() {
+        text
+    } else {
+        text.replacen(from, to, 1)
+    };
     Scene::parse(&text, None).unwrap()
+}
+
+fn cut(method: &str) -> Scene {
+    cut_with(method, "", "")
+}
+
+/// Newton iterations of a search's trials.
+fn trial_iterations(run: &StabilityRun) -> usize {
+    run.trials.iter().map(|t| t.newton_iterations).sum()
+}
+
+/// Two searches bracket the same collapse factor: each factor within the other's bracket
+/// widened by both widths.
+fn assert_same_collapse(label: &str, a: &StabilityRun, b: &StabilityRun) {
+    let ((la, ha), (lb, hb)) = (bracket(a), bracket(b));
+    let (fa, fb) = (
+        a.factor_of_safety.value.expect("a factor"),
+        b.factor_of_safety.value.expect("a factor"),
+    );
+    assert!(
+        (fa - fb).abs() <= (ha - la) + (hb - lb),
+        "{label}: {fa} [{la}, {ha}] vs {fb} [{lb}, {hb}]"
+    );
 }
 
 fn bracket(run: &StabilityRun) -> (f64, f64) {
@@ -64,21 +94,11 @@ fn the_continued_search_brackets_what_the_blind_search_brackets() {
             "{method}: continued {fn_} in [{ln}, {hn}] ({} trials, {} Newton iterations), \
              blind {fo} in [{lo}, {ho}] ({} trials, {} Newton iterations)",
             new.trials.len(),
-            new.trials
-                .iter()
-                .map(|t| t.newton_iterations)
-                .sum::<usize>(),
+            trial_iterations(&new),
             old.trials.len(),
-            old.trials
-                .iter()
-                .map(|t| t.newton_iterations)
-                .sum::<usize>(),
+            trial_iterations(&old),
         );
-        // Each within the other's bracket widened by both widths.
-        assert!(
-            (fn_ - fo).abs() <= (hn - ln) + (ho - lo),
-            "{method}: {fn_} [{ln}, {hn}] vs {fo} [{lo}, {ho}]"
-        );
+        assert_same_collapse(method, &new, &old);
         assert!(hn - ln <= 0.005 * ln && ho - lo <= 0.005 * lo);
 
         // The bracket's meaning, checked beyond the search's steps: its ends run again
@@ -177,24 +197,12 @@ fn the_trials_newton_tolerance_trades_iterations_not_the_bracket() {
     let scene = cut("gravity_increase");
     let analysis = Analysis::new(&scene).unwrap().unwrap();
     assert_eq!(analysis.settings.newton_tolerance, 1e-10);
-    let with = |from: &str, to: &str| {
-        let text = include_str!("../../../scenes/vertical_cut.toml")
-            .replacen("cells = [32, 16]", "cells = [16, 8]", 1)
-            .replacen("plots = true", "plots = false", 1);
-        assert!(text.contains(from), "{from}");
-        Scene::parse(&text.replacen(from, to, 1), None).unwrap()
-    };
+    let with = |from: &str, to: &str| cut_with("gravity_increase", from, to);
     // A looser [solver] tolerance is kept (scenes/slope_3d.toml's 1e-8).
     let loose = with("[stability]", "[solver]\ntolerance = 1e-8\n\n[stability]");
     let loose = Analysis::new(&loose).unwrap().unwrap();
     assert_eq!(loose.settings.newton_tolerance, 1e-8);
     let tight = with("[stability]", "[stability]\nnewton_tolerance = 1e-12");
-    let iterations = |run: &StabilityRun| {
-        run.trials
-            .iter()
-            .map(|t| t.newton_iterations)
-            .sum::<usize>()
-    };
     let out = |name: &str| RunOptions::new(common::target_tmp_dir("stability_continuation", name));
     let default = stability::run(&scene, &out("tolerance_default")).unwrap();
     let strict = stability::run(&tight, &out("tolerance_strict")).unwrap();
@@ -206,14 +214,11 @@ fn the_trials_newton_tolerance_trades_iterations_not_the_bracket() {
     println!(
         "trials at 1e-10: {fd} in [{ld}, {hd}], {} Newton iterations; at 1e-12: {fs} in \
          [{ls}, {hs}], {}",
-        iterations(&default),
-        iterations(&strict)
+        trial_iterations(&default),
+        trial_iterations(&strict)
     );
-    assert!(
-        (fd - fs).abs() <= (hd - ld) + (hs - ls),
-        "{fd} [{ld}, {hd}] vs {fs} [{ls}, {hs}]"
-    );
-    assert!(iterations(&default) < iterations(&strict));
+    assert_same_collapse("trials at 1e-10 and 1e-12", &default, &strict);
+    assert!(trial_iterations(&default) < trial_iterations(&strict));
     // summary.json says which tolerance the trials used.
     assert_eq!(default.factor_of_safety.newton_tolerance, Some(1e-10));
     assert_eq!(strict.factor_of_safety.newton_tolerance, Some(1e-12));
