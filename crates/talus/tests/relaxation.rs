@@ -133,6 +133,55 @@ fn footing_run(text: &str, tau: Option<f64>) -> (Vec<f64>, f64) {
     (reactions, iterations as f64 / scene.spec.time.steps as f64)
 }
 
+/// The τ/h of [`coarse_ladder`], each half the one before.
+const LADDER: [f64; 4] = [0.04, 0.02, 0.01, 0.005];
+
+/// The coarse footing (non-associative, 120 steps of h = 1e-2 s, past the mechanism's
+/// onset) rate-independent, then at each τ/h of [`LADDER`]: the reactions of every step,
+/// and the largest reaction of the rate-independent run (the scale of the differences).
+/// Run once for the tests that read it.
+struct Ladder {
+    reference: Vec<f64>,
+    scale: f64,
+    relaxed: Vec<Vec<f64>>,
+}
+
+fn coarse_ladder() -> &'static Ladder {
+    static LADDER_RUNS: std::sync::OnceLock<Ladder> = std::sync::OnceLock::new();
+    LADDER_RUNS.get_or_init(|| {
+        let text = coarse_footing(120);
+        let h = 1e-2;
+        let (reference, iterations) = footing_run(&text, None);
+        eprintln!("τ = 0: {iterations:.2} iterations/step");
+        let relaxed = LADDER
+            .iter()
+            .map(|ratio| {
+                let (reactions, its) = footing_run(&text, Some(ratio * h));
+                eprintln!("τ/h = {ratio}: {its:.2} iterations/step");
+                reactions
+            })
+            .collect();
+        let scale = reference.iter().fold(0.0f64, |m, r| m.max(r.abs()));
+        Ladder {
+            reference,
+            scale,
+            relaxed,
+        }
+    })
+}
+
+impl Ladder {
+    /// The largest difference of `reactions` from the rate-independent run over the steps,
+    /// relative to its largest reaction.
+    fn error(&self, reactions: &[f64]) -> f64 {
+        reactions
+            .iter()
+            .zip(&self.reference)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+            / self.scale
+    }
+}
+
 /// A shrinking τ converges to the rate-independent footing (non-associative, coarse mesh,
 /// 120 steps of h = 1e-2 s, past the mechanism's onset): the largest reaction difference
 /// over the run, relative to the largest reaction, falls as τ¹ (eq. DL9: the overstress is
@@ -141,20 +190,14 @@ fn footing_run(text: &str, tau: Option<f64>) -> (Vec<f64>, f64) {
 /// `τ E ε̇ᵖ` large against c = 2 kPa).
 #[test]
 fn shrinking_tau_converges_to_the_rate_independent_footing_at_first_order() {
-    let text = coarse_footing(120);
-    let h = 1e-2;
-    let (reference, iterations) = footing_run(&text, None);
-    let scale = reference.iter().fold(0.0f64, |m, r| m.max(r.abs()));
-    let mut errors = Vec::new();
-    for ratio in [0.04, 0.02, 0.01, 0.005] {
-        let (reactions, its) = footing_run(&text, Some(ratio * h));
-        let err = reactions
-            .iter()
-            .zip(&reference)
-            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
-            / scale;
-        eprintln!("τ/h = {ratio}: max |ΔR|/max R = {err:.3e}, iterations/step {its:.2} (τ = 0: {iterations:.2})");
-        errors.push((ratio, err));
+    let ladder = coarse_ladder();
+    let errors: Vec<(f64, f64)> = LADDER
+        .iter()
+        .zip(&ladder.relaxed)
+        .map(|(ratio, reactions)| (*ratio, ladder.error(reactions)))
+        .collect();
+    for (ratio, err) in &errors {
+        eprintln!("τ/h = {ratio}: max |ΔR|/max R = {err:.3e}");
     }
     for w in errors.windows(2) {
         let order = (w[0].1 / w[1].1).ln() / (w[0].0 / w[1].0).ln();
@@ -164,6 +207,51 @@ fn shrinking_tau_converges_to_the_rate_independent_footing_at_first_order() {
     assert!(
         errors[0].1 > 1e-4,
         "τ = 0.4 h must change the run: {errors:?}"
+    );
+}
+
+/// Richardson's extrapolation in τ (eq. DL10): two relaxed runs at τ and τ/2 combined step
+/// by step as `2 R(τ/2) − R(τ)` cancel DL9's first-order term, so what is left falls at
+/// second order as τ shrinks, and the combination gains more on its finer run at every
+/// halving. Measured on the coarse footing (the ladder above): the pairs (0.04, 0.02),
+/// (0.02, 0.01), (0.01, 0.005) h give 4.27e-3, 1.32e-3, 3.95e-4 (orders 1.70, 1.74)
+/// against their finer runs' 3.93e-2, 2.03e-2, 1.04e-2 (9.2, 15.4, 26.2 times closer). With
+/// a reaction not linear in τ to leading order, or pairs not a factor 2 apart, the order
+/// would be about 1 and the gain would not grow.
+#[test]
+fn richardson_extrapolation_in_tau_converges_at_second_order() {
+    let ladder = coarse_ladder();
+    let mut rows: Vec<(f64, f64, f64)> = Vec::new();
+    for (i, pair) in ladder.relaxed.windows(2).enumerate() {
+        let extrapolated: Vec<f64> = pair[0]
+            .iter()
+            .zip(&pair[1])
+            .map(|(coarse, fine)| 2.0 * fine - coarse)
+            .collect();
+        let (fine, combined) = (ladder.error(&pair[1]), ladder.error(&extrapolated));
+        eprintln!(
+            "τ/h = {} and {}: finer run {fine:.3e}, extrapolated {combined:.3e} ({:.1}× closer)",
+            LADDER[i],
+            LADDER[i + 1],
+            fine / combined
+        );
+        rows.push((LADDER[i], fine, combined));
+    }
+    for w in rows.windows(2) {
+        let order = (w[0].2 / w[1].2).ln() / (w[0].0 / w[1].0).ln();
+        eprintln!(
+            "extrapolation's order between τ/h = {} and {}: {order:.3}",
+            w[0].0, w[1].0
+        );
+        assert!((1.5..=2.5).contains(&order), "{rows:?}");
+        assert!(
+            w[1].1 / w[1].2 > w[0].1 / w[0].2,
+            "the gain must grow: {rows:?}"
+        );
+    }
+    assert!(
+        rows.iter().all(|(_, fine, combined)| combined < fine),
+        "{rows:?}"
     );
 }
 
@@ -249,25 +337,45 @@ fn triaxial_overstress_follows_the_backward_euler_duvaut_lions_closed_form() {
 
 /// τ/h against the plateau's (last step's) and the run's largest reaction difference from
 /// the rate-independent run of `text` (steps of `h`), and Newton iterations per step, as
-/// table rows; asserts that the differences fall with τ.
+/// table rows, then the row of Richardson's `2 R(0.01 h) − R(0.02 h)` (eq. DL10); asserts
+/// that the differences fall with τ.
 fn tau_table(name: &str, text: &str, h: f64) {
     let (reference, iterations) = footing_run(text, None);
     let last = reference[reference.len() - 1];
     let scale = reference.iter().fold(0.0f64, |m, r| m.max(r.abs()));
     eprintln!("{name}, τ = 0: plateau {last:.2}, {iterations:.2} iterations/step");
-    let mut previous = f64::INFINITY;
-    for ratio in [1.0, 0.1, 0.02, 0.01, 0.001] {
-        let (reactions, its) = footing_run(text, Some(ratio * h));
+    let row = |label: String, reactions: &[f64], its: f64| {
         let plateau = reactions[reactions.len() - 1] / last - 1.0;
         let worst = reactions
             .iter()
             .zip(&reference)
             .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
             / scale;
-        eprintln!("| {ratio} | {:+.3e} | {worst:.3e} | {its:.2} |", plateau);
+        eprintln!("| {label} | {plateau:+.3e} | {worst:.3e} | {its:.2} |");
+        worst
+    };
+    let mut previous = f64::INFINITY;
+    let mut pair = Vec::new();
+    for ratio in [1.0, 0.1, 0.02, 0.01, 0.001] {
+        let (reactions, its) = footing_run(text, Some(ratio * h));
+        let worst = row(ratio.to_string(), &reactions, its);
         assert!(worst < previous, "τ/h = {ratio}: {worst} after {previous}");
         previous = worst;
+        if ratio == 0.02 || ratio == 0.01 {
+            pair.push((reactions, its));
+        }
     }
+    let extrapolated: Vec<f64> = pair[0]
+        .0
+        .iter()
+        .zip(&pair[1].0)
+        .map(|(coarse, fine)| 2.0 * fine - coarse)
+        .collect();
+    row(
+        "2 R(0.01 h) − R(0.02 h)".into(),
+        &extrapolated,
+        pair[0].1 + pair[1].1,
+    );
 }
 
 /// The τ table of issue 24 on the paper footing (`scenes/footing.toml`, 300 steps)
