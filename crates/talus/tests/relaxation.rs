@@ -174,12 +174,22 @@ impl Ladder {
     /// The largest difference of `reactions` from the rate-independent run over the steps,
     /// relative to its largest reaction.
     fn error(&self, reactions: &[f64]) -> f64 {
-        reactions
-            .iter()
-            .zip(&self.reference)
-            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
-            / self.scale
+        largest_difference(reactions, &self.reference, self.scale)
     }
+}
+
+/// The largest difference of `reactions` from `reference` over the steps, over `scale`.
+fn largest_difference(reactions: &[f64], reference: &[f64], scale: f64) -> f64 {
+    reactions
+        .iter()
+        .zip(reference)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+        / scale
+}
+
+/// Richardson's `2 R(τ/2) − R(τ)` (eq. DL10), step by step.
+fn richardson(coarse: &[f64], fine: &[f64]) -> Vec<f64> {
+    coarse.iter().zip(fine).map(|(c, f)| 2.0 * f - c).collect()
 }
 
 /// A shrinking τ converges to the rate-independent footing (non-associative, coarse mesh,
@@ -223,11 +233,7 @@ fn richardson_extrapolation_in_tau_converges_at_second_order() {
     let ladder = coarse_ladder();
     let mut rows: Vec<(f64, f64, f64)> = Vec::new();
     for (i, pair) in ladder.relaxed.windows(2).enumerate() {
-        let extrapolated: Vec<f64> = pair[0]
-            .iter()
-            .zip(&pair[1])
-            .map(|(coarse, fine)| 2.0 * fine - coarse)
-            .collect();
+        let extrapolated = richardson(&pair[0], &pair[1]);
         let (fine, combined) = (ladder.error(&pair[1]), ladder.error(&extrapolated));
         eprintln!(
             "τ/h = {} and {}: finer run {fine:.3e}, extrapolated {combined:.3e} ({:.1}× closer)",
@@ -346,11 +352,7 @@ fn tau_table(name: &str, text: &str, h: f64) {
     eprintln!("{name}, τ = 0: plateau {last:.2}, {iterations:.2} iterations/step");
     let row = |label: String, reactions: &[f64], its: f64| {
         let plateau = reactions[reactions.len() - 1] / last - 1.0;
-        let worst = reactions
-            .iter()
-            .zip(&reference)
-            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
-            / scale;
+        let worst = largest_difference(reactions, &reference, scale);
         eprintln!("| {label} | {plateau:+.3e} | {worst:.3e} | {its:.2} |");
         worst
     };
@@ -365,12 +367,7 @@ fn tau_table(name: &str, text: &str, h: f64) {
             pair.push((reactions, its));
         }
     }
-    let extrapolated: Vec<f64> = pair[0]
-        .0
-        .iter()
-        .zip(&pair[1].0)
-        .map(|(coarse, fine)| 2.0 * fine - coarse)
-        .collect();
+    let extrapolated = richardson(&pair[0].0, &pair[1].0);
     row(
         "2 R(0.01 h) − R(0.02 h)".into(),
         &extrapolated,
