@@ -42,6 +42,11 @@ pub struct Bracket {
     last_width: Option<f64>,
 }
 
+/// A width within this relative margin of half the last one counts as halved
+/// ([`Bracket::next_guided`]'s crawl test): far above the rounding of a bisection (1e-15),
+/// far below any guided trial's shrink.
+const HALVED_MARGIN: f64 = 1e-9;
+
 /// What to do next.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Next {
@@ -174,7 +179,11 @@ impl Bracket {
         let tol = self.tolerance;
         let estimate = guide.estimate.filter(|e| e.is_finite());
         let width = up - lo;
-        let crawled = self.last_width.is_some_and(|last| width > 0.5 * last);
+        // A bisection halves the width exactly, but its rounding can leave it an ulp above
+        // half: that is not a crawl (the Tresca cut's trial 7 once turned on it).
+        let crawled = self
+            .last_width
+            .is_some_and(|last| width > 0.5 * last * (1.0 + HALVED_MARGIN));
         self.last_width = Some(width);
         let (a, b) = (up / (1.0 + tol), lo * (1.0 + tol));
         match estimate {
@@ -466,6 +475,51 @@ mod tests {
         b.record(last, Outcome::Stable);
         let done = b.next_guided(&guide(1.249));
         assert!(matches!(done, Next::Done { .. }), "{done:?} {b:?}");
+    }
+
+    /// A bisection is not a crawl, even when its rounding leaves the new width an ulp above
+    /// half the old one (`[1.25, 1.348425]` bisected and the middle stable: 0.0492125000000001
+    /// against 0.04921249999999999), so the next trial follows the estimate; a guided trial
+    /// that shrank the width by less than half is a crawl, and a bisection follows it.
+    #[test]
+    fn a_bisection_is_not_a_crawl_whatever_its_rounding() {
+        let tol = 0.005;
+        let guide = |estimate: Option<f64>| Guide {
+            estimate,
+            expansion: 2.0,
+        };
+        let (lo, up) = (1.25, 1.348425);
+        let mut b = Bracket::new(tol, 1.0, None);
+        b.record(lo, Outcome::Stable);
+        b.record(up, Outcome::Fails);
+        let Next::Try(middle) = b.next_guided(&guide(None)) else {
+            panic!()
+        };
+        assert_eq!(middle, 0.5 * (lo + up));
+        b.record(middle, Outcome::Stable);
+        assert!(
+            up - middle > 0.5 * (up - lo),
+            "the rounding this test is about"
+        );
+        let estimate = middle + 0.3 * (up - middle);
+        let Next::Try(f) = b.next_guided(&guide(Some(estimate))) else {
+            panic!()
+        };
+        assert!(
+            (f / estimate - 1.0).abs() <= tol,
+            "{f}: the estimate {estimate}, not the middle {}",
+            0.5 * (middle + up)
+        );
+        // A crawl: a stable trial just above the bracket's lower end.
+        let mut b = Bracket::new(tol, 1.0, None);
+        b.record(lo, Outcome::Stable);
+        b.record(up, Outcome::Fails);
+        let _ = b.next_guided(&guide(Some(1.26)));
+        b.record(1.26, Outcome::Stable);
+        let Next::Try(f) = b.next_guided(&guide(Some(1.27))) else {
+            panic!()
+        };
+        assert_eq!(f, 0.5 * (1.26 + up));
     }
 
     /// Unconverged trials cap the guided search as they cap the blind one.
