@@ -82,6 +82,10 @@ pub struct Report {
     /// Schur steps whose no-pivot LU refused a pivot or gave an inaccurate direction, and
     /// were solved by the pivoting LU instead (`docs/solver.md`, "The factorization").
     pub pivoting_fallbacks: usize,
+    /// Schur steps whose no-pivot LU gave an inaccurate direction although its velocity
+    /// solve was backward stable: refused at once (the solve ends as `singular_jacobian`),
+    /// since a pivoting LU gives the same (`docs/solver.md`, "The factorization").
+    pub pivoting_skipped: usize,
     /// Negative pivots of each no-pivot LU factorization of the Newton matrix, in order
     /// (empty for Cholesky, pivoting and stress-sized steps): a converged non-associative
     /// step has none; a step past its fold shows them (`docs/solver.md`, 'Early signs of
@@ -119,6 +123,7 @@ impl Report {
             schur_steps: 0,
             stress_sized_steps: 0,
             pivoting_fallbacks: 0,
+            pivoting_skipped: 0,
             negative_pivots: Vec::new(),
             factorizations: 0,
             krylov_solves: 0,

@@ -5,7 +5,9 @@ use nalgebra::{SMatrix, SVector};
 use talus_bipotential::FlowRule;
 use talus_cone::SecondOrderCone;
 use talus_ssn::faer::sparse::{SparseColMat, Triplet};
-use talus_ssn::{LinearSolver, Operator, ReducedSystem, Settings, SolveError, Solver, Structured};
+use talus_ssn::{
+    LinearSolver, Operator, ReducedSystem, Report, Settings, SolveError, Solver, Status, Structured,
+};
 
 /// Tiny deterministic generator (no dependency): xorshift64*.
 struct Rng(u64);
@@ -33,6 +35,17 @@ fn sized_random_problem(
     n_points: usize,
     n_v: usize,
 ) -> (ReducedSystem<D>, Vec<f64>) {
+    massed_random_problem(seed, associative, n_points, n_v, 1.0)
+}
+
+/// As [`sized_random_problem`] with the lumped masses scaled by `mass`.
+fn massed_random_problem(
+    seed: u64,
+    associative: bool,
+    n_points: usize,
+    n_v: usize,
+    mass: f64,
+) -> (ReducedSystem<D>, Vec<f64>) {
     let mut rng = Rng(seed);
     let mut triplets = Vec::new();
     for p in 0..n_points {
@@ -53,7 +66,7 @@ fn sized_random_problem(
             a * a.transpose() * 0.1 + SMatrix::identity() * (0.5 + rng.next())
         })
         .collect();
-    let lumped_mass = (0..n_v).map(|_| 0.5 + rng.next()).collect();
+    let lumped_mass = (0..n_v).map(|_| mass * (0.5 + rng.next())).collect();
     let op = Operator::Structured(Structured {
         compliance,
         b,
@@ -192,5 +205,46 @@ fn same_bits_whatever_the_thread_count_on_a_problem_the_pool_splits() {
     let reference = run(1, false);
     for threads in [2, 4] {
         assert_eq!(run(threads, true), reference, "{threads} threads");
+    }
+}
+
+/// The report of one Newton step of a non-associative `massed_random_problem`.
+fn first_step_report(seed: u64, mass: f64, linear_solver: LinearSolver) -> Report {
+    let (problem, sigma0) = massed_random_problem(seed, false, 30, 24, mass);
+    let settings = Settings {
+        max_iterations: 1,
+        line_search: None,
+        linear_solver,
+        ..Settings::default()
+    };
+    let mut solver = Solver::new(problem, settings).unwrap();
+    let mut sigma = sigma0;
+    match solver.solve(&mut sigma) {
+        Ok(r) => r,
+        Err(SolveError::NotConverged(r)) => *r,
+        Err(e) => panic!("{e}"),
+    }
+}
+
+/// Masses 1e-14 of the stiffness: `M⁻¹` amplifies the velocity solve's round-off into the
+/// stresses beyond the accuracy check (`docs/solver.md`, 'The factorization'). For these
+/// seeds the no-pivot LU is backward stable, so the direction is refused at once, without
+/// building the pivoting LU; the pivoting LU alone fails the same check (the control).
+#[test]
+fn an_inaccurate_direction_from_a_backward_stable_lu_is_refused_without_pivoting() {
+    for seed in [7919, 4 * 7919] {
+        let auto = first_step_report(seed, 1e-14, LinearSolver::Auto);
+        assert_eq!(auto.status, Status::SingularJacobian, "seed {seed}");
+        assert_eq!(
+            (
+                auto.pivoting_skipped,
+                auto.pivoting_fallbacks,
+                auto.factorizations
+            ),
+            (1, 0, 1),
+            "seed {seed}: {auto:?}"
+        );
+        let pivoting = first_step_report(seed, 1e-14, LinearSolver::SchurPivoting);
+        assert_eq!(pivoting.status, Status::SingularJacobian, "seed {seed}");
     }
 }

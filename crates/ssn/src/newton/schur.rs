@@ -41,6 +41,9 @@ pub(crate) struct SchurSystem<const D: usize> {
     owned: Option<OwnedAssembly>,
     local_c: Vec<SMatrix<f64, D, D>>,
     rhs: Vec<f64>,
+    /// `b` of the last direct solve of an assembled, full `K` (the LU path), whose `u`
+    /// stays in `rhs`: for [`backward_error`](Self::backward_error); empty otherwise.
+    solved_b: Vec<f64>,
     a_inv_r: Vec<f64>,
     /// The Krylov path's state (`NewtonSolve::Krylov`); untouched by the direct path.
     krylov: KrylovState,
@@ -174,6 +177,7 @@ impl<const D: usize> SchurSystem<D> {
             owned,
             local_c: vec![SMatrix::zeros(); n_points],
             rhs: vec![0.0; n_v],
+            solved_b: Vec::new(),
             a_inv_r: vec![0.0; D * n_points],
             krylov: KrylovState::default(),
         })
@@ -298,6 +302,7 @@ impl<const D: usize> SchurSystem<D> {
             }
             _ => None,
         };
+        self.solved_b.clear();
         let used = match reused {
             Some(used) => used,
             None if self.factorization.single() => {
@@ -342,6 +347,9 @@ impl<const D: usize> SchurSystem<D> {
             None => {
                 self.assemble(structured, blocks, parallel);
                 let k = SparseColMatRef::new(self.symbolic.as_ref(), &self.csc_values);
+                if !self.symmetric {
+                    self.solved_b.clone_from(&self.rhs);
+                }
                 let result = self.factorization.solve(k, &mut self.rhs, choice);
                 // A refused no-pivot LU is followed by the pivoting one: two.
                 self.krylov.counts.factorizations += match (&result, choice) {
@@ -371,6 +379,33 @@ impl<const D: usize> SchurSystem<D> {
             d.chunks_mut(D).enumerate().for_each(back);
         }
         Ok(used)
+    }
+
+    /// The normwise backward error `‖b − K u‖∞ / (‖K‖∞ ‖u‖∞ + ‖b‖∞)` of the last direct
+    /// solve of the full `K` (the LU path; Rigal & Gaches 1967, Higham 2002, 'Accuracy and
+    /// Stability of Numerical Algorithms', Thm. 7.1). Near round-off, `u` is as good as
+    /// any factorization of `K`, with row exchanges or not, can give. `None` after any
+    /// other solve (Cholesky, GMRES, distributed).
+    pub(crate) fn backward_error(&self) -> Option<f64> {
+        if self.solved_b.len() != self.rhs.len() {
+            return None;
+        }
+        let k = SparseColMatRef::new(self.symbolic.as_ref(), &self.csc_values);
+        let (col_ptr, row_idx, val) = (k.col_ptr(), k.row_idx(), k.val());
+        let u = &self.rhs;
+        // r = b − K u and the row sums of |K|, column by column.
+        let mut r = self.solved_b.clone();
+        let mut rows = vec![0.0f64; u.len()];
+        for (j, &uj) in u.iter().enumerate() {
+            for p in col_ptr[j]..col_ptr[j + 1] {
+                let (i, v) = (row_idx[p], val[p]);
+                r[i] -= v * uj;
+                rows[i] += v.abs();
+            }
+        }
+        let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let scale = inf(&rows) * inf(u) + inf(&self.solved_b);
+        Some(if scale > 0.0 { inf(&r) / scale } else { 0.0 })
     }
 
     /// `K`'s values (CSC) from this iteration's local `Cᵢ`: the contributions summed in a
