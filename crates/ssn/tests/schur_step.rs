@@ -86,12 +86,13 @@ fn massed_random_problem(
     (ReducedSystem::try_new(op, q, rules).unwrap(), sigma0)
 }
 
-/// σ after exactly one full Newton step from `sigma0`.
-fn one_step(
+/// σ after at most one full Newton step from `sigma0` (none if its direction is refused),
+/// and the solve's report.
+fn one_step_report(
     problem: ReducedSystem<D>,
     sigma0: &[f64],
     linear_solver: LinearSolver,
-) -> (Vec<f64>, usize, usize) {
+) -> (Vec<f64>, Report) {
     let settings = Settings {
         max_iterations: 1,
         line_search: None,
@@ -105,6 +106,16 @@ fn one_step(
         Err(SolveError::NotConverged(r)) => *r,
         Err(e) => panic!("{e}"),
     };
+    (sigma, report)
+}
+
+/// σ after exactly one full Newton step from `sigma0`.
+fn one_step(
+    problem: ReducedSystem<D>,
+    sigma0: &[f64],
+    linear_solver: LinearSolver,
+) -> (Vec<f64>, usize, usize) {
+    let (sigma, report) = one_step_report(problem, sigma0, linear_solver);
     assert_eq!(report.iterations, 1);
     (sigma, report.schur_steps, report.stress_sized_steps)
 }
@@ -211,19 +222,7 @@ fn same_bits_whatever_the_thread_count_on_a_problem_the_pool_splits() {
 /// The report of one Newton step of a non-associative `massed_random_problem`.
 fn first_step_report(seed: u64, mass: f64, linear_solver: LinearSolver) -> Report {
     let (problem, sigma0) = massed_random_problem(seed, false, 30, 24, mass);
-    let settings = Settings {
-        max_iterations: 1,
-        line_search: None,
-        linear_solver,
-        ..Settings::default()
-    };
-    let mut solver = Solver::new(problem, settings).unwrap();
-    let mut sigma = sigma0;
-    match solver.solve(&mut sigma) {
-        Ok(r) => r,
-        Err(SolveError::NotConverged(r)) => *r,
-        Err(e) => panic!("{e}"),
-    }
+    one_step_report(problem, &sigma0, linear_solver).1
 }
 
 /// Masses 1e-14 of the stiffness: `M⁻¹` amplifies the velocity solve's round-off into the
