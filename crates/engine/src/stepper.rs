@@ -33,9 +33,12 @@ pub struct Stepper<M: Discretization<D>, const D: usize = 4> {
     floor_warned: bool,
 }
 
-/// Solvers of a fixed operator kept at once, one per sub-step size: the sizes in use
-/// (the current one and its neighbours) without a factorization's memory per level.
-const FIXED_SOLVERS: usize = 3;
+/// Solvers of a fixed operator kept at once, one per sub-step size: the current size and
+/// the last other one (a halving and the growth back). Each holds an operator, Schur
+/// workspaces and a factor; a third cost 26% more peak memory on the 104×48 footing's
+/// first 60 steps for no measurable time (`docs/performance.md`, 'Memory per sub-step
+/// size').
+const FIXED_SOLVERS: usize = 2;
 
 /// The [`Stepper`]'s own state between steps ([`Stepper::memory`]).
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
