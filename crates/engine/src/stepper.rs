@@ -35,9 +35,9 @@ pub struct Stepper<M: Discretization<D>, const D: usize = 4> {
 
 /// Solvers of a fixed operator kept at once, one per sub-step size: the current size and
 /// the last other one (a halving and the growth back). Each holds an operator, Schur
-/// workspaces and a factor; a third cost 26% more peak memory on the 104×48 footing's
-/// first 60 steps for no measurable time (`docs/performance.md`, 'Memory per sub-step
-/// size').
+/// workspaces and a factor; a third cost 36% more peak memory on the 104×48 footing's
+/// first 60 steps and saved 3% of the CPU time, within one pair of runs' noise
+/// (`docs/performance.md`, 'Memory per sub-step size').
 const FIXED_SOLVERS: usize = 2;
 
 /// The [`Stepper`]'s own state between steps ([`Stepper::memory`]).

@@ -41,9 +41,6 @@ pub(crate) struct SchurSystem<const D: usize> {
     owned: Option<OwnedAssembly>,
     local_c: Vec<SMatrix<f64, D, D>>,
     rhs: Vec<f64>,
-    /// `b` of the last direct solve of an assembled, full `K` (the LU path), whose `u`
-    /// stays in `rhs`: for [`backward_error`](Self::backward_error); empty otherwise.
-    solved_b: Vec<f64>,
     a_inv_r: Vec<f64>,
     /// The Krylov path's state (`NewtonSolve::Krylov`); untouched by the direct path.
     krylov: KrylovState,
@@ -177,7 +174,6 @@ impl<const D: usize> SchurSystem<D> {
             owned,
             local_c: vec![SMatrix::zeros(); n_points],
             rhs: vec![0.0; n_v],
-            solved_b: Vec::new(),
             a_inv_r: vec![0.0; D * n_points],
             krylov: KrylovState::default(),
         })
@@ -287,11 +283,7 @@ impl<const D: usize> SchurSystem<D> {
         if let Some(i) = singular {
             return Err(SchurFailure::SingularBlock(i));
         }
-        self.rhs.fill(0.0);
-        blocks.add_transpose(&self.a_inv_r, &mut self.rhs, parallel);
-        if let Some(share) = share {
-            share.sum_velocity(&mut self.rhs);
-        }
+        schur_rhs(&self.a_inv_r, blocks, share, parallel, &mut self.rhs);
         let reused = match krylov {
             Some(request)
                 if request.settings.reuse
@@ -302,7 +294,6 @@ impl<const D: usize> SchurSystem<D> {
             }
             _ => None,
         };
-        self.solved_b.clear();
         let used = match reused {
             Some(used) => used,
             None if self.factorization.single() => {
@@ -347,9 +338,6 @@ impl<const D: usize> SchurSystem<D> {
             None => {
                 self.assemble(structured, blocks, parallel);
                 let k = SparseColMatRef::new(self.symbolic.as_ref(), &self.csc_values);
-                if !self.symmetric {
-                    self.solved_b.clone_from(&self.rhs);
-                }
                 let result = self.factorization.solve(k, &mut self.rhs, choice);
                 // A refused no-pivot LU is followed by the pivoting one: two.
                 self.krylov.counts.factorizations += match (&result, choice) {
@@ -384,17 +372,22 @@ impl<const D: usize> SchurSystem<D> {
     /// The normwise backward error `‖b − K u‖∞ / (‖K‖∞ ‖u‖∞ + ‖b‖∞)` of the last direct
     /// solve of the full `K` (the LU path; Rigal & Gaches 1967, Higham 2002, 'Accuracy and
     /// Stability of Numerical Algorithms', Thm. 7.1). Near round-off, `u` is as good as
-    /// any factorization of `K`, with row exchanges or not, can give. `None` after any
-    /// other solve (Cholesky, GMRES, distributed).
-    pub(crate) fn backward_error(&self) -> Option<f64> {
-        if self.solved_b.len() != self.rhs.len() {
-            return None;
-        }
+    /// any factorization of `K`, with row exchanges or not, can give. Only after a solve
+    /// that returned [`Factorized::NoPivotLu`]: `K` is then assembled in full and `u` is
+    /// in `rhs`; `b` is formed again from `A⁻¹r` (rare: an inaccurate direction).
+    pub(crate) fn backward_error(
+        &self,
+        blocks: &PointBlocks<D>,
+        share: Option<&PointShare>,
+        parallel: bool,
+    ) -> f64 {
+        let mut b = vec![0.0; self.rhs.len()];
+        schur_rhs(&self.a_inv_r, blocks, share, parallel, &mut b);
         let k = SparseColMatRef::new(self.symbolic.as_ref(), &self.csc_values);
         let (col_ptr, row_idx, val) = (k.col_ptr(), k.row_idx(), k.val());
         let u = &self.rhs;
         // r = b − K u and the row sums of |K|, column by column.
-        let mut r = self.solved_b.clone();
+        let mut r = b.clone();
         let mut rows = vec![0.0f64; u.len()];
         for (j, &uj) in u.iter().enumerate() {
             for p in col_ptr[j]..col_ptr[j + 1] {
@@ -404,8 +397,12 @@ impl<const D: usize> SchurSystem<D> {
             }
         }
         let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        let scale = inf(&rows) * inf(u) + inf(&self.solved_b);
-        Some(if scale > 0.0 { inf(&r) / scale } else { 0.0 })
+        let scale = inf(&rows) * inf(u) + inf(&b);
+        if scale > 0.0 {
+            inf(&r) / scale
+        } else {
+            0.0
+        }
     }
 
     /// `K`'s values (CSC) from this iteration's local `Cᵢ`: the contributions summed in a
@@ -718,6 +715,22 @@ fn add_point_block<const D: usize>(
 
 /// `y = K x` for a symmetric `K` given by its lower triangle in CSC: one pass over the
 /// stored values, in a fixed order.
+/// The Schur right-hand side `b = Σᵢ Bᵢᵀ (A⁻¹r)ᵢ` into `out`, summed over the ranks when
+/// the points are shared.
+fn schur_rhs<const D: usize>(
+    a_inv_r: &[f64],
+    blocks: &PointBlocks<D>,
+    share: Option<&PointShare>,
+    parallel: bool,
+    out: &mut [f64],
+) {
+    out.fill(0.0);
+    blocks.add_transpose(a_inv_r, out, parallel);
+    if let Some(share) = share {
+        share.sum_velocity(out);
+    }
+}
+
 fn lower_product(k: SparseColMatRef<'_, usize, f64>, x: &[f64], y: &mut [f64]) {
     y.fill(0.0);
     let (col_ptr, row_idx, val) = (k.col_ptr(), k.row_idx(), k.val());

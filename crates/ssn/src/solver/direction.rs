@@ -2,7 +2,7 @@
 //! stress-sized system, or dense; checked for accuracy (`docs/solver.md`, "The
 //! factorization").
 use crate::krylov::{Gmres, GmresError, GmresWorkspace, Verdict, PROJECT_AFTER};
-use crate::newton::schur::{KrylovRequest, SchurFailure, SchurSystem};
+use crate::newton::schur::{KrylovRequest, SchurFailure};
 use crate::newton::{Factorized, LuChoice};
 use crate::operator::{apply, block};
 use crate::{Forcing, Krylov, LinearSolver, NewtonSolve, Operator, Report, Status};
@@ -18,7 +18,8 @@ const BACKWARD_STABLE: f64 = 1e-14;
 
 impl<const D: usize> Solver<D> {
     /// Solves `J_F d = −F` into `self.direction`. A no-pivot LU direction that fails the
-    /// accuracy check is recomputed once with the pivoting LU (`Report::pivoting_fallbacks`);
+    /// accuracy check is recomputed once with the pivoting LU (`Report::pivoting_fallbacks`),
+    /// unless that LU was backward stable (refused: `Report::pivoting_skipped`);
     /// one from GMRES on a reused factorization, with a new factorization. `needed` is the
     /// relative decrease of the stopping test's residual that would end the solve
     /// (`tolerance · scale / residual`; 0 when unknown): the forcing term of a Krylov solve
@@ -90,7 +91,11 @@ impl<const D: usize> Solver<D> {
                 continue;
             }
             if !accurate && matches!(used, Some(Factorized::NoPivotLu(_))) {
-                let backward = self.schur.as_ref().and_then(SchurSystem::backward_error);
+                let blocks = self.blocks.as_ref().expect("a Schur step has point blocks");
+                let backward = self
+                    .schur
+                    .as_ref()
+                    .map(|s| s.backward_error(blocks, self.share.as_ref(), self.settings.parallel));
                 if backward.is_some_and(|e| e <= BACKWARD_STABLE) {
                     // K's conditioning, not the LU, limits the direction: row exchanges
                     // would cost a second, denser factorization and give the same.
