@@ -5,13 +5,12 @@
 #include <string.h>
 #include "dmumps_c.h"
 
-/* MUMPS' code for MPI_COMM_WORLD in comm_fortran (its C examples' USE_COMM_WORLD). */
-#define TALUS_COMM_WORLD -987654
-
-DMUMPS_STRUC_C *talus_dmumps_init(int sym) {
+/* comm_fortran: a Fortran communicator handle, or MUMPS' code for MPI_COMM_WORLD
+ * (-987654, its C examples' USE_COMM_WORLD). */
+DMUMPS_STRUC_C *talus_dmumps_init(int sym, int comm_fortran) {
     DMUMPS_STRUC_C *id = calloc(1, sizeof(DMUMPS_STRUC_C));
     if (!id) return NULL;
-    id->comm_fortran = TALUS_COMM_WORLD;
+    id->comm_fortran = comm_fortran;
     id->par = 1; /* the host works too */
     id->sym = sym;
     id->job = -1;

@@ -8,7 +8,7 @@ pub(crate) struct Struc {
 }
 
 extern "C" {
-    pub(crate) fn talus_dmumps_init(sym: c_int) -> *mut Struc;
+    pub(crate) fn talus_dmumps_init(sym: c_int, comm_fortran: c_int) -> *mut Struc;
     pub(crate) fn talus_dmumps_end(id: *mut Struc);
     pub(crate) fn talus_dmumps_set_icntl(id: *mut Struc, i: c_int, value: c_int);
     pub(crate) fn talus_dmumps_infog(id: *const Struc, i: c_int) -> c_int;

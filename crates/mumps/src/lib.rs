@@ -7,7 +7,9 @@
 //!   call ([`Mumps::factorize`]), solves on it ([`Mumps::solve`]);
 //! - LU for unsymmetric matrices, LDLᵀ for symmetric positive definite or indefinite ones;
 //! - a centralized right-hand side and solution (ICNTL(20) = ICNTL(21) = 0), broadcast to
-//!   every rank: Talus keeps velocity-sized vectors on every rank.
+//!   every rank: Talus keeps velocity-sized vectors on every rank;
+//! - the factorization over every rank ([`Placement::AllRanks`]) or, for the same bits on
+//!   every run, on rank 0 alone from the entries every rank sends it ([`Placement::Host`]).
 //!
 //! Every method is collective over `MPI_COMM_WORLD`: all ranks call it, in the same order.
 //! MPI must be initialized first (`mpi::initialize`), and finalized only after the last
@@ -20,8 +22,9 @@ mod ffi;
 use std::os::raw::c_int;
 use std::ptr::NonNull;
 
+use mpi::datatype::PartitionMut;
 use mpi::topology::SimpleCommunicator;
-use mpi::traits::{Communicator, Root};
+use mpi::traits::{Communicator, Equivalence, Root};
 
 /// Which factorization MUMPS computes (its `SYM`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -33,6 +36,28 @@ pub enum Symmetry {
     /// LDLᵀ with pivoting (`SYM = 2`); pass one triangle.
     Symmetric,
 }
+
+/// Which ranks factorize.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Placement {
+    /// MUMPS over every rank of `MPI_COMM_WORLD`: the factors' memory and flops are split
+    /// between them. A front adds the contributions other ranks send it in the order they
+    /// arrive, so two runs differ in the last bits.
+    #[default]
+    AllRanks,
+    /// MUMPS on rank 0 alone (`MPI_COMM_SELF`), on the entries every rank sends it, gathered
+    /// in rank order: the same ranks and entries give the same bits on every run. The
+    /// factorization's memory and time are rank 0's; the other ranks wait for it.
+    Host,
+}
+
+/// MUMPS' code for `MPI_COMM_WORLD` in `comm_fortran` (its C examples' `USE_COMM_WORLD`).
+const COMM_WORLD: c_int = -987_654;
+
+/// INFOG and RINFOG entries a host placement shares with the other ranks after each call
+/// (those [`Statistics`] and the errors read: INFOG(1..=29), RINFOG(1..=12)).
+const SHARED_INFOG: usize = 40;
+const SHARED_RINFOG: usize = 20;
 
 /// A step of MUMPS that failed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -130,14 +155,25 @@ fn meaning(infog1: i32) -> &'static str {
 /// stays on the thread that initialized MPI. The checks of a call's arguments are this
 /// rank's: give every rank valid ones, or the others wait in the call.
 pub struct Mumps {
-    id: NonNull<ffi::Struc>,
+    /// MUMPS' instance: on every rank, or on rank 0 alone ([`Placement::Host`]).
+    id: Option<NonNull<ffi::Struc>>,
     world: SimpleCommunicator,
+    placement: Placement,
     symmetry: Symmetry,
     n: usize,
-    /// 1-based local entries (MUMPS keeps pointers to them between calls).
+    /// The 1-based entries MUMPS reads (it keeps pointers to them between calls): this
+    /// rank's, or on a host all ranks' in rank order.
     rows: Vec<c_int>,
     cols: Vec<c_int>,
     values: Vec<f64>,
+    /// Entries this rank gives ([`Mumps::factorize`]'s `values`).
+    local_entries: usize,
+    /// On a host: each rank's count of entries and its offset in `rows`, `cols`, `values`.
+    counts: Vec<c_int>,
+    displs: Vec<c_int>,
+    /// On a host placement: INFOG and RINFOG as rank 0's instance left them, on every rank.
+    infog: [c_int; SHARED_INFOG],
+    rinfog: [f64; SHARED_RINFOG],
     analysed: bool,
     factorized: bool,
     determinant: bool,
@@ -149,9 +185,18 @@ const WORKSPACE_PERCENT: c_int = 30;
 const WORKSPACE_RETRIES: usize = 4;
 
 impl Mumps {
-    /// A MUMPS instance on `MPI_COMM_WORLD` (collective). `determinant`: compute the
-    /// determinant's sign with each factorization (ICNTL(33)).
+    /// A MUMPS instance over every rank of `MPI_COMM_WORLD` (collective). `determinant`:
+    /// compute the determinant's sign with each factorization (ICNTL(33)).
     pub fn new(symmetry: Symmetry, determinant: bool) -> Result<Self, MumpsError> {
+        Self::with_placement(symmetry, determinant, Placement::AllRanks)
+    }
+
+    /// A MUMPS instance factorizing where `placement` says (collective).
+    pub fn with_placement(
+        symmetry: Symmetry,
+        determinant: bool,
+        placement: Placement,
+    ) -> Result<Self, MumpsError> {
         if !mpi::environment::is_initialized() {
             return Err(MumpsError::NoMpi);
         }
@@ -160,25 +205,45 @@ impl Mumps {
             Symmetry::PositiveDefinite => 1,
             Symmetry::Symmetric => 2,
         };
-        let raw = unsafe { ffi::talus_dmumps_init(sym) };
-        let id = NonNull::new(raw).ok_or(MumpsError::Failed {
-            phase: Phase::Initialize,
-            infog1: -13,
-            infog2: 0,
-            meaning: meaning(-13),
-        })?;
+        let world = SimpleCommunicator::world();
+        let comm = match placement {
+            Placement::AllRanks => Some(COMM_WORLD),
+            // SAFETY: MPI is initialized; MPI_COMM_SELF's Fortran handle is a plain integer.
+            Placement::Host if world.rank() == 0 => {
+                Some(unsafe { mpi::ffi::RSMPI_Comm_c2f(mpi::ffi::RSMPI_COMM_SELF) })
+            }
+            Placement::Host => None,
+        };
+        let mut id = None;
+        let mut created = true;
+        if let Some(comm) = comm {
+            id = NonNull::new(unsafe { ffi::talus_dmumps_init(sym, comm) });
+            created = id.is_some();
+        }
         let mut mumps = Self {
             id,
-            world: SimpleCommunicator::world(),
+            world,
+            placement,
             symmetry,
             n: 0,
             rows: Vec::new(),
             cols: Vec::new(),
             values: Vec::new(),
+            local_entries: 0,
+            counts: Vec::new(),
+            displs: Vec::new(),
+            infog: [0; SHARED_INFOG],
+            rinfog: [0.0; SHARED_RINFOG],
             analysed: false,
             factorized: false,
             determinant,
         };
+        // An instance that could not be allocated reads as MUMPS' own allocation failure;
+        // a host's is shared with the other ranks.
+        if !created {
+            mumps.infog[0] = -13;
+        }
+        mumps.share_info();
         mumps.check(Phase::Initialize)?;
         // Silent: errors come back as `MumpsError`, figures as `Statistics`.
         for i in 1..=3 {
@@ -201,12 +266,60 @@ impl Mumps {
         (self.world.rank() as usize, self.world.size() as usize)
     }
 
+    pub fn placement(&self) -> Placement {
+        self.placement
+    }
+
+    /// Ranks that hold factors: all of them, or 1 on a host placement.
+    pub fn factor_ranks(&self) -> usize {
+        match self.placement {
+            Placement::AllRanks => self.world.size() as usize,
+            Placement::Host => 1,
+        }
+    }
+
     pub fn symmetry(&self) -> Symmetry {
         self.symmetry
     }
 
+    /// On a rank with an instance; a host's other ranks have no controls to set.
     fn set_icntl(&mut self, i: c_int, value: c_int) {
-        unsafe { ffi::talus_dmumps_set_icntl(self.id.as_ptr(), i, value) }
+        if let Some(id) = self.id {
+            unsafe { ffi::talus_dmumps_set_icntl(id.as_ptr(), i, value) }
+        }
+    }
+
+    /// Runs MUMPS' `job` on this rank's instance, if it has one (a host's other ranks do
+    /// not take part).
+    fn job(&mut self, job: c_int) {
+        if let Some(id) = self.id {
+            unsafe { ffi::talus_dmumps_job(id.as_ptr(), job) };
+        }
+    }
+
+    /// INFOG(i) as this rank's instance left it (0 without one).
+    fn raw_infog(&self, i: c_int) -> c_int {
+        self.id
+            .map_or(0, |id| unsafe { ffi::talus_dmumps_infog(id.as_ptr(), i) })
+    }
+
+    /// On a host placement, rank 0's INFOG and RINFOG to every rank (collective), so that
+    /// all return the same errors and figures; over all ranks MUMPS shares them itself.
+    fn share_info(&mut self) {
+        if self.placement != Placement::Host {
+            return;
+        }
+        if let Some(id) = self.id {
+            for i in 0..SHARED_INFOG {
+                self.infog[i] = unsafe { ffi::talus_dmumps_infog(id.as_ptr(), i as c_int + 1) };
+            }
+            for i in 0..SHARED_RINFOG {
+                self.rinfog[i] = unsafe { ffi::talus_dmumps_rinfog(id.as_ptr(), i as c_int + 1) };
+            }
+        }
+        let host = self.world.process_at_rank(0);
+        host.broadcast_into(&mut self.infog[..]);
+        host.broadcast_into(&mut self.rinfog[..]);
     }
 
     /// Sets ICNTL(i) (MUMPS' user guide, §6.1) before [`analyse`](Self::analyse); the
@@ -224,11 +337,17 @@ impl Mumps {
     }
 
     fn infog(&self, i: c_int) -> c_int {
-        unsafe { ffi::talus_dmumps_infog(self.id.as_ptr(), i) }
+        match (self.placement, self.id) {
+            (Placement::AllRanks, Some(id)) => unsafe { ffi::talus_dmumps_infog(id.as_ptr(), i) },
+            _ => self.infog[i as usize - 1],
+        }
     }
 
     fn rinfog(&self, i: c_int) -> f64 {
-        unsafe { ffi::talus_dmumps_rinfog(self.id.as_ptr(), i) }
+        match (self.placement, self.id) {
+            (Placement::AllRanks, Some(id)) => unsafe { ffi::talus_dmumps_rinfog(id.as_ptr(), i) },
+            _ => self.rinfog[i as usize - 1],
+        }
     }
 
     fn check(&self, phase: Phase) -> Result<(), MumpsError> {
@@ -270,22 +389,42 @@ impl Mumps {
             });
         }
         self.n = n;
-        self.rows = rows.iter().map(|&i| i as c_int + 1).collect();
-        self.cols = cols.iter().map(|&j| j as c_int + 1).collect();
-        self.values = vec![0.0; rows.len()];
         self.analysed = false;
         self.factorized = false;
-        unsafe {
-            ffi::talus_dmumps_set_local_matrix(
-                self.id.as_ptr(),
-                n as c_int,
-                self.rows.len() as i64,
-                self.rows.as_mut_ptr(),
-                self.cols.as_mut_ptr(),
-                self.values.as_mut_ptr(),
-            );
-            ffi::talus_dmumps_job(self.id.as_ptr(), 1);
+        self.local_entries = rows.len();
+        let local_rows: Vec<c_int> = rows.iter().map(|&i| i as c_int + 1).collect();
+        let local_cols: Vec<c_int> = cols.iter().map(|&j| j as c_int + 1).collect();
+        match self.placement {
+            Placement::AllRanks => {
+                self.rows = local_rows;
+                self.cols = local_cols;
+                self.values = vec![0.0; rows.len()];
+            }
+            Placement::Host => {
+                let total = self.gather_counts()?;
+                let host_len = if self.world.rank() == 0 { total } else { 0 };
+                self.rows = vec![0; host_len];
+                self.cols = vec![0; host_len];
+                self.values = vec![0.0; host_len];
+                let (counts, displs) = (&self.counts[..], &self.displs[..]);
+                gather_to_host(&self.world, counts, displs, &local_rows, &mut self.rows);
+                gather_to_host(&self.world, counts, displs, &local_cols, &mut self.cols);
+            }
         }
+        if let Some(id) = self.id {
+            unsafe {
+                ffi::talus_dmumps_set_local_matrix(
+                    id.as_ptr(),
+                    n as c_int,
+                    self.rows.len() as i64,
+                    self.rows.as_mut_ptr(),
+                    self.cols.as_mut_ptr(),
+                    self.values.as_mut_ptr(),
+                );
+            }
+        }
+        self.job(1);
+        self.share_info();
         self.check(Phase::Analysis)?;
         self.analysed = true;
         Ok(())
@@ -301,7 +440,7 @@ impl Mumps {
                 reason: "factorize needs the analysis of the pattern first",
             });
         }
-        if values.len() != self.values.len() {
+        if values.len() != self.local_entries {
             return Err(MumpsError::Invalid {
                 field: "values",
                 value: values.len().to_string(),
@@ -309,12 +448,21 @@ impl Mumps {
             });
         }
         self.factorized = false;
-        self.values.copy_from_slice(values);
-        unsafe { ffi::talus_dmumps_set_local_values(self.id.as_ptr(), self.values.as_mut_ptr()) };
+        match self.placement {
+            Placement::AllRanks => self.values.copy_from_slice(values),
+            Placement::Host => {
+                let (counts, displs) = (&self.counts[..], &self.displs[..]);
+                gather_to_host(&self.world, counts, displs, values, &mut self.values);
+            }
+        }
+        if let Some(id) = self.id {
+            unsafe { ffi::talus_dmumps_set_local_values(id.as_ptr(), self.values.as_mut_ptr()) };
+        }
+        // Every rank with an instance retries alike: MUMPS gives INFOG(1) to all of them.
         let mut percent = WORKSPACE_PERCENT;
         for attempt in 0..=WORKSPACE_RETRIES {
-            unsafe { ffi::talus_dmumps_job(self.id.as_ptr(), 2) };
-            let infog1 = self.infog(1);
+            self.job(2);
+            let infog1 = self.raw_infog(1);
             // -8, -9, -14, -15, -17, -20: the analysis' workspace estimate was exceeded
             // (pivoting grew the fronts); the user guide's remedy is a larger ICNTL(14).
             let workspace = matches!(infog1, -8 | -9 | -14 | -15 | -17 | -20);
@@ -324,6 +472,7 @@ impl Mumps {
             percent *= 2;
             self.set_icntl(14, percent);
         }
+        self.share_info();
         self.check(Phase::Factorization)?;
         self.factorized = true;
         Ok(())
@@ -346,12 +495,15 @@ impl Mumps {
                 reason: "not the matrix's size",
             });
         }
-        unsafe {
-            ffi::talus_dmumps_set_rhs(self.id.as_ptr(), x.as_mut_ptr());
-            ffi::talus_dmumps_job(self.id.as_ptr(), 3);
-            // MUMPS must not keep a pointer into the caller's slice.
-            ffi::talus_dmumps_set_rhs(self.id.as_ptr(), std::ptr::null_mut());
+        if let Some(id) = self.id {
+            unsafe {
+                ffi::talus_dmumps_set_rhs(id.as_ptr(), x.as_mut_ptr());
+                ffi::talus_dmumps_job(id.as_ptr(), 3);
+                // MUMPS must not keep a pointer into the caller's slice.
+                ffi::talus_dmumps_set_rhs(id.as_ptr(), std::ptr::null_mut());
+            }
         }
+        self.share_info();
         self.check(Phase::Solve)?;
         self.world.process_at_rank(0).broadcast_into(x);
         Ok(())
@@ -382,10 +534,69 @@ impl Mumps {
     }
 }
 
+impl Mumps {
+    /// On a host placement: every rank's count of entries to rank 0, as the gathers'
+    /// counts and offsets (collective). Refused on every rank when their sum exceeds MPI's
+    /// 32-bit offsets.
+    fn gather_counts(&mut self) -> Result<usize, MumpsError> {
+        let host = self.world.process_at_rank(0);
+        let mine = self.local_entries as i64;
+        let root = self.world.rank() == 0;
+        let mut counts = vec![0i64; if root { self.world.size() as usize } else { 0 }];
+        if root {
+            host.gather_into_root(&mine, &mut counts[..]);
+        } else {
+            host.gather_into(&mine);
+        }
+        let mut total: i64 = counts.iter().sum();
+        host.broadcast_into(&mut total);
+        if total > c_int::MAX as i64 {
+            return Err(MumpsError::Invalid {
+                field: "rows",
+                value: format!("{total} entries over all ranks"),
+                reason:
+                    "more than a gather to rank 0 addresses (2^31 - 1): use Placement::AllRanks",
+            });
+        }
+        self.counts = counts.iter().map(|&c| c as c_int).collect();
+        self.displs = self
+            .counts
+            .iter()
+            .scan(0, |offset, &c| {
+                let at = *offset;
+                *offset += c;
+                Some(at)
+            })
+            .collect();
+        Ok(total as usize)
+    }
+}
+
+/// This rank's `local` entries into rank 0's `all`, at the offsets `displs` (collective;
+/// `counts` and `displs` are read on rank 0 only). MPI places each rank's part at its
+/// offset, whatever the order messages arrive in.
+fn gather_to_host<T: Equivalence>(
+    world: &SimpleCommunicator,
+    counts: &[c_int],
+    displs: &[c_int],
+    local: &[T],
+    all: &mut [T],
+) {
+    let host = world.process_at_rank(0);
+    if world.rank() == 0 {
+        let mut partition = PartitionMut::new(all, counts, displs);
+        host.gather_varcount_into_root(local, &mut partition);
+    } else {
+        host.gather_varcount_into(local);
+    }
+}
+
 impl Drop for Mumps {
     fn drop(&mut self) {
-        // Collective too: every rank drops its instance at the same point.
-        unsafe { ffi::talus_dmumps_end(self.id.as_ptr()) }
+        // Collective too: every rank with an instance drops it at the same point.
+        if let Some(id) = self.id {
+            unsafe { ffi::talus_dmumps_end(id.as_ptr()) }
+        }
     }
 }
 

@@ -6,9 +6,18 @@
 //! `2 − s − 2 cos(kπ/(n+1))`, k = 1..n (Golub & Van Loan, 4th ed., §4.8): the number of
 //! negative ones is the LDLᵀ's negative pivots (Sylvester's law of inertia) and fixes the
 //! determinant's sign.
+//!
+//! On rank 0 alone (`Placement::Host`): the same solutions, the same figures on every rank,
+//! and a 40 000-unknown 5-point operator factorized twice and solved twice to the same
+//! bits (over two ranks MUMPS does not repeat them: `docs/distributed.md`,
+//! 'Reproducibility').
+#[path = "common/five_point.rs"]
+mod five_point;
+
 use std::process::ExitCode;
 
-use talus_mumps::{Mumps, Symmetry};
+use five_point::{bits_hash, five_point_entries, five_point_rhs};
+use talus_mumps::{Mumps, Placement, Symmetry};
 
 const N: usize = 400;
 
@@ -95,13 +104,22 @@ fn check(name: &str, ok: bool, detail: String, failures: &mut usize) {
     }
 }
 
-/// MUMPS analysed and factorized on this rank's `entries`.
+/// MUMPS analysed and factorized on this rank's `entries`, over all ranks.
 fn factorized(
+    symmetry: Symmetry,
+    determinant: bool,
+    entries: &(Vec<usize>, Vec<usize>, Vec<f64>),
+) -> Mumps {
+    factorized_on(Placement::AllRanks, symmetry, determinant, entries)
+}
+
+fn factorized_on(
+    placement: Placement,
     symmetry: Symmetry,
     determinant: bool,
     (rows, cols, vals): &(Vec<usize>, Vec<usize>, Vec<f64>),
 ) -> Mumps {
-    let mut m = Mumps::new(symmetry, determinant).expect("MUMPS starts");
+    let mut m = Mumps::with_placement(symmetry, determinant, placement).expect("MUMPS starts");
     m.analyse(N, rows, cols).expect("analysis");
     m.factorize(vals).expect("factorization");
     m
@@ -162,11 +180,7 @@ fn under_mpirun(rank: usize, size: usize) -> usize {
     // 93 negative eigenvalues: an odd count, so the determinant is negative.
     let shift = 0.51;
     let symmetric = (-1.0, 2.0 - shift, -1.0);
-    let negative = (1..=N)
-        .filter(|&k| {
-            2.0 - shift - 2.0 * (k as f64 * std::f64::consts::PI / (N as f64 + 1.0)).cos() < 0.0
-        })
-        .count();
+    let negative = negative_eigenvalues(shift);
     let entries = local_entries(rank, size, symmetric, true);
     let mut ldlt = factorized(Symmetry::Symmetric, true, &entries);
     let error = solve_error(&mut ldlt, symmetric, &exact);
@@ -229,6 +243,97 @@ fn under_mpirun(rank: usize, size: usize) -> usize {
         "an index outside the matrix is refused",
         err.starts_with("rows/cols = "),
         err,
+        &mut failures,
+    );
+    failures + on_host(rank, size, &exact)
+}
+
+/// Negative eigenvalues of `tridiag(−1, 2 − shift, −1)`: `2 − shift − 2 cos(kπ/(N+1)) < 0`.
+fn negative_eigenvalues(shift: f64) -> usize {
+    (1..=N)
+        .filter(|&k| {
+            2.0 - shift - 2.0 * (k as f64 * std::f64::consts::PI / (N as f64 + 1.0)).cos() < 0.0
+        })
+        .count()
+}
+
+/// `Placement::Host`: MUMPS on rank 0 alone, from every rank's entries.
+fn on_host(rank: usize, size: usize, exact: &[f64]) -> usize {
+    let mut failures = 0;
+    // The LU of the convection operator, whose boundary diagonals two ranks share.
+    let convection = (-1.3, 2.01, -0.7);
+    let mut lu = factorized_on(
+        Placement::Host,
+        Symmetry::Unsymmetric,
+        true,
+        &local_entries(rank, size, convection, false),
+    );
+    let error = solve_error(&mut lu, convection, exact);
+    check(
+        "on the host: unsymmetric LU solves A x = b on every rank",
+        error < 1e-12 && lu.factor_ranks() == 1,
+        format!(
+            "relative error {error:.2e}, {} factor ranks",
+            lu.factor_ranks()
+        ),
+        &mut failures,
+    );
+    check(
+        "on the host: every rank has the host's figures",
+        lu.statistics().determinant_sign == Some(1.0) && lu.statistics().factor_entries > 0,
+        format!("{:?}", lu.statistics()),
+        &mut failures,
+    );
+    // Symmetric indefinite LDLᵀ: the inertia reaches every rank.
+    let shift = 0.51;
+    let symmetric = (-1.0, 2.0 - shift, -1.0);
+    let ldlt = factorized_on(
+        Placement::Host,
+        Symmetry::Symmetric,
+        true,
+        &local_entries(rank, size, symmetric, true),
+    );
+    let negative = negative_eigenvalues(shift);
+    check(
+        "on the host: LDLᵀ's negative pivots are the negative eigenvalues on every rank",
+        ldlt.statistics().negative_pivots as usize == negative,
+        format!("{:?}, {negative} negative eigenvalues", ldlt.statistics()),
+        &mut failures,
+    );
+
+    // The same bits from two factorizations and two solves of each.
+    let m = 200;
+    let (rows, cols, values) = five_point_entries(m, rank, size);
+    let mut host =
+        Mumps::with_placement(Symmetry::Unsymmetric, false, Placement::Host).expect("MUMPS");
+    host.analyse(m * m, &rows, &cols).expect("analysis");
+    let mut hashes = Vec::new();
+    let mut x = Vec::new();
+    for _ in 0..2 {
+        host.factorize(&values).expect("factorization");
+        for _ in 0..2 {
+            x = five_point_rhs(m * m);
+            host.solve(&mut x).expect("solve");
+            hashes.push(bits_hash(&x));
+        }
+    }
+    check(
+        "on the host: two factorizations, two solves each, the same bits",
+        hashes.iter().all(|&h| h == hashes[0]),
+        format!("{hashes:016x?}"),
+        &mut failures,
+    );
+    // And they solve the system: the residual of the whole operator.
+    let (all_rows, all_cols, all_values) = five_point_entries(m, 0, 1);
+    let mut residual = five_point_rhs(m * m);
+    for ((&i, &j), &v) in all_rows.iter().zip(&all_cols).zip(&all_values) {
+        residual[i] -= v * x[j];
+    }
+    let r = residual.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    check(
+        "on the host: the 5-point solution's residual",
+        r < 1e-10,
+        format!("max residual {r:.2e}"),
         &mut failures,
     );
     failures

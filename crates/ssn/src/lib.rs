@@ -44,7 +44,8 @@ pub use problem::ReducedSystem;
 pub use reduced_rhs::{reduced_rhs, FreeVelocities, PrescribedVelocities};
 pub use report::{Report, RoundOffFloor, Status};
 pub use settings::{
-    Fold, Forcing, Krylov, LineSearch, LinearSolver, NewtonSolve, Precision, Rho, Settings, Stall,
+    FactorRanks, Fold, Forcing, Krylov, LineSearch, LinearSolver, NewtonSolve, Precision, Rho,
+    Settings, Stall,
 };
 pub use siconos_system::reduced_system_from_siconos;
 pub use solver::Solver;

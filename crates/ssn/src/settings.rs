@@ -124,7 +124,28 @@ pub enum LinearSolver {
     /// each evaluating and linearizing the points of its own METIS groups only (σ and
     /// `z` are whole on every rank after a solve). LU for non-associative flow, LDLᵀ for
     /// associative.
-    Distributed,
+    Distributed(FactorRanks),
+}
+
+impl LinearSolver {
+    /// MUMPS over the MPI ranks, wherever it factorizes.
+    pub fn is_distributed(self) -> bool {
+        matches!(self, LinearSolver::Distributed(_))
+    }
+}
+
+/// Which ranks factorize in a distributed solve (`LinearSolver::Distributed`;
+/// `docs/distributed.md`, 'Reproducibility').
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FactorRanks {
+    /// All of them: the factors' memory and flops are split between the ranks. MUMPS adds
+    /// what a front receives from other ranks in the order it arrives, so two runs on the
+    /// same ranks differ in the last bits.
+    #[default]
+    All,
+    /// Rank 0 alone, on the entries every rank sends it in rank order: the same ranks give
+    /// the same bits on every run. The factorization's memory and time are rank 0's.
+    Host,
 }
 
 /// The inexact-Newton forcing term `η` of a Krylov solve: the direction must satisfy

@@ -9,7 +9,9 @@
 //! its largest entry) of the one-process solve from the same state (two independent linear
 //! solvers), the same iteration count within one, and every rank holding the same bits of σ and z
 //! after the solve (the final all-gather, and the rank-order reductions that keep the
-//! ranks' decisions alike). The elastic predictor likewise.
+//! ranks' decisions alike). The elastic predictor likewise. With MUMPS on rank 0 alone
+//! (`FactorRanks::Host`), a second solver of the same problem repeats every step's σ bit
+//! for bit (`docs/distributed.md`, 'Reproducibility').
 use std::process::ExitCode;
 
 use mpi::traits::CommunicatorCollectives;
@@ -18,7 +20,7 @@ use mpi::traits::CommunicatorCollectives;
 mod footing_like;
 
 use footing_like::{FootingLike, D};
-use talus_ssn::{LinearSolver, Settings, Solver};
+use talus_ssn::{FactorRanks, LinearSolver, Settings, Solver};
 
 /// The largest difference over the largest magnitude of `a`.
 fn relative_difference(a: &[f64], b: &[f64]) -> f64 {
@@ -53,8 +55,12 @@ fn under_mpirun(world: &impl CommunicatorCollectives) -> usize {
             failures += 1;
         }
     };
-    // Non-associative (ψ = 10°: LU, determinant sign) and associative (ψ = φ: LDLᵀ).
-    for dilatancy in [10.0, 30.0] {
+    // Non-associative (ψ = 10°: LU, determinant sign) and associative (ψ = φ: LDLᵀ), each
+    // factorized over all ranks and on rank 0 alone.
+    let cases = [10.0, 30.0].into_iter().flat_map(|dilatancy| {
+        [FactorRanks::All, FactorRanks::Host].map(|ranks| (dilatancy, ranks))
+    });
+    for (dilatancy, ranks) in cases {
         let footing = FootingLike::new(12, 8, dilatancy, 1e-2);
         // A tight tolerance: two converged solves then agree to about 1e-12 of σ.
         let own = Settings {
@@ -62,11 +68,15 @@ fn under_mpirun(world: &impl CommunicatorCollectives) -> usize {
             ..Settings::fem()
         };
         let distributed = Settings {
-            linear_solver: LinearSolver::Distributed,
+            linear_solver: LinearSolver::Distributed(ranks),
             ..own
         };
         let mut reference = Solver::new(footing.problem.clone(), own).expect("own solver");
         let mut solver = Solver::new(footing.problem.clone(), distributed).expect("MUMPS solver");
+        // On rank 0 alone: a second solver, which must repeat the first's bits.
+        let mut again = (ranks == FactorRanks::Host).then(|| {
+            Solver::new(footing.problem.clone(), distributed).expect("second MUMPS solver")
+        });
         let n = D * footing.problem.n_points();
 
         // The elastic predictor from rest.
@@ -99,11 +109,20 @@ fn under_mpirun(world: &impl CommunicatorCollectives) -> usize {
             let own = reference.solve(&mut a).expect("own solve converges");
             let mut b = sigma.clone();
             let report = solver.solve(&mut b).expect("distributed solve converges");
+            if let Some(again) = again.as_mut() {
+                let mut c = sigma.clone();
+                again.set_q(footing.q(&sigma, 0.05)).expect("q");
+                let repeated = again.solve(&mut c).expect("second solve converges");
+                check(
+                    bits(&c) == bits(&b) && repeated.iterations == report.iterations,
+                    format!("ψ = {dilatancy}, step {step}: rank 0's factorization not repeated"),
+                );
+            }
             let d = relative_difference(&a, &b);
             worst = worst.max(d);
             check(
                 d <= 1e-10,
-                format!("ψ = {dilatancy}, step {step}: σ differs by {d:e}"),
+                format!("ψ = {dilatancy}, {ranks:?}, step {step}: σ differs by {d:e}"),
             );
             // Within one: the last iteration may land on either side of the tolerance.
             check(
@@ -122,8 +141,8 @@ fn under_mpirun(world: &impl CommunicatorCollectives) -> usize {
         }
         if rank == 0 {
             eprintln!(
-                "{} ranks, ψ = {dilatancy}: {plastic_iterations} iterations in 12 steps, \
-                 largest difference {worst:e}",
+                "{} ranks, ψ = {dilatancy}, {ranks:?}: {plastic_iterations} iterations in 12 \
+                 steps, largest difference {worst:e}",
                 world.size()
             );
         }

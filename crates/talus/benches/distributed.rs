@@ -7,7 +7,9 @@
 //!
 //! - `own`: one rank, the scene's own solver (the baseline of the ratios);
 //! - `mumps ×N`: `mpirun -np N`, every factorization by MUMPS over N ranks (`N = 1` is
-//!   `linear_solver = "mumps"`).
+//!   `linear_solver = "mumps"`);
+//! - `mumps ×N on rank 0`: `reproducible = true` (N > 1): the ranks' entries gathered to
+//!   rank 0, which factorizes alone (`docs/distributed.md`, 'Reproducibility').
 //!
 //! Reports Newton iterations (failed ones included) and the seconds of the steps, both
 //! from `history.csv` (a factor-of-safety search's: the loading and each trial), seconds
@@ -38,8 +40,19 @@ fn scenes() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
 }
 
+/// How a run factorizes.
+#[derive(Clone, Copy)]
+enum Config {
+    Own,
+    Mumps { ranks: usize, reproducible: bool },
+}
+
 /// A case's scene text, with `[solver]` keys appended when `mumps`.
-fn scene_text(case: &str, steps: usize, mumps: bool) -> Result<String, String> {
+fn scene_text(case: &str, steps: usize, config: Config) -> Result<String, String> {
+    let (mumps, reproducible) = match config {
+        Config::Own => (false, false),
+        Config::Mumps { reproducible, .. } => (true, reproducible),
+    };
     let read = |name: &str| {
         std::fs::read_to_string(scenes().join(name)).map_err(|e| format!("{name}: {e}"))
     };
@@ -84,6 +97,10 @@ fn scene_text(case: &str, steps: usize, mumps: bool) -> Result<String, String> {
         }
         other => return Err(format!("unknown case {other:?}")),
     };
+    if reproducible {
+        let key = "linear_solver = \"mumps\"";
+        text = text.replacen(key, &format!("{key}\nreproducible = true"), 1);
+    }
     if !text.ends_with('\n') {
         text.push('\n');
     }
@@ -103,16 +120,18 @@ fn field<'a>(line: &'a str, key: &str) -> Option<&'a str> {
     line[at..].split_whitespace().next()
 }
 
-/// `own` (`mumps = None`) or MUMPS on `Some(ranks)`; always under `mpirun`, so that every
-/// rank logs its peak memory.
-fn run(case: &str, mumps: Option<usize>, steps: usize, dir: &Path) -> Result<Measured, String> {
-    let text = scene_text(case, steps, mumps.is_some())?;
+/// One `config`; always under `mpirun`, so that every rank logs its peak memory.
+fn run(case: &str, config: Config, steps: usize, dir: &Path) -> Result<Measured, String> {
+    let text = scene_text(case, steps, config)?;
     let scene = dir.join(format!("{case}.toml"));
     std::fs::write(&scene, text).map_err(|e| e.to_string())?;
     let out = dir.join("out");
     let _ = std::fs::remove_dir_all(&out);
     let talus = env!("CARGO_BIN_EXE_talus");
-    let ranks = mumps.unwrap_or(1);
+    let ranks = match config {
+        Config::Own => 1,
+        Config::Mumps { ranks, .. } => ranks,
+    };
     let mut command = Command::new("mpirun");
     command
         .args(MPIRUN_FLAGS)
@@ -196,11 +215,21 @@ fn main() {
     let mut failed = false;
     for case in cases.split(',').map(str::trim) {
         let mut baseline = None;
-        let configs = std::iter::once(None).chain(ranks.iter().map(|&n| Some(n)));
+        let mumps = |ranks, reproducible| Config::Mumps {
+            ranks,
+            reproducible,
+        };
+        let configs = std::iter::once(Config::Own)
+            .chain(ranks.iter().map(|&n| mumps(n, false)))
+            .chain(ranks.iter().filter(|&&n| n > 1).map(|&n| mumps(n, true)));
         for config in configs {
             let name = match config {
-                None => "own".to_string(),
-                Some(n) => format!("mumps ×{n}"),
+                Config::Own => "own".to_string(),
+                Config::Mumps {
+                    ranks,
+                    reproducible: false,
+                } => format!("mumps ×{ranks}"),
+                Config::Mumps { ranks, .. } => format!("mumps ×{ranks} on rank 0"),
             };
             match run(case, config, steps, &dir) {
                 Ok(m) => {

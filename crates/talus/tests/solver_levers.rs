@@ -272,8 +272,18 @@ fn bad_levers_name_the_field_and_value() {
         }
         let s = scene("slope.toml", "linear_solver = \"mumps\"", |t| t).unwrap();
         let solver = s.spec.solver.fem().solver;
-        assert_eq!(solver.linear_solver, talus_ssn::LinearSolver::Distributed);
+        let all = talus_ssn::LinearSolver::Distributed(talus_ssn::FactorRanks::All);
+        assert_eq!(solver.linear_solver, all);
         assert_eq!(solver.newton_solve, NewtonSolve::Direct);
+        // `reproducible`: MUMPS on rank 0 alone.
+        let s = scene(
+            "slope.toml",
+            "linear_solver = \"mumps\"\nreproducible = true",
+            |t| t,
+        )
+        .unwrap();
+        let host = talus_ssn::LinearSolver::Distributed(talus_ssn::FactorRanks::Host);
+        assert_eq!(s.spec.solver.fem().solver.linear_solver, host);
     } else {
         for n in ["solver.linear_solver", "\"mumps\"", "--features mpi"] {
             assert!(mumps.contains(n), "`{n}` not in: {mumps}");

@@ -1,8 +1,11 @@
 //! `K` factorized by MUMPS over `MPI_COMM_WORLD` (`docs/distributed.md`): every rank
 //! runs the same Newton iteration on its own points (`PointShare`) and hands MUMPS the
 //! entries of `K` its own point groups give (`OwnedAssembly`, distributed assembled input); MUMPS splits its fronts between the
-//! ranks. The solution comes back on every rank, bit for bit the host's.
-use talus_mumps::{Mumps, Statistics, Symmetry};
+//! ranks, or on rank 0 alone for runs that repeat bit for bit (`FactorRanks::Host`). The
+//! solution comes back on every rank, bit for bit the host's.
+use talus_mumps::{Mumps, Placement, Statistics, Symmetry};
+
+use crate::FactorRanks;
 
 /// This rank and the number of ranks, once MPI is initialized.
 pub(crate) fn world() -> Result<(usize, usize), String> {
@@ -23,19 +26,25 @@ pub(crate) struct DistributedFactor {
 impl DistributedFactor {
     /// MUMPS' analysis of this rank's entries `(rows[k], cols[k])` of the `n × n` `K` (its
     /// lower triangle when `symmetric`: LDLᵀ; else LU with the determinant's sign, the
-    /// fold signature of `docs/solver.md`).
+    /// fold signature of `docs/solver.md`), to be factorized by `ranks`.
     pub(crate) fn analyse(
         n: usize,
         rows: &[usize],
         cols: &[usize],
         symmetric: bool,
+        ranks: FactorRanks,
     ) -> Result<Self, String> {
         let symmetry = if symmetric {
             Symmetry::PositiveDefinite
         } else {
             Symmetry::Unsymmetric
         };
-        let mut mumps = Mumps::new(symmetry, !symmetric).map_err(|e| e.to_string())?;
+        let placement = match ranks {
+            FactorRanks::All => Placement::AllRanks,
+            FactorRanks::Host => Placement::Host,
+        };
+        let mut mumps =
+            Mumps::with_placement(symmetry, !symmetric, placement).map_err(|e| e.to_string())?;
         mumps.analyse(n, rows, cols).map_err(|e| e.to_string())?;
         Ok(Self {
             mumps,
@@ -58,6 +67,7 @@ impl DistributedFactor {
             self.logged = true;
             tracing::info!(
                 ranks = self.ranks(),
+                placement = ?self.mumps.placement(),
                 ordering = stats.ordering,
                 factor_entries = stats.factor_entries,
                 flops = stats.flops,
@@ -84,6 +94,6 @@ impl DistributedFactor {
 
     /// Ranks sharing the factors.
     pub(crate) fn ranks(&self) -> usize {
-        self.mumps.rank().1
+        self.mumps.factor_ranks()
     }
 }

@@ -12,6 +12,7 @@ use crate::krylov::{Gmres, GmresError, GmresWorkspace, Verdict, PROJECT_AFTER};
 use crate::local_lu::LocalLu;
 use crate::operator::{block, PointBlocks, Structured};
 use crate::point_share::PointShare;
+use crate::FactorRanks;
 use crate::Krylov;
 
 /// The velocity-sized Newton system (`docs/derivations.md`, 'The Schur step'):
@@ -90,7 +91,7 @@ impl<const D: usize> SchurSystem<D> {
         symmetric: bool,
         ordering: Ordering,
         single: bool,
-        distributed: bool,
+        distributed: Option<FactorRanks>,
     ) -> Result<Self, String> {
         let n_v = structured.lumped_mass.len();
         let n_points = structured.compliance.len();
@@ -106,7 +107,7 @@ impl<const D: usize> SchurSystem<D> {
         // Not on a rank of a distributed factorization: it sums only its own entries
         // (`OwnedAssembly`), never the whole `K`.
         let (mut gather_ptr, mut gather) = (Vec::new(), Vec::new());
-        if !distributed {
+        if distributed.is_none() {
             gather_ptr = vec![0usize; row_idx.len() + 1];
             for &p in &positions {
                 gather_ptr[p + 1] += 1;
@@ -129,7 +130,7 @@ impl<const D: usize> SchurSystem<D> {
             group_entries.push(group_entries[g] + block_len(m, symmetric));
         }
         let nnz = row_idx.len();
-        let (factorization, owned) = if distributed {
+        let (factorization, owned) = if let Some(ranks) = distributed {
             let (rank, size) = SchurFactor::world()?;
             let start = std::time::Instant::now();
             let owners = group_owners(symbolic.as_ref(), blocks, &group_ptr, size)?;
@@ -151,7 +152,7 @@ impl<const D: usize> SchurSystem<D> {
                 partition_seconds,
                 "this rank's share of K's assembly"
             );
-            let factor = SchurFactor::distributed(n_v, &owned.rows, &owned.cols, symmetric)?;
+            let factor = SchurFactor::distributed(n_v, &owned.rows, &owned.cols, symmetric, ranks)?;
             (factor, Some(owned))
         } else {
             let factor = SchurFactor::analyse(symbolic.as_ref(), symmetric, ordering, single)?;

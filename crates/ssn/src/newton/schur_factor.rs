@@ -158,8 +158,9 @@ impl SchurFactor {
         rows: &[usize],
         cols: &[usize],
         symmetric: bool,
+        ranks: crate::FactorRanks,
     ) -> Result<Self, String> {
-        super::distributed_factor::DistributedFactor::analyse(n, rows, cols, symmetric)
+        super::distributed_factor::DistributedFactor::analyse(n, rows, cols, symmetric, ranks)
             .map(SchurFactor::Distributed)
     }
 
@@ -169,6 +170,7 @@ impl SchurFactor {
         _rows: &[usize],
         _cols: &[usize],
         _symmetric: bool,
+        _ranks: crate::FactorRanks,
     ) -> Result<Self, String> {
         Err("the distributed factorization needs the cargo feature `mpi`".into())
     }

@@ -58,7 +58,7 @@ impl<const D: usize> Solver<D> {
             // Under MPI every rank would factorize the whole stress-sized system: a singular
             // local block or a failed MUMPS factorization (alike on every rank) halves the
             // step instead (docs/distributed.md, 'When a rank fails').
-            if used.is_none() && self.settings.linear_solver == LinearSolver::Distributed {
+            if used.is_none() && self.settings.linear_solver.is_distributed() {
                 tracing::warn!("no distributed Schur direction: the step is refused");
                 return Err(Status::SingularJacobian);
             }

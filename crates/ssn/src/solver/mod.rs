@@ -186,7 +186,7 @@ impl<const D: usize> Solver<D> {
             problem,
         };
         let symmetric = solver.problem.is_associative();
-        if settings.linear_solver == LinearSolver::Distributed
+        if settings.linear_solver.is_distributed()
             && !matches!(solver.problem.operator, Operator::Structured(_))
         {
             return Err(invalid(
@@ -199,7 +199,7 @@ impl<const D: usize> Solver<D> {
             (Operator::Dense(_), _) if n <= DENSE_LIMIT => solver.dense = Some(DenseSystem::new(n)),
             (
                 Operator::Structured(s),
-                LinearSolver::Auto | LinearSolver::SchurPivoting | LinearSolver::Distributed,
+                LinearSolver::Auto | LinearSolver::SchurPivoting | LinearSolver::Distributed(_),
             ) => {
                 let blocks = solver
                     .blocks
@@ -215,8 +215,11 @@ impl<const D: usize> Solver<D> {
                         "a single-precision factor needs an associative flow rule (Cholesky)",
                     ));
                 }
-                let distributed = settings.linear_solver == LinearSolver::Distributed;
-                if distributed
+                let distributed = match settings.linear_solver {
+                    LinearSolver::Distributed(ranks) => Some(ranks),
+                    _ => None,
+                };
+                if distributed.is_some()
                     && (settings.newton_solve != NewtonSolve::Direct || !cfg!(feature = "mpi"))
                 {
                     return Err(invalid(

@@ -3,7 +3,9 @@
 //! `Settings::fem`), which the scene overrides key by key.
 use serde::{Deserialize, Serialize};
 use talus_engine::StepSettings;
-use talus_ssn::{Krylov, LinearSolver, NewtonSolve, Ordering, Precision, Rho, Settings, Stall};
+use talus_ssn::{
+    FactorRanks, Krylov, LinearSolver, NewtonSolve, Ordering, Precision, Rho, Settings, Stall,
+};
 
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, default)]
@@ -38,6 +40,11 @@ pub struct SolverSpec {
     /// The fill-reducing ordering of the factorizations: `amd` (the default) or
     /// `nested_dissection` (METIS; a build with the cargo feature `metis`).
     pub ordering: FillOrdering,
+    /// Under `mpirun`: MUMPS factorizes on rank 0 alone (true), so that the same number of
+    /// ranks gives the same bits on every run, or over all ranks (false, the default),
+    /// splitting the factors' memory and flops. One process repeats its bits either way
+    /// (`docs/distributed.md`, 'Reproducibility').
+    pub reproducible: bool,
 }
 
 /// `[solver] linear_solver`.
@@ -110,6 +117,7 @@ impl Default for SolverSpec {
             precision: FactorPrecision::Double,
             reuse_factorization: true,
             ordering: FillOrdering::Amd,
+            reproducible: false,
         }
     }
 }
@@ -157,7 +165,11 @@ impl SolverSpec {
                 // Under mpirun every rank must call MUMPS for every factorization: the
                 // direct solve, whatever the scene asked (docs/distributed.md).
                 linear_solver: if distributed {
-                    LinearSolver::Distributed
+                    LinearSolver::Distributed(if self.reproducible {
+                        FactorRanks::Host
+                    } else {
+                        FactorRanks::All
+                    })
                 } else {
                     base.solver.linear_solver
                 },
