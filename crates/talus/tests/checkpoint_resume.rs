@@ -178,24 +178,6 @@ fn stopped_run(
     (output, step)
 }
 
-/// `history.csv` without its `seconds` column.
-fn history(out: &Path) -> Vec<String> {
-    let text = std::fs::read_to_string(out.join("history.csv")).unwrap();
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let seconds = header.iter().position(|c| *c == "seconds").unwrap();
-    std::iter::once(header.join(","))
-        .chain(lines.map(|l| {
-            l.split(',')
-                .enumerate()
-                .filter(|(k, _)| *k != seconds)
-                .map(|(_, v)| v)
-                .collect::<Vec<_>>()
-                .join(",")
-        }))
-        .collect()
-}
-
 /// The files of `dir` (relative names, sorted) and their bytes.
 fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
     let mut v: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
@@ -216,7 +198,10 @@ fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
 
 /// Everything but the timings and the plots (PNG) is the same, byte for byte.
 fn assert_same_run(reference: &Path, resumed: &Path, steps: usize) {
-    let (a, b) = (history(reference), history(resumed));
+    let (a, b) = (
+        common::history_without_seconds(reference),
+        common::history_without_seconds(resumed),
+    );
     assert_eq!(a.len(), steps + 2, "rows of {}", reference.display());
     for (k, (x, y)) in a.iter().zip(&b).enumerate() {
         assert_eq!(x, y, "history.csv line {}", k + 1);
@@ -254,7 +239,10 @@ fn footing_reference() -> &'static Path {
         assert_ok(&run(&scene, &out, Some(10)));
         let plain = out_dir("footing_plain");
         assert_ok(&run(&scene, &plain, None));
-        assert_eq!(history(&out), history(&plain));
+        assert_eq!(
+            common::history_without_seconds(&out),
+            common::history_without_seconds(&plain)
+        );
         assert!(files(&out.join("vtu")) == files(&plain.join("vtu")));
         out
     })

@@ -15,7 +15,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{array, attr, history_column, replaced, target_tmp_dir, FOOTING};
+use common::{
+    array, attr, history_column, history_without_seconds, replaced, target_tmp_dir, FOOTING,
+};
 
 const MPIRUN_FLAGS: &[&str] = &["--allow-run-as-root", "--oversubscribe"];
 
@@ -275,23 +277,6 @@ fn paper_footing_on_two_ranks_matches_one_rank() {
         &["reaction_force", "footing_fy"],
         "two two-rank runs",
     );
-}
-
-/// `history.csv` of `out` without its wall-time column.
-fn history_without_seconds(out: &Path) -> Vec<String> {
-    let text = std::fs::read_to_string(out.join("history.csv")).expect("history.csv");
-    let header: Vec<&str> = text.lines().next().expect("a header").split(',').collect();
-    let seconds = header
-        .iter()
-        .position(|h| *h == "seconds")
-        .expect("a seconds column");
-    text.lines()
-        .map(|l| {
-            let mut cells: Vec<&str> = l.split(',').collect();
-            cells.remove(seconds);
-            cells.join(",")
-        })
-        .collect()
 }
 
 /// Issue 26's test: the same two-rank run twice gives identical bits, with

@@ -19,7 +19,7 @@
 use crate::common;
 use std::path::{Path, PathBuf};
 
-use common::{array, history_column, replaced};
+use common::{array, history_column, history_without_seconds, replaced};
 use talus::model::mpm::MpmModel;
 use talus::run::mpm::{run_mpm_scene, run_mpm_scene_3d};
 use talus::run::RunOptions;
@@ -245,21 +245,9 @@ plots = false
     })
     .collect();
     assert_eq!(runs[0].1, runs[1].1, "particle positions");
-    let rows = |out: &Path| -> Vec<String> {
-        let text = std::fs::read_to_string(out.join("history.csv")).unwrap();
-        let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
-        let seconds = header.iter().position(|h| *h == "seconds").unwrap();
-        text.lines()
-            .map(|l| {
-                let mut cells: Vec<&str> = l.split(',').collect();
-                cells.remove(seconds);
-                cells.join(",")
-            })
-            .collect()
-    };
     assert_eq!(
-        rows(&runs[0].0),
-        rows(&runs[1].0),
+        history_without_seconds(&runs[0].0),
+        history_without_seconds(&runs[1].0),
         "history.csv but `seconds`"
     );
     let fy = history_column(&runs[0].0, "floor_fy");

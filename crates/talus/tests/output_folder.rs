@@ -135,20 +135,6 @@ fn history_steps(out: &Path) -> Vec<usize> {
         .collect()
 }
 
-/// The rows of `history.csv` without its `seconds` column (the wall time).
-fn history_without_seconds(out: &Path) -> Vec<Vec<String>> {
-    let text = std::fs::read_to_string(out.join("history.csv")).unwrap();
-    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
-    let seconds = header.iter().position(|h| *h == "seconds").unwrap();
-    text.lines()
-        .map(|l| {
-            let mut row: Vec<String> = l.split(',').map(str::to_string).collect();
-            row.remove(seconds);
-            row
-        })
-        .collect()
-}
-
 /// The files `solution.pvd` lists, relative to `out`.
 fn pvd_files(out: &Path) -> Vec<String> {
     let text = std::fs::read_to_string(out.join("solution.pvd")).unwrap();
@@ -493,7 +479,7 @@ fn another_runs_checkpoint_copied_into_a_folder_is_refused() {
     // The same scene run again elsewhere is the same computation: its checkpoint of step
     // 10 (the key leaves out the wall time) continues this folder as its own would, each
     // step once, every row (but the wall time) that of the uninterrupted run.
-    let uninterrupted = history_without_seconds(&theirs);
+    let uninterrupted = common::history_without_seconds(&theirs);
     let again = out_dir("copied_again");
     interrupted(&scene, &again, 5, 10);
     std::fs::copy(
@@ -509,7 +495,7 @@ fn another_runs_checkpoint_copied_into_a_folder_is_refused() {
         stderr(&o)
     );
     assert_eq!(history_steps(&theirs), (0..=20).collect::<Vec<_>>());
-    assert_eq!(history_without_seconds(&theirs), uninterrupted);
+    assert_eq!(common::history_without_seconds(&theirs), uninterrupted);
 }
 
 #[test]

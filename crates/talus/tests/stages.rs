@@ -288,19 +288,10 @@ fn a_staged_run_resumed_in_its_second_stage_ends_as_the_run_never_stopped() {
     );
     assert_eq!(resumed.final_state.sigma, whole_run.final_state.sigma);
     // The same history, the seconds column aside.
-    let rows = |dir: &std::path::Path| -> Vec<String> {
-        let text = std::fs::read_to_string(dir.join("history.csv")).unwrap();
-        let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
-        let seconds = header.iter().position(|h| *h == "seconds").unwrap();
-        text.lines()
-            .map(|l| {
-                let mut v: Vec<&str> = l.split(',').collect();
-                v.remove(seconds);
-                v.join(",")
-            })
-            .collect()
-    };
-    assert_eq!(rows(&cut), rows(&whole));
+    assert_eq!(
+        common::history_without_seconds(&cut),
+        common::history_without_seconds(&whole)
+    );
     let summary = |dir: &std::path::Path| -> serde_json::Value {
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
     };

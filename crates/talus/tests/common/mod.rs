@@ -193,6 +193,23 @@ pub fn history_column(out: &Path, name: &str) -> Vec<f64> {
         .collect()
 }
 
+/// `history.csv` of `out` without its wall-time column.
+pub fn history_without_seconds(out: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(out.join("history.csv")).expect("history.csv");
+    let header: Vec<&str> = text.lines().next().expect("a header").split(',').collect();
+    let seconds = header
+        .iter()
+        .position(|h| *h == "seconds")
+        .expect("a seconds column");
+    text.lines()
+        .map(|l| {
+            let mut cells: Vec<&str> = l.split(',').collect();
+            cells.remove(seconds);
+            cells.join(",")
+        })
+        .collect()
+}
+
 // ---------------------------------------------------------------- VTU reading
 
 pub fn attr(xml: &str, name: &str) -> String {
