@@ -227,6 +227,10 @@ fn bad_levers_name_the_field_and_value() {
             error("reuse_factorization = 0"),
             vec![at.as_str(), "`0`", "boolean"],
         ),
+        (
+            error("reproducible = \"yes\""),
+            vec![at.as_str(), "\"yes\"", "boolean"],
+        ),
     ];
     for (message, needles) in cases {
         for n in needles {

@@ -382,13 +382,14 @@ impl<const D: usize> SchurSystem<D> {
         share: Option<&PointShare>,
         parallel: bool,
     ) -> f64 {
-        let mut b = vec![0.0; self.rhs.len()];
-        schur_rhs(&self.a_inv_r, blocks, share, parallel, &mut b);
+        // r = b − K u in place of b, and the row sums of |K|, column by column.
+        let mut r = vec![0.0; self.rhs.len()];
+        schur_rhs(&self.a_inv_r, blocks, share, parallel, &mut r);
+        let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let b_norm = inf(&r);
         let k = SparseColMatRef::new(self.symbolic.as_ref(), &self.csc_values);
         let (col_ptr, row_idx, val) = (k.col_ptr(), k.row_idx(), k.val());
         let u = &self.rhs;
-        // r = b − K u and the row sums of |K|, column by column.
-        let mut r = b.clone();
         let mut rows = vec![0.0f64; u.len()];
         for (j, &uj) in u.iter().enumerate() {
             for p in col_ptr[j]..col_ptr[j + 1] {
@@ -397,8 +398,7 @@ impl<const D: usize> SchurSystem<D> {
                 rows[i] += v.abs();
             }
         }
-        let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        let scale = inf(&rows) * inf(u) + inf(&b);
+        let scale = inf(&rows) * inf(u) + b_norm;
         if scale > 0.0 {
             inf(&r) / scale
         } else {
@@ -714,8 +714,6 @@ fn add_point_block<const D: usize>(
     }
 }
 
-/// `y = K x` for a symmetric `K` given by its lower triangle in CSC: one pass over the
-/// stored values, in a fixed order.
 /// The Schur right-hand side `b = Σᵢ Bᵢᵀ (A⁻¹r)ᵢ` into `out`, summed over the ranks when
 /// the points are shared.
 fn schur_rhs<const D: usize>(
@@ -732,6 +730,8 @@ fn schur_rhs<const D: usize>(
     }
 }
 
+/// `y = K x` for a symmetric `K` given by its lower triangle in CSC: one pass over the
+/// stored values, in a fixed order.
 fn lower_product(k: SparseColMatRef<'_, usize, f64>, x: &[f64], y: &mut [f64]) {
     y.fill(0.0);
     let (col_ptr, row_idx, val) = (k.col_ptr(), k.row_idx(), k.val());
