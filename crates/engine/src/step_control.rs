@@ -1,6 +1,6 @@
 //! The step control: which sub-step size the next solve tries (`docs/solver.md`, 'The step
-//! control'). Sizes are `h / 2^level`, so that the sub-steps tile the step exactly and a
-//! fixed operator needs one solver per level. A failed solve halves the size; a size is
+//! control'). Sizes are `h / 2^level`, so that the sub-steps tile the step exactly. A
+//! failed solve halves the size; a size is
 //! doubled again after `grow_after` accepted sub-steps whose solves were cheap, at a time
 //! the doubled size tiles; a doubling that fails doubles that size's patience, one that
 //! holds halves it. The size and the patience carry over from step to step: where the

@@ -4,7 +4,7 @@
 //! sub-step sizes (`docs/solver.md`, "Time stepping").
 use std::time::Instant;
 
-use talus_ssn::{Report, SolveError, Solver};
+use talus_ssn::{ReducedSystem, Report, SolveError, Solver};
 
 use crate::parabola::Parabola;
 use crate::{
@@ -13,12 +13,14 @@ use crate::{
 };
 
 /// Advances a discretization's state step by step. For a discretization whose operator
-/// does not depend on the state (FEM), one `Solver` (and one symbolic factorization) per
-/// distinct `h`, reused across steps: only `q` changes.
+/// does not depend on the state (FEM), one `Solver` (and one symbolic factorization) for
+/// every sub-step size, reused across steps: `q` changes every sub-step, the operator's
+/// `h` when the size does.
 pub struct Stepper<M: Discretization<D>, const D: usize = 4> {
     discretization: M,
     settings: StepSettings,
-    fixed: Vec<(f64, Solver<D>)>,
+    /// The fixed operator's solver and the sub-step size it is set up for.
+    fixed: Option<(f64, Solver<D>)>,
     /// `(σₙ − σₙ₋₁)/h` of the last sub-step: with [`PredictorRule::Extrapolated`] each
     /// solve starts from σₙ + h σ̇, which under steady loading is second-order close to the
     /// answer.
@@ -32,13 +34,6 @@ pub struct Stepper<M: Discretization<D>, const D: usize = 4> {
     /// so the later ones go to `debug` and are counted in `StepReport::statuses`.
     floor_warned: bool,
 }
-
-/// Solvers of a fixed operator kept at once, one per sub-step size: the current size and
-/// the last other one (a halving and the growth back). Each holds an operator, Schur
-/// workspaces and a factor; a third cost 36% more peak memory on the 104×48 footing's
-/// first 60 steps and saved 3% of the CPU time, within one pair of runs' noise
-/// (`docs/performance.md`, 'Memory per sub-step size').
-const FIXED_SOLVERS: usize = 2;
 
 /// The [`Stepper`]'s own state between steps ([`Stepper::memory`]).
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -72,7 +67,7 @@ impl<M: Discretization<D>, const D: usize> Stepper<M, D> {
         Self {
             discretization,
             settings,
-            fixed: Vec::new(),
+            fixed: None,
             stress_rate: None,
             parabola: Parabola::default(),
             control: StepControl::default(),
@@ -215,33 +210,39 @@ impl<M: Discretization<D>, const D: usize> Stepper<M, D> {
         Ok(report)
     }
 
-    /// The solver for a fixed operator of step `h`, built on first use; at most
-    /// [`FIXED_SOLVERS`] are kept, the least recently used dropped first.
-    fn fixed_solver(&mut self, h: f64) -> Result<usize, SubstepError<M::Error>> {
-        if let Some(p) = self.fixed.iter().position(|(hh, _)| *hh == h) {
-            // Most recently used last.
-            let entry = self.fixed.remove(p);
-            self.fixed.push(entry);
-            return Ok(self.fixed.len() - 1);
+    /// Sets up the solver of a fixed operator for step `h`: built on first use, then moved to
+    /// another sub-step size by `Solver::replace_problem`, which keeps its symbolic analysis
+    /// and workspaces. One solver serves every size: a halving run needs one operator's
+    /// and one factor's memory (`docs/performance.md`, 'Memory per sub-step size'), and
+    /// since the numeric factorization is redone every Newton iteration, a solver moved to
+    /// `h` gives the bits a new one would.
+    fn set_up_fixed(&mut self, h: f64) -> Result<(), SubstepError<M::Error>> {
+        if self.fixed.as_ref().is_some_and(|(hh, _)| *hh != h) {
+            let system = self.fixed_system(h)?;
+            let (hh, solver) = self.fixed.as_mut().expect("checked above");
+            // On error the solver is left unchanged, still set up for its old size.
+            solver.replace_problem(system).map_err(fatal_solver)?;
+            *hh = h;
         }
-        if self.fixed.len() >= FIXED_SOLVERS {
-            self.fixed.remove(0);
+        if self.fixed.is_none() {
+            let system = self.fixed_system(h)?;
+            let solver = Solver::new(system, self.settings.solver).map_err(fatal_solver)?;
+            self.fixed = Some((h, solver));
         }
-        let system = match self.discretization.fixed_system(h) {
-            Some(Ok(s)) => s,
-            Some(Err(e)) => return Err(fatal_solver(e)),
-            None => {
-                return Err(SubstepError::Fatal(StepErrorKind::Solver(
-                    SolveError::InvalidInput {
-                        field: "problem",
-                        reason: "a right-hand side without a fixed operator".into(),
-                    },
-                )))
-            }
-        };
-        let solver = Solver::new(system, self.settings.solver).map_err(fatal_solver)?;
-        self.fixed.push((h, solver));
-        Ok(self.fixed.len() - 1)
+        Ok(())
+    }
+
+    fn fixed_system(&self, h: f64) -> Result<ReducedSystem<D>, SubstepError<M::Error>> {
+        match self.discretization.fixed_system(h) {
+            Some(Ok(s)) => Ok(s),
+            Some(Err(e)) => Err(fatal_solver(e)),
+            None => Err(SubstepError::Fatal(StepErrorKind::Solver(
+                SolveError::InvalidInput {
+                    field: "problem",
+                    reason: "a right-hand side without a fixed operator".into(),
+                },
+            ))),
+        }
     }
 
     /// One sub-step: the discretization's problem, solved (several times if it asks, e.g.
@@ -260,14 +261,14 @@ impl<M: Discretization<D>, const D: usize> Stepper<M, D> {
         let mut own = None;
         let solver = match problem {
             Problem::Rhs(q) => {
-                let p = self.fixed_solver(h)?;
-                let solver = &mut self.fixed[p].1;
+                self.set_up_fixed(h)?;
+                let solver = &mut self.fixed.as_mut().expect("set up").1;
                 solver.set_q(q).map_err(fatal_solver)?;
                 solver
             }
             Problem::RhsAndRules(q, rules) => {
-                let p = self.fixed_solver(h)?;
-                let solver = &mut self.fixed[p].1;
+                self.set_up_fixed(h)?;
+                let solver = &mut self.fixed.as_mut().expect("set up").1;
                 solver.set_q(q).map_err(fatal_solver)?;
                 solver.set_rules(rules).map_err(fatal_solver)?;
                 solver

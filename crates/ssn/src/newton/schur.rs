@@ -213,6 +213,12 @@ impl<const D: usize> SchurSystem<D> {
         )
     }
 
+    /// The held factorization belongs to another operator: the next request factorizes,
+    /// as in a new system.
+    pub(crate) fn forget_factor(&mut self) {
+        self.krylov.degraded = true;
+    }
+
     /// A reused factorization's direction failed the accuracy check: the next request
     /// refactorizes.
     pub(crate) fn mark_degraded(&mut self) {

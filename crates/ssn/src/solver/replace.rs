@@ -13,13 +13,14 @@ impl<const D: usize> Solver<D> {
     /// chosen anew. Otherwise the solver is rebuilt as by [`Solver::new`]. Returns whether
     /// the analysis was reused; on error the solver is left unchanged.
     pub fn replace_problem(&mut self, problem: ReducedSystem<D>) -> Result<bool, SolveError> {
-        let reusable = match (&self.problem.operator, &problem.operator, &self.schur) {
-            (Operator::Structured(old), Operator::Structured(new), Some(_)) => {
+        let (reusable, new_h) = match (&self.problem.operator, &problem.operator, &self.schur) {
+            (Operator::Structured(old), Operator::Structured(new), Some(_)) => (
                 old.lumped_mass.len() == new.lumped_mass.len()
                     && Self::same_pattern(&old.b, &new.b)
-                    && self.problem.is_associative() == problem.is_associative()
-            }
-            _ => false,
+                    && self.problem.is_associative() == problem.is_associative(),
+                old.h != new.h,
+            ),
+            _ => (false, false),
         };
         if !reusable {
             *self = Self::new(problem, self.settings)?;
@@ -35,6 +36,13 @@ impl<const D: usize> Solver<D> {
                 blocks.keep_points(share.owned());
             }
             self.blocks = Some(blocks);
+        }
+        if new_h {
+            // Another sub-step size: its K differs by the factor h² on the plastic part,
+            // so GMRES starts from a factor of its own, as a new solver would.
+            if let Some(schur) = self.schur.as_mut() {
+                schur.forget_factor();
+            }
         }
         self.rho = rho;
         self.residual_rho = residual_rho;
