@@ -9,9 +9,11 @@ impl<const D: usize> Solver<D> {
     /// Replaces the problem (operator, `q`, flow rules), keeping the Schur system's
     /// pattern and symbolic analysis when the new operator is structured with the same `B`
     /// sparsity pattern (rows, velocity columns, stored entries) and the same symmetry as
-    /// the old one: a new time step, or a new friction pass, on the same particles. ρ is
-    /// chosen anew. Otherwise the solver is rebuilt as by [`Solver::new`]. Returns whether
-    /// the analysis was reused; on error the solver is left unchanged.
+    /// the old one: a new time step, or a new friction pass, on the same particles, or
+    /// another sub-step size of a fixed operator. ρ is chosen anew; with another `h`, a
+    /// Krylov solve's next direction factorizes afresh. Otherwise the solver is rebuilt as
+    /// by [`Solver::new`]. Returns whether the analysis was reused; on error the solver is
+    /// left unchanged.
     pub fn replace_problem(&mut self, problem: ReducedSystem<D>) -> Result<bool, SolveError> {
         let (reusable, new_h) = match (&self.problem.operator, &problem.operator, &self.schur) {
             (Operator::Structured(old), Operator::Structured(new), Some(_)) => (
