@@ -2,8 +2,9 @@
 //! control'). Sizes are `h / 2^level`, so that the sub-steps tile the step exactly. A
 //! failed solve halves the size; a size is doubled again after `grow_after` accepted
 //! sub-steps whose solves were cheap, at a time the doubled size tiles; a doubling that
-//! fails doubles that size's patience, one that holds halves it. The size and the patience carry over from step to step: where the
-//! problem was hard, the next steps start small.
+//! fails doubles that size's patience, one that holds halves it. The size and the
+//! patience carry over from step to step: where the problem was hard, the next steps start
+//! small.
 
 /// Patience never exceeds this many sub-steps: a hard stretch that ends is left after at
 /// most this many sub-steps at the smaller size.
