@@ -191,7 +191,11 @@ fn under_mpirun(rank: usize, size: usize) -> usize {
         &mut failures,
     );
     let stats = ldlt.statistics();
-    let sign = if negative.is_multiple_of(2) { 1.0 } else { -1.0 };
+    let sign = if negative.is_multiple_of(2) {
+        1.0
+    } else {
+        -1.0
+    };
     check(
         "LDLᵀ's negative pivots are the negative eigenvalues",
         stats.negative_pivots as usize == negative && stats.determinant_sign == Some(sign),
