@@ -24,6 +24,7 @@ pub mod factorization;
 pub mod krylov;
 mod local_lu;
 mod newton;
+mod norm;
 mod operator;
 mod point_share;
 mod pool;

@@ -10,6 +10,7 @@ use super::schur_pattern::{block_len, point_groups, schur_pattern, SchurPattern}
 use crate::factorization::Ordering;
 use crate::krylov::{Gmres, GmresError, GmresWorkspace, Verdict, PROJECT_AFTER};
 use crate::local_lu::LocalLu;
+use crate::norm::inf_norm;
 use crate::operator::{block, PointBlocks, Structured};
 use crate::point_share::PointShare;
 use crate::FactorRanks;
@@ -381,7 +382,8 @@ impl<const D: usize> SchurSystem<D> {
     /// Stability of Numerical Algorithms', Thm. 7.1). Near round-off, `u` is as good as
     /// any factorization of `K`, with row exchanges or not, can give. Only after a solve
     /// that returned [`Factorized::NoPivotLu`]: `K` is then assembled in full and `u` is
-    /// in `rhs`; `b` is formed again from `A⁻¹r` (rare: an inaccurate direction).
+    /// in `rhs`; `b` is formed again from `A⁻¹r` (rare: an inaccurate direction). NaN if
+    /// `r`, `K` or `u` holds one, which no `≤` test accepts.
     pub(crate) fn backward_error(
         &self,
         blocks: &PointBlocks<D>,
@@ -391,8 +393,7 @@ impl<const D: usize> SchurSystem<D> {
         // r = b − K u in place of b, and the row sums of |K|, column by column.
         let mut r = vec![0.0; self.rhs.len()];
         schur_rhs(&self.a_inv_r, blocks, share, parallel, &mut r);
-        let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        let b_norm = inf(&r);
+        let b_norm = inf_norm(&r);
         let k = SparseColMatRef::new(self.symbolic.as_ref(), &self.csc_values);
         let (col_ptr, row_idx, val) = (k.col_ptr(), k.row_idx(), k.val());
         let u = &self.rhs;
@@ -404,9 +405,9 @@ impl<const D: usize> SchurSystem<D> {
                 rows[i] += v.abs();
             }
         }
-        let scale = inf(&rows) * inf(u) + b_norm;
+        let scale = inf_norm(&rows) * inf_norm(u) + b_norm;
         if scale > 0.0 {
-            inf(&r) / scale
+            inf_norm(&r) / scale
         } else {
             0.0
         }

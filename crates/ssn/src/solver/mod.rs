@@ -11,6 +11,7 @@ use talus_bipotential::{FlowRule, NaturalMapLinearization};
 
 use crate::error::invalid;
 use crate::newton::{DenseSystem, SchurSystem, StressSizedSystem};
+pub(crate) use crate::norm::inf_norm;
 use crate::operator::{block, PointBlocks};
 use crate::point_share::PointShare;
 use crate::{
@@ -346,31 +347,6 @@ impl<const D: usize> Solver<D> {
     }
 }
 
-/// `‖v‖∞`, NaN if any entry is. Maxima are exact in any order: eight lanes, so that the
-/// loop vectorizes.
-fn inf_norm(v: &[f64]) -> f64 {
-    let mut lanes = [0.0f64; 8];
-    let mut nan = false;
-    let chunks = v.chunks_exact(8);
-    let rest = chunks.remainder();
-    for chunk in chunks {
-        for (m, x) in lanes.iter_mut().zip(chunk) {
-            let a = x.abs();
-            *m = if a > *m { a } else { *m };
-            nan |= x.is_nan();
-        }
-    }
-    for x in rest {
-        lanes[0] = lanes[0].max(x.abs());
-        nan |= x.is_nan();
-    }
-    if nan {
-        f64::NAN
-    } else {
-        lanes.into_iter().fold(0.0, f64::max)
-    }
-}
-
 /// The larger of two values, NaN if either is.
 fn nan_max(a: f64, b: f64) -> f64 {
     if a.is_nan() || b.is_nan() {
@@ -391,24 +367,5 @@ impl<const D: usize> Solver<D> {
     /// `Precision::Single`, f32) and of its GMRES workspace; `None` without a Schur system.
     pub fn factor_memory(&self) -> Option<(usize, usize)> {
         self.schur.as_ref().map(|s| s.memory())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::inf_norm;
-
-    #[test]
-    fn inf_norm_is_the_largest_magnitude_and_nan_wherever_a_nan_is() {
-        for n in [0, 1, 7, 8, 9, 16, 23] {
-            let v: Vec<f64> = (0..n).map(|k| ((k * 37 % 11) as f64 - 5.0) * 1.5).collect();
-            let naive = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            assert_eq!(inf_norm(&v), naive, "length {n}");
-            for at in 0..n {
-                let mut w = v.clone();
-                w[at] = f64::NAN;
-                assert!(inf_norm(&w).is_nan(), "NaN at {at} of {n}");
-            }
-        }
     }
 }
